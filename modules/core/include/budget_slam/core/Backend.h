@@ -1,0 +1,58 @@
+#pragma once
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "budget_slam/core/Estimates.h"
+#include "budget_slam/core/Step.h"
+
+namespace budget_slam {
+
+/// A landmark SLAM estimator the budget manager can shrink (DESIGN.md "Interfaces").
+/// Implemented by the EKF (modules/ekf) and the landmark graph (modules/graph).
+class Backend {
+ public:
+  virtual ~Backend() = default;
+
+  /// "ekf" or "graph".
+  virtual std::string name() const = 0;
+
+  /// Folds one rawlog step (odometry and bearing-range readings) into the estimate.
+  virtual void process(const Step& step) = 0;
+
+  /// Every landmark in the estimate, in a stable order (state order for the EKF).
+  virtual std::vector<LandmarkView> landmarks() const = 0;
+  virtual std::size_t landmarkCount() const = 0;
+
+  /// Latest robot pose and its marginal covariance.
+  virtual PoseEstimate robotPose() const = 0;
+
+  /// The estimated trajectory (see TrajectoryPoint).
+  virtual std::vector<TrajectoryPoint> trajectory() const = 0;
+
+  /// Robot poses held in the estimate (1 for the EKF, kept poses for the graph).
+  virtual std::size_t poseCount() const = 0;
+
+  /// Drops landmark `id` by exact marginalization; throws std::out_of_range if unknown.
+  virtual void removeLandmark(LandmarkId id) = 0;
+
+  /// Information gain of each landmark in bits (DESIGN.md "Reducers", mi).
+  virtual std::vector<double> informationGain(const std::vector<LandmarkId>& ids) const = 0;
+
+  /// Marginal covariance of one landmark [m^2].
+  virtual Eigen::Matrix2d landmarkCovariance(LandmarkId id) const = 0;
+
+  /// Joint marginal covariance of the given variables, stacked in order (3 rows a pose:
+  /// x, y, yaw; 2 a landmark). The EKF holds only the latest pose.
+  virtual Eigen::MatrixXd jointCovariance(const std::vector<VariableKey>& vars) const = 0;
+
+  /// Removes the poses that observe no landmark, except the first and the last `keep_last`
+  /// (Choudhary et al. Alg. 3, lines 15-16). Returns how many went. Only the graph keeps past
+  /// poses; the EKF has none to remove.
+  virtual std::size_t marginalizePosesWithoutLandmarks(std::size_t keep_last) { return 0; }
+
+  /// Called once after the last step (the graph solves to the batch optimum here).
+  virtual void finish() {}
+};
+
+}  // namespace budget_slam

@@ -1,0 +1,87 @@
+#include "budget_slam/core/IniSchema.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "budget_slam/core/Error.h"
+
+namespace budget_slam {
+namespace {
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+bool containsNoCase(const std::vector<std::string>& v, const std::string& w) {
+  const std::string lw = lower(w);
+  return std::any_of(v.begin(), v.end(), [&](const std::string& x) { return lower(x) == lw; });
+}
+
+}  // namespace
+
+std::size_t editDistance(const std::string& a0, const std::string& b0) {
+  const std::string a = lower(a0), b = lower(b0);
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  std::size_t bestD = std::string::npos;
+  for (const auto& c : candidates) {
+    const std::size_t d = editDistance(word, c);
+    if (d < bestD) bestD = d, best = c;
+  }
+  // Beyond about a third of the word, a suggestion misleads more than it helps.
+  const std::size_t limit = std::max<std::size_t>(2, word.size() / 3);
+  return bestD <= limit ? best : "";
+}
+
+void IniSchema::addSection(const std::string& section, const std::vector<std::string>& keys) {
+  auto& v = sections_[section];
+  for (const auto& k : keys)
+    if (!containsNoCase(v, k)) v.push_back(k);
+}
+
+bool IniSchema::hasSection(const std::string& section) const {
+  return sections_.count(section) > 0;
+}
+
+void IniSchema::validate(const mrpt::config::CConfigFileBase& ini) const {
+  std::vector<std::string> known;
+  for (const auto& [s, keys] : sections_) known.push_back(s);
+
+  std::vector<std::string> sections;
+  ini.getAllSections(sections);
+  for (const auto& section : sections) {
+    const auto it = std::find_if(sections_.begin(), sections_.end(), [&](const auto& kv) {
+      return lower(kv.first) == lower(section);
+    });
+    if (it == sections_.end()) {
+      const std::string near = closestMatch(section, known);
+      if (!near.empty() && editDistance(section, near) <= 2)
+        throw ConfigError("unknown section [" + section + "] (did you mean [" + near + "]?)");
+      continue;  // another application's section
+    }
+    std::vector<std::string> keys;
+    ini.getAllKeys(section, keys);
+    for (const auto& key : keys) {
+      if (containsNoCase(it->second, key)) continue;
+      const std::string near = closestMatch(key, it->second);
+      throw ConfigError("unknown key [" + section + "] " + key +
+                        (near.empty() ? std::string(" (no similar key in this section)")
+                                      : " (did you mean " + near + "?)"));
+    }
+  }
+}
+
+}  // namespace budget_slam

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs the Debian packages budget-slam needs, only those that are missing. Idempotent.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config git
+  libmrpt-dev mrpt-apps            # MRPT 2.5: libraries, kf-slam, rawlog-edit, simul-landmarks
+  libeigen3-dev libsuitesparse-dev # linear algebra, CHOLMOD
+  libopencv-dev                    # map pictures
+  libtclap-dev nlohmann-json3-dev  # command line, JSON output
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-numpy python3-matplotlib  # experiment scripts and plots
+  clang-format
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+echo "setup: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
