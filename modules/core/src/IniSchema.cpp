@@ -63,9 +63,8 @@ void IniSchema::validate(const mrpt::config::CConfigFileBase& ini) const {
   std::vector<std::string> sections;
   ini.getAllSections(sections);
   for (const auto& section : sections) {
-    const auto it = std::find_if(sections_.begin(), sections_.end(), [&](const auto& kv) {
-      return lower(kv.first) == lower(section);
-    });
+    const auto it = std::find_if(sections_.begin(), sections_.end(),
+                                 [&](const auto& kv) { return lower(kv.first) == lower(section); });
     if (it == sections_.end()) {
       const std::string near = closestMatch(section, known);
       if (!near.empty() && editDistance(section, near) <= 2)

@@ -38,7 +38,10 @@ IniSection::IniSection(const mrpt::config::CConfigFileBase& ini, std::string sec
 
 bool IniSection::has(const std::string& key) const {
   // MRPT returns the default for an absent key; an impossible default tells us it is absent.
-  static const std::string kAbsent = "\x01absent\x01";
+  static const std::string kAbsent =
+      "\x01"
+      "absent"
+      "\x01";
   return ini_.read_string(section_, key, kAbsent, false) != kAbsent;
 }
 

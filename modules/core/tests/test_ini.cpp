@@ -38,7 +38,9 @@ TEST(IniSection, ErrorsNameSectionKeyAndValue) {
   EXPECT_EQ(errorOf([&] { s.readDouble("x", 0); }), "[LandmarkBudget] x = 'abc': not a number");
   EXPECT_EQ(errorOf([&] { s.readBool("b", true); }),
             "[LandmarkBudget] b = 'maybe': not a boolean (true or false)");
-  EXPECT_EQ(errorOf([&] { s.readChoice("x", "a", {"ekf", "graph"}); }),
+  EXPECT_EQ(errorOf([&] {
+              s.readChoice("x", "a", {"ekf", "graph"});
+            }),
             "[LandmarkBudget] x = 'abc': must be one of ekf, graph");
 }
 

@@ -18,7 +18,10 @@ class FirstCandidate : public Reducer {
 
 TEST(ReducerRegistry, CreatesByNameAndListsRegisteredOnUnknown) {
   ReducerRegistry reg;
-  reg.add({"first", "drops the first candidate", "", {},
+  reg.add({"first",
+           "drops the first candidate",
+           "",
+           {},
            [](const mrpt::config::CConfigFileBase&, std::uint64_t) {
              return std::make_unique<FirstCandidate>();
            }});

@@ -18,10 +18,10 @@ class ReducerRegistry {
   using Factory = std::function<std::unique_ptr<Reducer>(const mrpt::config::CConfigFileBase& ini,
                                                          std::uint64_t seed)>;
   struct Entry {
-    std::string name;                ///< as written in the ini and on the command line
-    std::string summary;             ///< one line for --help and docs
-    std::string section;             ///< its ini section, empty when it has no options
-    std::vector<std::string> keys;   ///< the keys of that section (for unknown-key checks)
+    std::string name;               ///< as written in the ini and on the command line
+    std::string summary;            ///< one line for --help and docs
+    std::string section;            ///< its ini section, empty when it has no options
+    std::vector<std::string> keys;  ///< the keys of that section (for unknown-key checks)
     Factory factory;
   };
 

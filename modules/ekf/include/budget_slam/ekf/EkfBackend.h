@@ -1,0 +1,56 @@
+#pragma once
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <optional>
+#include <unordered_map>
+
+#include "budget_slam/core/Backend.h"
+#include "budget_slam/ekf/BlockMutualInformation.h"
+#include "budget_slam/ekf/ReducibleKFSLAM2D.h"
+
+namespace budget_slam::ekf {
+
+/// The Backend over MRPT's EKF (DESIGN.md "EKF backend"). Options come from MRPT's own ini
+/// sections [RangeBearingKFSLAM] and [RangeBearingKFSLAM_KalmanFilter], as kf-slam loads them.
+class EkfBackend : public Backend {
+ public:
+  explicit EkfBackend(const mrpt::config::CConfigFileBase& ini);
+
+  std::string name() const override { return "ekf"; }
+  void process(const Step& step) override;
+  std::vector<LandmarkView> landmarks() const override;
+  std::size_t landmarkCount() const override { return kf_.landmarkCount(); }
+  PoseEstimate robotPose() const override;
+  std::vector<TrajectoryPoint> trajectory() const override { return trajectory_; }
+  std::size_t poseCount() const override { return 1; }
+  void removeLandmark(LandmarkId id) override;
+  /// I(L; rest of the state) in bits; one factorization per drop event, updated by Schur
+  /// complements across the drops of that event (see BlockMutualInformation).
+  std::vector<double> informationGain(const std::vector<LandmarkId>& ids) const override;
+  Eigen::Matrix2d landmarkCovariance(LandmarkId id) const override;
+  /// Only the latest pose (StepIndex of the last processed step) and landmarks.
+  Eigen::MatrixXd jointCovariance(const std::vector<VariableKey>& vars) const override;
+
+  const ReducibleKFSLAM2D& filter() const { return kf_; }
+  /// Ids in state order (the EKF's own ordering of the mean and covariance).
+  std::vector<LandmarkId> idsInStateOrder() const;
+
+  /// Per-landmark bookkeeping of the sightings (Hochdorfer & Schlegel Eq. 1-2).
+  struct Track {
+    std::size_t n = 0;
+    Eigen::Vector2d obs_mean = Eigen::Vector2d::Zero();  ///< [m]
+    StepIndex first_step = 0, last_step = 0;
+  };
+
+ private:
+  std::size_t stateRow(LandmarkId id) const { return 3 + 2 * kf_.indexOf(id); }
+
+  ReducibleKFSLAM2D kf_;
+  std::unordered_map<LandmarkId, Track> tracks_;
+  std::vector<TrajectoryPoint> trajectory_;
+  StepIndex last_step_ = 0;
+  /// Valid from the first informationGain() after a step until the next step.
+  mutable std::optional<BlockMutualInformation> mi_;
+};
+
+}  // namespace budget_slam::ekf

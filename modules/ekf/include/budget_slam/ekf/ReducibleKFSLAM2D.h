@@ -1,0 +1,51 @@
+#pragma once
+#include <mrpt/slam/CRangeBearingKFSLAM2D.h>
+
+#include <vector>
+
+#include "budget_slam/core/Step.h"
+
+namespace budget_slam::ekf {
+
+/// MRPT's 2D range-bearing EKF-SLAM (filter, motion and sensor models, data association and ini
+/// sections unchanged) that can also drop a landmark (DESIGN.md "EKF backend").
+class ReducibleKFSLAM2D : public mrpt::slam::CRangeBearingKFSLAM2D {
+ public:
+  /// One MRPT Kalman iteration on the step's own action and frame. A frame with no
+  /// CObservationBearingRange is run as prediction only (MRPT itself would assert).
+  void processStep(const Step& step);
+
+  std::size_t landmarkCount() const { return getNumberOfLandmarksInTheMap(); }
+  LandmarkId idAt(std::size_t state_index) const;  ///< throws std::out_of_range
+  std::size_t indexOf(LandmarkId id) const;        ///< throws std::out_of_range
+  bool contains(LandmarkId id) const { return m_IDs.hasKey(id); }
+
+  /// For each reading of the last processed scan: the landmark's state index after the step,
+  /// or -1 when the reading was not used.
+  const std::vector<long>& lastAssociation() const { return last_association_; }
+
+  /// Exact marginalization of landmark `id`: deletes its 2 entries of the mean, its 2 rows and
+  /// columns of the covariance and its id, shifting the state indices above it.
+  void removeLandmark(LandmarkId id);
+
+  const KFVector& mean() const { return m_xkk; }
+  const KFMatrix& covariance() const { return m_pkk; }
+
+ protected:
+  void OnGetObservationsAndDataAssociation(vector_KFArray_OBS& out_z,
+                                           std::vector<int>& out_data_association,
+                                           const vector_KFArray_OBS& in_all_predictions,
+                                           const KFMatrix& in_S,
+                                           const std::vector<size_t>& in_lm_indices_in_S,
+                                           const KFMatrix_OxO& in_R) override;
+
+  /// MRPT keys an ID-less landmark by its state index at insertion, which can collide after a
+  /// removal; such landmarks get ids from a counter that never reuses one.
+  void OnNewLandmarkAddedToMap(const size_t in_obsIdx, const size_t in_idxNewFeat) override;
+
+ private:
+  mrpt::maps::CLandmark::TLandmarkID next_free_id_ = 0;
+  std::vector<long> last_association_;
+};
+
+}  // namespace budget_slam::ekf

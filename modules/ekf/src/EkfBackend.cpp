@@ -1,0 +1,112 @@
+#include "budget_slam/ekf/EkfBackend.h"
+
+#include <stdexcept>
+
+namespace budget_slam::ekf {
+
+EkfBackend::EkfBackend(const mrpt::config::CConfigFileBase& ini) {
+  kf_.loadOptions(ini);  // exactly what MRPT's kf-slam does
+  kf_.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
+}
+
+void EkfBackend::process(const Step& step) {
+  mi_.reset();
+  kf_.processStep(step);
+  last_step_ = step.index;
+
+  const auto& x = kf_.mean();
+  const Eigen::Vector2d robot(x[0], x[1]);
+  const auto& assoc = kf_.lastAssociation();
+  for (const long idx : assoc) {
+    if (idx < 0) continue;
+    const LandmarkId id = kf_.idAt(static_cast<std::size_t>(idx));
+    auto [it, is_new] = tracks_.try_emplace(id);
+    Track& t = it->second;
+    if (is_new) t.first_step = step.index;
+    // Running mean of the observation positions, Hochdorfer & Schlegel Eq. 2.
+    ++t.n;
+    t.obs_mean += (robot - t.obs_mean) / static_cast<double>(t.n);
+    t.last_step = step.index;
+  }
+  trajectory_.push_back({step.index, step.t, mrpt::math::TPose2D(x[0], x[1], x[2])});
+}
+
+std::vector<LandmarkId> EkfBackend::idsInStateOrder() const {
+  std::vector<LandmarkId> ids(kf_.landmarkCount());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = kf_.idAt(i);
+  return ids;
+}
+
+std::vector<LandmarkView> EkfBackend::landmarks() const {
+  const auto& x = kf_.mean();
+  const auto& P = kf_.covariance().asEigen();
+  std::vector<LandmarkView> out;
+  out.reserve(kf_.landmarkCount());
+  for (std::size_t i = 0; i < kf_.landmarkCount(); ++i) {
+    LandmarkView v;
+    v.id = kf_.idAt(i);
+    const Eigen::Index r = static_cast<Eigen::Index>(3 + 2 * i);
+    v.mean = Eigen::Vector2d(x[r], x[r + 1]);
+    v.cov = P.block<2, 2>(r, r);
+    const auto t = tracks_.find(v.id);
+    if (t != tracks_.end()) {
+      v.n_obs = t->second.n;
+      v.obs_mean = t->second.obs_mean;
+      v.first_step = t->second.first_step;
+      v.last_step = t->second.last_step;
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
+PoseEstimate EkfBackend::robotPose() const {
+  const auto& x = kf_.mean();
+  PoseEstimate p;
+  p.mean = mrpt::math::TPose2D(x[0], x[1], x[2]);
+  p.cov = kf_.covariance().asEigen().block<3, 3>(0, 0);
+  return p;
+}
+
+void EkfBackend::removeLandmark(LandmarkId id) {
+  const std::size_t row = stateRow(id);  // throws if unknown
+  if (mi_) mi_->removeBlock(row);
+  kf_.removeLandmark(id);
+  tracks_.erase(id);
+}
+
+std::vector<double> EkfBackend::informationGain(const std::vector<LandmarkId>& ids) const {
+  if (!mi_) mi_.emplace(kf_.covariance().asEigen());
+  std::vector<double> out;
+  out.reserve(ids.size());
+  for (const LandmarkId id : ids) out.push_back(mi_->gain(stateRow(id)));
+  return out;
+}
+
+Eigen::Matrix2d EkfBackend::landmarkCovariance(LandmarkId id) const {
+  const auto r = static_cast<Eigen::Index>(stateRow(id));
+  return kf_.covariance().asEigen().block<2, 2>(r, r);
+}
+
+Eigen::MatrixXd EkfBackend::jointCovariance(const std::vector<VariableKey>& vars) const {
+  std::vector<Eigen::Index> rows;
+  for (const auto& v : vars) {
+    if (v.kind == VariableKey::Kind::Pose) {
+      if (static_cast<StepIndex>(v.id) != last_step_)
+        throw std::invalid_argument("the EKF holds only the latest pose (step " +
+                                    std::to_string(last_step_) + ")");
+      for (Eigen::Index k = 0; k < 3; ++k) rows.push_back(k);
+    } else {
+      const auto r = static_cast<Eigen::Index>(stateRow(v.id));
+      rows.push_back(r);
+      rows.push_back(r + 1);
+    }
+  }
+  const auto& P = kf_.covariance().asEigen();
+  Eigen::MatrixXd out(rows.size(), rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t j = 0; j < rows.size(); ++j) out(i, j) = P(rows[i], rows[j]);
+  return out;
+}
+
+}  // namespace budget_slam::ekf

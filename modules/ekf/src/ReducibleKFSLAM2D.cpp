@@ -1,0 +1,100 @@
+#include "budget_slam/ekf/ReducibleKFSLAM2D.h"
+
+#include <mrpt/obs/CObservationBearingRange.h>
+
+#include <stdexcept>
+
+namespace budget_slam::ekf {
+
+void ReducibleKFSLAM2D::processStep(const Step& step) {
+  auto action = step.action ? step.action : std::make_shared<mrpt::obs::CActionCollection>();
+  auto frame = step.frame;
+  if (!frame || !frame->getObservationByClass<mrpt::obs::CObservationBearingRange>()) {
+    // Prediction only: MRPT's filter asserts a bearing-range observation in every frame, so it
+    // gets an empty one (no readings: no update, no new landmarks).
+    frame = std::make_shared<mrpt::obs::CSensoryFrame>();
+    if (step.frame)
+      for (const auto& o : *step.frame) frame->insert(o);
+    frame->insert(std::make_shared<mrpt::obs::CObservationBearingRange>());
+  }
+  last_association_.clear();
+  processActionObservation(action, frame);
+}
+
+void ReducibleKFSLAM2D::OnGetObservationsAndDataAssociation(
+    vector_KFArray_OBS& out_z, std::vector<int>& out_data_association,
+    const vector_KFArray_OBS& in_all_predictions, const KFMatrix& in_S,
+    const std::vector<size_t>& in_lm_indices_in_S, const KFMatrix_OxO& in_R) {
+  CRangeBearingKFSLAM2D::OnGetObservationsAndDataAssociation(
+      out_z, out_data_association, in_all_predictions, in_S, in_lm_indices_in_S, in_R);
+  last_association_.assign(out_data_association.begin(), out_data_association.end());
+}
+
+void ReducibleKFSLAM2D::OnNewLandmarkAddedToMap(const size_t in_obsIdx,
+                                                const size_t in_idxNewFeat) {
+  const auto obs = m_SF->getObservationByClass<mrpt::obs::CObservationBearingRange>();
+  ASSERT_(obs && in_obsIdx < obs->sensedData.size());
+  mrpt::maps::CLandmark::TLandmarkID id = obs->sensedData[in_obsIdx].landmarkID;
+  if (id < 0) {
+    // With no removals this hands out 0, 1, 2, ... exactly as MRPT's state-index keys.
+    while (m_IDs.hasKey(next_free_id_)) ++next_free_id_;
+    id = next_free_id_++;
+  }
+  m_IDs.insert(id, static_cast<unsigned int>(in_idxNewFeat));
+  m_last_data_association.newly_inserted_landmarks[in_obsIdx] = in_idxNewFeat;
+  if (in_obsIdx < last_association_.size())
+    last_association_[in_obsIdx] = static_cast<long>(in_idxNewFeat);
+}
+
+LandmarkId ReducibleKFSLAM2D::idAt(std::size_t state_index) const {
+  mrpt::maps::CLandmark::TLandmarkID id;
+  if (!m_IDs.inverse(static_cast<unsigned int>(state_index), id))
+    throw std::out_of_range("no landmark at state index " + std::to_string(state_index));
+  return id;
+}
+
+std::size_t ReducibleKFSLAM2D::indexOf(LandmarkId id) const {
+  unsigned int idx;
+  if (!m_IDs.direct(id, idx))
+    throw std::out_of_range("landmark " + std::to_string(id) + " is not in the map");
+  return idx;
+}
+
+void ReducibleKFSLAM2D::removeLandmark(LandmarkId id) {
+  const std::size_t idx = indexOf(id);
+  const std::size_t V = get_vehicle_size(), F = get_feature_size();
+  const std::size_t n = static_cast<std::size_t>(m_xkk.size());
+  const std::size_t start = V + F * idx, keep_after = n - start - F;
+
+  // Mean: delete the landmark's F entries.
+  KFVector x(n - F);
+  for (std::size_t i = 0; i < start; ++i) x[i] = m_xkk[i];
+  for (std::size_t i = 0; i < keep_after; ++i) x[start + i] = m_xkk[start + F + i];
+
+  // Covariance: delete its F rows and columns (exact marginalization of a Gaussian).
+  KFMatrix P(n - F, n - F);
+  const auto& Pe = m_pkk.asEigen();
+  auto Po = P.asEigen();
+  Po.topLeftCorner(start, start) = Pe.topLeftCorner(start, start);
+  Po.topRightCorner(start, keep_after) = Pe.topRightCorner(start, keep_after);
+  Po.bottomLeftCorner(keep_after, start) = Pe.bottomLeftCorner(keep_after, start);
+  Po.bottomRightCorner(keep_after, keep_after) = Pe.bottomRightCorner(keep_after, keep_after);
+  m_xkk = std::move(x);
+  m_pkk = std::move(P);
+
+  // Ids: drop this one and shift the indices above it down by one.
+  const auto old = m_IDs.getDirectMap();
+  m_IDs.clear();
+  for (const auto& [key, value] : old) {
+    if (key == id) continue;
+    m_IDs.insert(key, value > idx ? value - 1 : value);
+  }
+  for (auto& a : last_association_) {
+    if (a == static_cast<long>(idx))
+      a = -1;
+    else if (a > static_cast<long>(idx))
+      --a;
+  }
+}
+
+}  // namespace budget_slam::ekf

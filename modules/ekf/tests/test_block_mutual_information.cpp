@@ -1,0 +1,93 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <random>
+
+#include "budget_slam/ekf/BlockMutualInformation.h"
+
+using budget_slam::ekf::BlockMutualInformation;
+
+namespace {
+
+Eigen::MatrixXd randomSpd(int n, std::mt19937& rng) {
+  std::normal_distribution<double> g;
+  Eigen::MatrixXd A(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) A(i, j) = g(rng);
+  return A * A.transpose() + 0.1 * Eigen::MatrixXd::Identity(n, n);
+}
+
+/// Independent brute force: 1/2 log2(det(P_LL) det((P^-1)_LL)) with a full LU inverse.
+double bruteForce(const Eigen::MatrixXd& P, int r) {
+  const Eigen::MatrixXd Lambda = P.fullPivLu().inverse();
+  return 0.5 *
+         std::log2(P.block(r, r, 2, 2).determinant() * Lambda.block(r, r, 2, 2).determinant());
+}
+
+Eigen::MatrixXd erase(const Eigen::MatrixXd& P, int r) {
+  std::vector<int> keep;
+  for (int i = 0; i < P.rows(); ++i)
+    if (i != r && i != r + 1) keep.push_back(i);
+  Eigen::MatrixXd out(keep.size(), keep.size());
+  for (size_t i = 0; i < keep.size(); ++i)
+    for (size_t j = 0; j < keep.size(); ++j) out(i, j) = P(keep[i], keep[j]);
+  return out;
+}
+
+}  // namespace
+
+TEST(BlockMutualInformation, EqualsBruteForceOnRandomSpdMatrices) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int landmarks = 3 + trial;
+    const Eigen::MatrixXd P = randomSpd(3 + 2 * landmarks, rng);
+    BlockMutualInformation mi(P);
+    for (int l = 0; l < landmarks; ++l) {
+      const double expected = bruteForce(P, 3 + 2 * l);
+      EXPECT_NEAR(mi.gain(3 + 2 * l), expected, 1e-9 * std::max(1.0, std::abs(expected)));
+      EXPECT_GE(mi.gain(3 + 2 * l), -1e-12);
+    }
+  }
+}
+
+TEST(BlockMutualInformation, SuccessiveRemovalsEqualAFreshComputation) {
+  std::mt19937 rng(11);
+  Eigen::MatrixXd P = randomSpd(3 + 2 * 30, rng);
+  BlockMutualInformation mi(P);
+  for (int k : {7, 0, 12, 3, 20, 1}) {
+    const int r = 3 + 2 * k;
+    mi.removeBlock(r);
+    P = erase(P, r);
+    BlockMutualInformation fresh(P);
+    ASSERT_EQ(mi.size(), static_cast<std::size_t>(P.rows()));
+    for (int l = 0; l < (P.rows() - 3) / 2; ++l)
+      EXPECT_NEAR(mi.gain(3 + 2 * l), fresh.gain(3 + 2 * l), 1e-9) << "after removing " << k;
+    EXPECT_LT(
+        (mi.information() - P.inverse()).cwiseAbs().maxCoeff() / P.inverse().cwiseAbs().maxCoeff(),
+        1e-9);
+  }
+}
+
+TEST(BlockMutualInformation, DeterministicRobotPoseCarriesNoInformation) {
+  // The EKF's first step: robot covariance exactly zero, landmarks independent of it.
+  std::mt19937 rng(3);
+  Eigen::MatrixXd L = randomSpd(8, rng);
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(11, 11);
+  P.bottomRightCorner(8, 8) = L;
+  BlockMutualInformation mi(P);
+  BlockMutualInformation reduced(L);
+  for (int l = 0; l < 4; ++l) EXPECT_NEAR(mi.gain(3 + 2 * l), reduced.gain(2 * l), 1e-12);
+  mi.removeBlock(3 + 2);
+  BlockMutualInformation reduced2(erase(L, 2));
+  for (int l = 0; l < 3; ++l) EXPECT_NEAR(mi.gain(3 + 2 * l), reduced2.gain(2 * l), 1e-9);
+}
+
+TEST(BlockMutualInformation, IndependentBlockHasZeroGain) {
+  std::mt19937 rng(5);
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(7, 7);
+  P.topLeftCorner(5, 5) = randomSpd(5, rng);
+  P.bottomRightCorner(2, 2) = randomSpd(2, rng);
+  BlockMutualInformation mi(P);
+  EXPECT_NEAR(mi.gain(5), 0.0, 1e-12);
+  EXPECT_GT(mi.gain(3), 0.0);
+}

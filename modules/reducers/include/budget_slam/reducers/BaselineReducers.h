@@ -1,0 +1,38 @@
+#pragma once
+#include <random>
+
+#include "budget_slam/core/ReducerRegistry.h"
+
+namespace budget_slam::reducers {
+
+/// `random`: a uniformly random candidate from a seeded generator (score: 0).
+class RandomReducer : public Reducer {
+ public:
+  explicit RandomReducer(std::uint64_t seed) : rng_(seed) {}
+  std::string name() const override { return "random"; }
+  ReducerChoice choose(const DropContext& ctx) override;
+  static ReducerRegistry::Entry entry();
+
+ private:
+  std::mt19937_64 rng_;  ///< mt19937_64 output is fixed by the standard: same seed, same run
+};
+
+/// `oldest`: the candidate first seen earliest; ties by lowest id (score: first step).
+class OldestReducer : public Reducer {
+ public:
+  std::string name() const override { return "oldest"; }
+  ReducerChoice choose(const DropContext& ctx) override;
+  static ReducerRegistry::Entry entry();
+};
+
+/// `info-content`: the candidate with the lowest Dissanayake information content
+/// 1/sigma_xx^2 + 1/sigma_yy^2, ties by lowest id (score: that content [1/m^2]). Hochdorfer &
+/// Schlegel's rule without the coverage clustering.
+class InfoContentReducer : public Reducer {
+ public:
+  std::string name() const override { return "info-content"; }
+  ReducerChoice choose(const DropContext& ctx) override;
+  static ReducerRegistry::Entry entry();
+};
+
+}  // namespace budget_slam::reducers

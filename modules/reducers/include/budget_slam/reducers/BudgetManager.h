@@ -1,0 +1,75 @@
+#pragma once
+#include <functional>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "budget_slam/core/Backend.h"
+#include "budget_slam/core/Reducer.h"
+#include "budget_slam/reducers/BudgetOptions.h"
+
+namespace budget_slam::reducers {
+
+/// One landmark dropped (a row of evictions.csv).
+struct Eviction {
+  StepIndex step = 0;
+  LandmarkId id = kNoLandmarkId;
+  std::string reducer;
+  double score = 0;
+  std::size_t n_before = 0, n_after = 0;
+  /// over_cap: an unprotected landmark went; over_cap_all_protected: every landmark was protected
+  /// (seen in the last P steps) so the lowest-scored protected one went.
+  std::string reason;
+  /// What each shadow reducer would have dropped at this decision.
+  std::vector<std::pair<std::string, ReducerChoice>> shadow;
+};
+
+/// How often two reducers picked the same landmark over all drop decisions.
+struct Agreement {
+  std::string a, b;
+  std::size_t agree = 0, total = 0;
+  double rate() const { return total ? static_cast<double>(agree) / total : 0.0; }
+};
+
+/// Keeps the map within [LandmarkBudget] max_landmarks after every step (DESIGN.md "Reducers").
+class BudgetManager {
+ public:
+  /// `active` may be null: reducer `none`, the unreduced reference run (nothing is dropped).
+  BudgetManager(const BudgetOptions& options, std::unique_ptr<Reducer> active,
+                std::vector<std::unique_ptr<Reducer>> shadows = {});
+
+  /// Called after backend.process(step): asks the active reducer for a victim and removes it,
+  /// until the map holds at most max_landmarks. Returns the drops made, in order.
+  std::vector<Eviction> enforce(Backend& backend, StepIndex step);
+
+  /// Ids dropped so far (for readmit_evicted = false).
+  const std::set<LandmarkId>& evicted() const { return evicted_; }
+
+  /// Agreement of every pair among the active and shadow reducers.
+  std::vector<Agreement> agreements() const;
+
+  /// Called once before each drop event (several drops after one step), e.g. to dump states.
+  void setBeforeDropEvent(std::function<void(const Backend&, StepIndex)> hook) {
+    before_drop_event_ = std::move(hook);
+  }
+
+  const BudgetOptions& options() const { return options_; }
+  bool reduces() const { return active_ != nullptr; }
+  const Reducer* activeReducer() const { return active_.get(); }
+
+ private:
+  const BudgetOptions options_;
+  std::unique_ptr<Reducer> active_;
+  std::vector<std::unique_ptr<Reducer>> shadows_;
+  std::set<LandmarkId> evicted_;
+  std::vector<Agreement> agreements_;  ///< pairs (0,1), (0,2), ..., (1,2), ...
+  std::function<void(const Backend&, StepIndex)> before_drop_event_;
+};
+
+/// Indices of the landmarks that may be dropped after `step`: those not seen in the last
+/// `protect_recent_steps` steps, or all of them when every landmark is protected.
+std::vector<std::size_t> dropCandidates(const std::vector<LandmarkView>& landmarks, StepIndex step,
+                                        std::size_t protect_recent_steps, bool* all_protected);
+
+}  // namespace budget_slam::reducers

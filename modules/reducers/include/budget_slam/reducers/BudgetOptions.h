@@ -1,0 +1,31 @@
+#pragma once
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace budget_slam::reducers {
+
+/// [LandmarkBudget]: how many landmarks the map may hold and who decides which one goes
+/// (DESIGN.md "Reducers").
+struct BudgetOptions : public mrpt::config::CLoadableOptions {
+  static constexpr const char* kSection = "LandmarkBudget";
+
+  std::string reducer = "none";          ///< active reducer by registry name; none = no cap
+  std::size_t max_landmarks = 50;        ///< the cap, >= 1 [landmarks]
+  std::size_t protect_recent_steps = 5;  ///< P: landmarks seen in the last P steps are kept [steps]
+  bool readmit_evicted = true;           ///< a dropped landmark seen again comes back as new
+  std::vector<std::string> shadow_reducers;  ///< asked at every drop, only logged
+  std::uint64_t seed = 1;                    ///< seed of every randomized reducer
+  bool dump_states = false;                  ///< write states/step_<k>.txt before each drop event
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
+                          const std::string& section) override;
+  void dumpToTextStream(std::ostream& out) const override;
+
+  /// Keys of the section, for unknown-key checks.
+  static std::vector<std::string> keys();
+};
+
+}  // namespace budget_slam::reducers

@@ -1,0 +1,41 @@
+#include "budget_slam/reducers/BudgetOptions.h"
+
+#include <ostream>
+
+#include "budget_slam/core/IniSection.h"
+
+namespace budget_slam::reducers {
+
+void BudgetOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
+                                       const std::string& section) {
+  const IniSection s(ini, section);
+  reducer = s.readString("reducer", reducer);
+  max_landmarks = static_cast<std::size_t>(
+      s.readInt("max_landmarks", static_cast<long long>(max_landmarks), 1));
+  protect_recent_steps = static_cast<std::size_t>(
+      s.readInt("protect_recent_steps", static_cast<long long>(protect_recent_steps), 0));
+  readmit_evicted = s.readBool("readmit_evicted", readmit_evicted);
+  if (s.has("shadow_reducers")) shadow_reducers = s.readList("shadow_reducers");
+  seed = static_cast<std::uint64_t>(s.readInt("seed", static_cast<long long>(seed), 0));
+  dump_states = s.readBool("dump_states", dump_states);
+}
+
+void BudgetOptions::dumpToTextStream(std::ostream& out) const {
+  out << "\n----------- [" << kSection << "] ------------\n";
+  out << "reducer                  = " << reducer << "\n";
+  out << "max_landmarks            = " << max_landmarks << "\n";
+  out << "protect_recent_steps     = " << protect_recent_steps << "\n";
+  out << "readmit_evicted          = " << (readmit_evicted ? "true" : "false") << "\n";
+  out << "shadow_reducers          = ";
+  for (std::size_t i = 0; i < shadow_reducers.size(); ++i)
+    out << (i ? "," : "") << shadow_reducers[i];
+  out << "\nseed                     = " << seed << "\n";
+  out << "dump_states              = " << (dump_states ? "true" : "false") << "\n";
+}
+
+std::vector<std::string> BudgetOptions::keys() {
+  return {"reducer",         "max_landmarks", "protect_recent_steps", "readmit_evicted",
+          "shadow_reducers", "seed",          "dump_states"};
+}
+
+}  // namespace budget_slam::reducers
