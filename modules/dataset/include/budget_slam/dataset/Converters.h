@@ -1,0 +1,38 @@
+#pragma once
+#include <string>
+
+#include "budget_slam/dataset/ConvertedDataset.h"
+
+namespace budget_slam::dataset {
+
+/// Converters from public planar landmark-SLAM formats (docs/DATASETS.md gives every decision).
+/// Each reads any file of its format; a malformed line is an InputError
+/// "<file>:<line>: <what is wrong>", a missing file "<file>: cannot open (<reason>)".
+
+/// iSAM / GTSAM text (victoria_park.txt): `ODOMETRY i j dx dy dth` + covariance upper triangle,
+/// `LANDMARK i l x y v1 v2 v3` (robot-frame Cartesian sighting of landmark l from pose i, turned
+/// into range = hypot(x, y), bearing = atan2(y, x)). The ODOMETRY lines must form one chain; step k
+/// is the k-th ODOMETRY line and carries the sightings from its end pose. Sensor noise as GTSAM
+/// uses it: std_range = sqrt(v1), std_yaw = sqrt(v1 / 10) (v1 averaged over the file).
+/// No ground truth.
+ConvertedDataset convertIsam(const std::string& path);
+
+/// 2D g2o: `VERTEX_SE2`, `VERTEX_XY` (initial guesses, ignored), `EDGE_SE2 i j dx dy dth` + the
+/// information upper triangle (chain of poses), `EDGE_SE2_XY i l x y` + 2x2 information upper
+/// triangle (landmark in the robot frame). Sensor noise: the information propagated to range and
+/// bearing, RMS over all sightings. No ground truth.
+ConvertedDataset convertG2o(const std::string& path);
+
+/// UTIAS MRCLAM: `folder` holds Barcodes.dat, Landmark_Groundtruth.dat and
+/// Robot<robot>_{Odometry,Measurement,Groundtruth}.dat. One step per measurement time with at
+/// least one landmark sighting (subjects 1-5 are robots and are left out); odometry (v, omega)
+/// integrated exactly between step times. Ground truth (Vicon) expressed in the frame of the
+/// robot's true start pose, so that it compares with a filter started at the origin.
+ConvertedDataset convertUtias(const std::string& folder, int robot);
+
+/// Freiburg SLAM course: `world.dat` (`id x y`, landmark ground truth) and `sensor_data.dat`
+/// (`ODOMETRY r1 t r2` followed by `SENSOR id range bearing` lines). Noise of the course's EKF
+/// exercise.
+ConvertedDataset convertFreiburg(const std::string& world, const std::string& sensor_data);
+
+}  // namespace budget_slam::dataset

@@ -1,0 +1,13 @@
+#pragma once
+#include <string>
+
+#include "budget_slam/dataset/ConvertedDataset.h"
+
+namespace budget_slam::dataset {
+
+/// Writes `rawlog` (gzip MRPT rawlog), next to it `<stem>_ground_truth.txt` and
+/// `<stem>_ground_truth_robot_path.txt` when the dataset has them, and the sidecar `<stem>.ini`.
+/// The rawlog name must end in ".rawlog". Errors are InputError naming the file.
+void saveDataset(const ConvertedDataset& dataset, const std::string& rawlog);
+
+}  // namespace budget_slam::dataset

@@ -1,0 +1,39 @@
+#pragma once
+#include <mrpt/math/TPose2D.h>
+
+#include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "budget_slam/core/Ids.h"
+
+namespace budget_slam::dataset {
+
+/// Ground truth in MRPT's simul-landmarks formats (DESIGN.md "Command line"):
+///  - `<rawlog>_ground_truth.txt`: one landmark a row, x y z in columns 0-2, id in column 6;
+///  - `<rawlog>_ground_truth_robot_path.txt`: one row a step, `x y z yaw pitch roll`.
+struct GroundTruth {
+  std::map<LandmarkId, Eigen::Vector2d> landmarks;  ///< [m]
+  std::vector<mrpt::math::TPose2D> path;            ///< one pose a step, empty when absent
+  std::string landmarks_file, path_file;            ///< where they came from ("" if absent)
+  bool empty() const { return landmarks.empty() && path.empty(); }
+};
+
+/// `<dir>/<stem>_ground_truth.txt` and `<dir>/<stem>_ground_truth_robot_path.txt` next to a
+/// rawlog named `<dir>/<stem>.rawlog`.
+std::string groundTruthLandmarksPathFor(const std::string& rawlog);
+std::string groundTruthRobotPathFor(const std::string& rawlog);
+
+/// Loads the files that exist; an explicit file name that does not exist or does not parse is an
+/// InputError naming the file and line. Empty names mean "look next to the rawlog".
+GroundTruth loadGroundTruth(const std::string& rawlog, const std::string& landmarks_file = "",
+                            const std::string& path_file = "");
+
+/// Writers in the same formats (used by the simulator and converters).
+void saveGroundTruthLandmarks(const std::string& file,
+                              const std::map<LandmarkId, Eigen::Vector2d>& landmarks);
+void saveGroundTruthPath(const std::string& file, const std::vector<mrpt::math::TPose2D>& path);
+
+}  // namespace budget_slam::dataset
