@@ -1,0 +1,250 @@
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPoint2D.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "../TextTable.h"
+#include "ConvertCommon.h"
+#include "budget_slam/core/Error.h"
+#include "budget_slam/dataset/Converters.h"
+#include "budget_slam/dataset/StepToMrpt.h"
+
+namespace budget_slam::dataset {
+namespace {
+
+using mrpt::poses::CPose2D;
+
+struct Timed {
+  double t;
+  double a, b, c;  // odometry: v w -; ground truth: x y theta; measurement: barcode range bearing
+  std::size_t line;
+};
+
+/// The records of a time-ordered UTIAS file with `fields` columns, time first.
+std::vector<Timed> readTimed(const std::string& file, std::size_t fields, const std::string& what,
+                             const std::vector<std::string>& names) {
+  std::vector<Timed> out;
+  TextTable t(file);
+  while (t.next()) {
+    t.expectFields(fields, what);
+    Timed r{t.number(0, "time"), 0, 0, 0, t.line()};
+    double* dst[3] = {&r.a, &r.b, &r.c};
+    for (std::size_t i = 1; i < fields; ++i) *dst[i - 1] = t.number(i, names[i - 1]);
+    if (!out.empty() && r.t < out.back().t)
+      t.fail("time " + t.word(0) + " is earlier than the previous record's");
+    out.push_back(r);
+  }
+  if (out.empty()) throw InputError(file + ": no data records");
+  return out;
+}
+
+/// Pose change of a unicycle driving at v [m/s], w [rad/s] for dt [s] (exact arc).
+CPose2D arc(double v, double w, double dt) {
+  const double th = w * dt;
+  if (std::abs(th) < 1e-9) return CPose2D(v * dt * std::cos(th / 2), v * dt * std::sin(th / 2), th);
+  const double r = v / w;
+  return CPose2D(r * std::sin(th), r * (1 - std::cos(th)), th);
+}
+
+/// Integrates the odometry records (each holds from its time to the next record's) over [t0, t1].
+CPose2D integrate(const std::vector<Timed>& odo, double t0, double t1) {
+  CPose2D p;
+  auto it = std::upper_bound(odo.begin(), odo.end(), t0,
+                             [](double t, const Timed& r) { return t < r.t; });
+  if (it != odo.begin()) --it;
+  for (; it != odo.end() && it->t < t1; ++it) {
+    const double from = std::max(t0, it->t);
+    const double to = std::next(it) == odo.end() ? t1 : std::min(t1, std::next(it)->t);
+    if (to > from) p = p + arc(it->a, it->b, to - from);
+  }
+  return p;
+}
+
+/// Ground-truth pose at time t: linear interpolation (shortest turn for the heading), clamped to
+/// the first and last record.
+CPose2D groundTruthAt(const std::vector<Timed>& gt, double t) {
+  if (t <= gt.front().t) return CPose2D(gt.front().a, gt.front().b, gt.front().c);
+  if (t >= gt.back().t) return CPose2D(gt.back().a, gt.back().b, gt.back().c);
+  const auto hi =
+      std::upper_bound(gt.begin(), gt.end(), t, [](double x, const Timed& r) { return x < r.t; });
+  const auto lo = std::prev(hi);
+  const double a = (t - lo->t) / (hi->t - lo->t);
+  const double dth = mrpt::math::wrapToPi(hi->c - lo->c);
+  return CPose2D(lo->a + a * (hi->a - lo->a), lo->b + a * (hi->b - lo->b), lo->c + a * dth);
+}
+
+/// 1.4826 x median absolute deviation: a standard deviation that outliers (false barcode reads,
+/// Vicon dropouts) do not inflate.
+double robustStd(std::vector<double> v) {
+  if (v.empty()) return 0;
+  auto median = [](std::vector<double> x) {
+    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+    return x[x.size() / 2];
+  };
+  const double m = median(v);
+  for (auto& x : v) x = std::abs(x - m);
+  return 1.4826 * median(v);
+}
+
+}  // namespace
+
+ConvertedDataset convertUtias(const std::string& folder, int robot) {
+  if (robot < 1 || robot > 5)
+    throw InputError("UTIAS robot number must be 1 to 5, found " + std::to_string(robot));
+  const std::string dir = folder.empty() || folder.back() == '/' ? folder : folder + "/";
+  const std::string prefix = dir + "Robot" + std::to_string(robot) + "_";
+
+  // Barcodes.dat: subject barcode. Subjects 1-5 are the robots, 6-20 the landmarks.
+  std::map<long long, long long> subject_of;  // barcode -> subject
+  {
+    TextTable t(dir + "Barcodes.dat");
+    while (t.next()) {
+      t.expectFields(2, "barcode record (subject barcode)");
+      const long long subject = t.integer(0, "subject"), barcode = t.integer(1, "barcode");
+      if (subject_of.count(barcode))
+        t.fail("barcode " + std::to_string(barcode) + " is given to two subjects");
+      subject_of[barcode] = subject;
+    }
+  }
+  std::map<LandmarkId, Eigen::Vector2d> landmarks_world;
+  {
+    TextTable t(dir + "Landmark_Groundtruth.dat");
+    while (t.next()) {
+      t.expectFields(5, "landmark record (subject x y sx sy)");
+      const long long subject = t.integer(0, "subject");
+      if (landmarks_world.count(subject))
+        t.fail("landmark subject " + std::to_string(subject) + " appears twice");
+      landmarks_world[subject] = Eigen::Vector2d(t.number(1, "x"), t.number(2, "y"));
+    }
+  }
+  const auto odo =
+      readTimed(prefix + "Odometry.dat", 3, "odometry record (time v omega)", {"v", "omega"});
+  const auto gt = readTimed(prefix + "Groundtruth.dat", 4, "ground-truth record (time x y theta)",
+                            {"x", "y", "theta"});
+  const auto meas =
+      readTimed(prefix + "Measurement.dat", 4, "measurement record (time barcode range bearing)",
+                {"barcode", "range", "bearing"});
+
+  // Steps: one per measurement time with at least one landmark sighting, from the first odometry
+  // record on (the robot's start; odometry is integrated from there).
+  const double t0 = odo.front().t;
+  std::vector<double> times;
+  std::vector<std::vector<RangeBearingReading>> readings;
+  std::size_t robots_left_out = 0, unknown_left_out = 0, early_left_out = 0;
+  std::vector<RangeBearingReading> all;
+  for (const auto& m : meas) {
+    if (m.a != std::floor(m.a))
+      throw InputError(prefix + "Measurement.dat:" + std::to_string(m.line) +
+                       ": barcode is not an integer");
+    if (m.b < 0)
+      throw InputError(prefix + "Measurement.dat:" + std::to_string(m.line) +
+                       ": range must not be negative");
+    const auto s = subject_of.find(static_cast<long long>(m.a));
+    if (s == subject_of.end()) {
+      ++unknown_left_out;
+      continue;
+    }
+    if (s->second <= 5) {
+      ++robots_left_out;
+      continue;
+    }
+    if (m.t < t0) {
+      ++early_left_out;
+      continue;
+    }
+    if (times.empty() || m.t != times.back()) {
+      times.push_back(m.t);
+      readings.emplace_back();
+    }
+    auto& rs = readings.back();
+    const LandmarkId id = s->second;
+    if (std::any_of(rs.begin(), rs.end(), [&](const auto& r) { return r.id == id; }))
+      throw InputError(prefix + "Measurement.dat:" + std::to_string(m.line) + ": landmark " +
+                       std::to_string(id) + " seen twice at time " + std::to_string(m.t));
+    rs.push_back({id, m.b, m.c, 0});
+    all.push_back(rs.back());
+  }
+  if (times.empty()) throw InputError(prefix + "Measurement.dat: no landmark sighting");
+
+  ConvertedDataset out;
+  // Ground truth in the frame of the true start pose (the filter starts at the origin).
+  const CPose2D start = groundTruthAt(gt, t0);
+  out.ground_truth.path.push_back(mrpt::math::TPose2D(0, 0, 0));
+  std::vector<CPose2D> true_at;
+  for (double t : times) {
+    true_at.push_back(groundTruthAt(gt, t) - start);
+    out.ground_truth.path.push_back(true_at.back().asTPose());
+  }
+  for (const auto& [id, p] : landmarks_world) {
+    const auto local = mrpt::poses::CPoint2D(p.x(), p.y()) - start;
+    out.ground_truth.landmarks[id] = Eigen::Vector2d(local.x(), local.y());
+  }
+
+  // Sensor noise: robust spread of the readings about what the ground truth predicts.
+  std::vector<double> er, eb;
+  for (std::size_t k = 0; k < times.size(); ++k)
+    for (const auto& r : readings[k]) {
+      const auto it = out.ground_truth.landmarks.find(r.id);
+      if (it == out.ground_truth.landmarks.end()) continue;
+      const auto rel = mrpt::poses::CPoint2D(it->second.x(), it->second.y()) - true_at[k];
+      er.push_back(r.range - std::hypot(rel.x(), rel.y()));
+      eb.push_back(mrpt::math::wrapToPi(r.yaw - std::atan2(rel.y(), rel.x())));
+    }
+  out.noise.std_range = robustStd(er);
+  out.noise.std_yaw = robustStd(eb);
+  convert::limitsFromReadings(all, out.noise);
+
+  // Odometry increments, and their noise: a random walk whose variance grows with time,
+  // q = sum of squared errors against ground truth / sum of durations (per axis).
+  std::vector<CPose2D> inc;
+  double sx = 0, sy = 0, sth = 0, st = 0;
+  double prev_t = t0;
+  CPose2D prev_true;
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    inc.push_back(integrate(odo, prev_t, times[k]));
+    const CPose2D true_inc = true_at[k] - prev_true;
+    sx += std::pow(inc.back().x() - true_inc.x(), 2);
+    sy += std::pow(inc.back().y() - true_inc.y(), 2);
+    sth += std::pow(mrpt::math::wrapToPi(inc.back().phi() - true_inc.phi()), 2);
+    st += times[k] - prev_t;
+    prev_t = times[k];
+    prev_true = true_at[k];
+  }
+  const double qxy = st > 0 ? (sx + sy) / (2 * st) : 0, qth = st > 0 ? sth / st : 0;
+  prev_t = t0;
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    OdometryIncrement o;
+    o.mean = inc[k].asTPose();
+    const double dt = times[k] - prev_t;
+    o.cov = Eigen::Vector3d(qxy * dt, qxy * dt, qth * dt).asDiagonal();
+    RangeBearingScan scan = convert::emptyScan(out.noise);
+    scan.readings = readings[k];
+    out.steps.push_back(makeStep(k, times[k], o, scan));
+    prev_t = times[k];
+  }
+
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "Odometry noise fitted to ground truth: variance %.3g m^2/s (x, y), %.3g rad^2/s "
+                "(yaw), times the step duration.",
+                qxy, qth);
+  out.notes = {
+      "Made by budget-convert --format utias from " + convert::baseName(folder) + ", robot " +
+          std::to_string(robot) + ".",
+      "One step per measurement time with a landmark sighting; odometry (v, omega) integrated",
+      "exactly (constant between records) from the first odometry record. Times: Unix seconds.",
+      "Landmark ids: subject numbers through Barcodes.dat; sightings of robots (subjects 1-5: " +
+          std::to_string(robots_left_out) + "), unknown barcodes (" +
+          std::to_string(unknown_left_out) + ") and before the start (" +
+          std::to_string(early_left_out) + ") left out.",
+      "Ground truth (Vicon) in the frame of the robot's true start pose.",
+      "Sensor noise fitted to ground truth: 1.4826 x MAD of range and bearing residuals.",
+      buf,
+  };
+  return out;
+}
+
+}  // namespace budget_slam::dataset
