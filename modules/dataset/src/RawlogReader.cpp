@@ -216,7 +216,10 @@ std::optional<Step> RawlogReader::next() {
   }
 
   for (const auto& obs : *frame)
-    if (obs) observation_classes_.insert(obs->GetRuntimeClass()->className);
+    if (obs) {
+      const std::string cls = obs->GetRuntimeClass()->className;  // "mrpt::obs::CObservationX"
+      observation_classes_.insert(cls.substr(cls.rfind(':') + 1));
+    }
 
   // Timestamps: MRPT's own when usable and increasing, else one second a step (TUM readers
   // need strictly increasing times).

@@ -1,0 +1,55 @@
+#pragma once
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "MappingOptions.h"
+#include "budget_slam/core/Ids.h"
+#include "budget_slam/reducers/BudgetOptions.h"
+
+namespace budget_slam::app {
+
+/// What the command line asked for (DESIGN.md "Command line").
+struct CommandLine {
+  std::string command;  ///< run | compare
+  std::string config;   ///< -c; "" = keep params as set by the caller, or ./config.ini
+  std::string rawlog, outdir, reducer, backend;
+  std::optional<long long> cap;
+  std::vector<std::string> sets;      ///< --set Section.key=value
+  std::vector<std::string> reducers;  ///< compare: --reducers a,b,c
+  bool quiet = false, force = false;
+};
+
+/// The budget-slam application: a thin main() calls initialize() and run(); tests drive it with an
+/// in-memory config (`params`) and a temporary output folder, as MRPT's KFSLAMApp.
+class BudgetSlamApp {
+ public:
+  /// Parses the command line (args[0] = program name). Loads -c into `params`.
+  /// Throws ConfigError on bad usage.
+  void initialize(const std::vector<std::string>& args);
+  void initialize(int argc, const char* const* argv);
+
+  /// Runs the command. Returns the process exit code (0 ok, 1 failed, 130 interrupted); never
+  /// throws: errors become one line on `err` and, when the output folder exists, summary.json.
+  int run();
+
+  mrpt::config::CConfigFileMemory params;  ///< the ini, before sidecar, --set and flags
+  std::ostream* out = nullptr;             ///< summary lines (default std::cout)
+  std::ostream* err = nullptr;             ///< errors and progress (default std::cerr)
+  /// Called after each step of `run` (progress observers; tests use it to press Ctrl-C).
+  std::function<void(StepIndex)> on_step;
+  const CommandLine& commandLine() const { return cli_; }
+
+ private:
+  int runRun();
+  int runCompare();
+
+  CommandLine cli_;
+  std::string config_label_ = "config";
+};
+
+}  // namespace budget_slam::app

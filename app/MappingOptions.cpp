@@ -1,0 +1,42 @@
+#include "MappingOptions.h"
+
+#include <ostream>
+
+#include "budget_slam/core/Error.h"
+#include "budget_slam/core/IniSection.h"
+
+namespace budget_slam::app {
+
+const std::vector<std::string>& MappingOptions::backends() {
+  static const std::vector<std::string> b = {"ekf", "graph"};
+  return b;
+}
+
+void MappingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
+                                        const std::string& section) {
+  const IniSection s(ini, section);
+  rawlog_file = s.readString("rawlog_file", rawlog_file);
+  backend = s.readChoice("backend", backend, backends());
+  ground_truth_file = s.readString("ground_truth_file", ground_truth_file);
+  ground_truth_file_robot = s.readString("ground_truth_file_robot", ground_truth_file_robot);
+  logOutput_dir = s.readString("logOutput_dir", logOutput_dir);
+  // kf-slam's default is the 3D filter, but an ini that does not say is taken as 2D here.
+  kf_implementation = s.readChoice("kf_implementation", kf_implementation,
+                                   {"CRangeBearingKFSLAM2D", "CRangeBearingKFSLAM"});
+  if (kf_implementation != "CRangeBearingKFSLAM2D")
+    throw ConfigError("[" + section + "] kf_implementation = " + kf_implementation +
+                      ": budget-slam runs the 2D filter, CRangeBearingKFSLAM2D");
+}
+
+void MappingOptions::dumpToTextStream(std::ostream& out) const {
+  out << "\n----------- [" << kSection << "] ------------\n";
+  out << "rawlog_file              = " << rawlog_file << "\n";
+  out << "backend                  = " << backend << "\n";
+  out << "ground_truth_file        = " << ground_truth_file << "\n";
+  out << "ground_truth_file_robot  = " << ground_truth_file_robot << "\n";
+  out << "logOutput_dir            = " << logOutput_dir << "\n";
+}
+
+std::vector<std::string> MappingOptions::keys() { return {"backend"}; }
+
+}  // namespace budget_slam::app

@@ -1,0 +1,31 @@
+#pragma once
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+#include <vector>
+
+namespace budget_slam::app {
+
+/// [MappingApplication]: MRPT kf-slam's application section, read the way kf-slam reads it, plus
+/// budget-slam's `backend`.
+struct MappingOptions : public mrpt::config::CLoadableOptions {
+  static constexpr const char* kSection = "MappingApplication";
+
+  std::string rawlog_file;              ///< input rawlog; -i overrides (relative: to the CWD,
+                                        ///< else to the ini file's folder)
+  std::string backend = "ekf";          ///< ekf | graph; --backend overrides
+  std::string ground_truth_file;        ///< landmarks ground truth ("" = next to the rawlog)
+  std::string ground_truth_file_robot;  ///< robot path ground truth ("" = next to the rawlog)
+  std::string logOutput_dir = "OUT_budget-slam";            ///< output folder; -o overrides
+  std::string kf_implementation = "CRangeBearingKFSLAM2D";  ///< only the 2D filter is supported
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
+                          const std::string& section) override;
+  void dumpToTextStream(std::ostream& out) const override;
+
+  /// budget-slam's own keys of the section (MRPT's come from ekf::mrptKfSlamIniKeys()).
+  static std::vector<std::string> keys();
+  static const std::vector<std::string>& backends();
+};
+
+}  // namespace budget_slam::app

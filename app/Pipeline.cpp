@@ -1,0 +1,194 @@
+#include "Pipeline.h"
+
+#include <sys/resource.h>
+
+#include <fstream>
+#include <iomanip>
+
+#include "budget_slam/core/Error.h"
+#include "budget_slam/core/StepFilter.h"
+#include "budget_slam/ekf/EkfBackend.h"
+#include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/report/RunFiles.h"
+
+namespace budget_slam::app {
+namespace {
+
+std::vector<std::unique_ptr<Reducer>> makeShadows(const mrpt::config::CConfigFileBase& ini,
+                                                  const reducers::BudgetOptions& budget) {
+  std::vector<std::unique_ptr<Reducer>> out;
+  for (const auto& name : budget.shadow_reducers) {
+    auto r = reducers::builtinReducers().create(name, ini, budget.seed);
+    if (r) out.push_back(std::move(r));
+  }
+  return out;
+}
+
+double nanIfEmpty(std::size_t n, double v) {
+  return n ? v : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// JSON has no NaN: write null instead.
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+}  // namespace
+
+std::unique_ptr<Backend> makeBackend(const std::string& name,
+                                     const mrpt::config::CConfigFileBase& ini) {
+  if (name == "ekf") return std::make_unique<ekf::EkfBackend>(ini);
+  throw ConfigError("unknown backend '" + name + "' (available: ekf)");
+}
+
+std::size_t peakResidentBytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<std::size_t>(u.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
+                   const reducers::BudgetOptions& budget, report::OutputFolder folder,
+                   std::shared_ptr<const dataset::GroundTruth> truth)
+    : folder_(std::move(folder)),
+      backend_(makeBackend(backend, ini)),
+      manager_(std::make_unique<reducers::BudgetManager>(
+          budget, reducers::builtinReducers().create(budget.reducer, ini, budget.seed),
+          makeShadows(ini, budget))),
+      truth_(std::move(truth)),
+      steps_csv_(folder_.file("steps.csv"), report::stepsCsvColumns()),
+      evictions_csv_(folder_.file("evictions.csv"), report::evictionsCsvColumns()) {
+  if (budget.dump_states)
+    manager_->setBeforeDropEvent([this](const Backend& b, StepIndex step) { dumpState(b, step); });
+}
+
+void Pipeline::process(const Step& raw) {
+  const auto& budget = manager_->options();
+  const auto t0 = std::chrono::steady_clock::now();
+  const Step filtered = budget.readmit_evicted ? raw : withoutReadingsOf(raw, manager_->evicted());
+
+  const std::size_t before = backend_->landmarkCount();
+  backend_->process(filtered);
+  const std::size_t added = backend_->landmarkCount() - before;
+  const auto drops = manager_->enforce(*backend_, raw.index);
+  const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  ++steps_done_;
+  landmarks_added_ += added;
+  evictions_ += drops.size();
+  total_step_s_ += dt;
+  max_step_s_ = std::max(max_step_s_, dt);
+  const std::size_t n = backend_->landmarkCount();
+  peak_landmarks_ = std::max(peak_landmarks_, n);
+  counts_.push_back(n);
+
+  const PoseEstimate pose = backend_->robotPose();
+  online_.push_back({raw.index, pose});
+  steps_csv_.cell(raw.index)
+      .cell(raw.t)
+      .cell(n)
+      .cell(added)
+      .cell(drops.size())
+      .cell(backend_->poseCount())
+      .cell(pose.mean.x)
+      .cell(pose.mean.y)
+      .cell(pose.mean.phi)
+      .cell(pose.cov(0, 0))
+      .cell(pose.cov(1, 1))
+      .cell(pose.cov(2, 2))
+      .cell(1e3 * dt);
+  steps_csv_.endRow();
+
+  for (const auto& e : drops) {
+    std::string shadow;
+    for (const auto& [name, choice] : e.shadow)
+      shadow += (shadow.empty() ? "" : ";") + name + ":" + std::to_string(choice.id) + ":" +
+                report::formatDouble(choice.score);
+    evictions_csv_.cell(e.step)
+        .cell(static_cast<long long>(e.id))
+        .cell(e.reducer)
+        .cell(e.score)
+        .cell(e.n_before)
+        .cell(e.n_after)
+        .cell(e.reason)
+        .cell(shadow);
+    evictions_csv_.endRow();
+  }
+}
+
+void Pipeline::dumpState(const Backend& backend, StepIndex step) const {
+  // Full mean and covariance, robot pose first then landmarks in the backend's order, so that
+  // any reducer's score can be recomputed by hand.
+  const auto lms = backend.landmarks();
+  std::vector<VariableKey> vars = {VariableKey::pose(step)};
+  for (const auto& l : lms) vars.push_back(VariableKey::landmark(l.id));
+  const Eigen::MatrixXd P = backend.jointCovariance(vars);
+  const PoseEstimate pose = backend.robotPose();
+
+  std::ofstream out(folder_.file("states/step_" + std::to_string(step) + ".txt"));
+  out << std::setprecision(17);
+  out << "# state before the drop event after step " << step << " (backend " << backend.name()
+      << ")\n# order: robot x y yaw, then x y of each landmark below\n# ids:";
+  for (const auto& l : lms) out << ' ' << l.id;
+  out << "\n# mean\n" << pose.mean.x << ' ' << pose.mean.y << ' ' << pose.mean.phi;
+  for (const auto& l : lms) out << ' ' << l.mean.x() << ' ' << l.mean.y();
+  out << "\n# covariance\n";
+  for (Eigen::Index r = 0; r < P.rows(); ++r) {
+    for (Eigen::Index c = 0; c < P.cols(); ++c) out << (c ? " " : "") << P(r, c);
+    out << '\n';
+  }
+}
+
+nlohmann::json Pipeline::finish(const std::string& status, const std::string& error,
+                                std::size_t steps_in_rawlog, const nlohmann::json& extra) {
+  if (status == "ok") backend_->finish();
+  const auto trajectory = backend_->trajectory();
+  const auto landmarks = backend_->landmarks();
+  report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory);
+  report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks);
+
+  const auto& budget = manager_->options();
+  nlohmann::json j;
+  j["status"] = status;
+  j["error"] = error;
+  j["backend"] = backend_->name();
+  j["reducer"] = budget.reducer;
+  j["cap"] = manager_->reduces() ? nlohmann::json(budget.max_landmarks) : nlohmann::json();
+  j["counts"] = {{"steps", steps_done_},
+                 {"landmarks_final", landmarks.size()},
+                 {"landmarks_peak", peak_landmarks_},
+                 {"landmarks_added", landmarks_added_},
+                 {"evictions", evictions_},
+                 {"poses_kept", backend_->poseCount()}};
+  j["timings"] = {
+      {"steps_s", total_step_s_},
+      {"step_ms_mean", number(nanIfEmpty(steps_done_, 1e3 * total_step_s_ /
+                                                          std::max<std::size_t>(1, steps_done_)))},
+      {"step_ms_max", 1e3 * max_step_s_},
+      {"peak_rss_bytes", peakResidentBytes()}};
+  nlohmann::json agreement = nlohmann::json::array();
+  for (const auto& a : manager_->agreements())
+    agreement.push_back({{"a", a.a},
+                         {"b", a.b},
+                         {"agree", a.agree},
+                         {"total", a.total},
+                         {"rate", number(a.total ? a.rate() : NAN)}});
+  j["agreement"] = agreement;
+
+  if (truth_ && !truth_->empty()) {
+    const auto e =
+        metrics::groundTruthErrors(trajectory, online_, landmarks, *truth_, steps_in_rawlog);
+    j["ground_truth"] = {{"landmarks_file", truth_->landmarks_file},
+                         {"path_file", truth_->path_file},
+                         {"poses", e.poses},
+                         {"trajectory_rmse_m", number(e.trajectory_rmse)},
+                         {"trajectory_max_m", number(e.trajectory_max)},
+                         {"landmarks", e.landmarks},
+                         {"landmark_rmse_m", number(e.landmark_rmse)},
+                         {"nees_mean", number(e.nees_mean)},
+                         {"nees_samples", e.nees_samples}};
+  }
+  for (const auto& [k, v] : extra.items()) j[k] = v;
+  report::writeJson(folder_.file("summary.json"), j);
+  return j;
+}
+
+}  // namespace budget_slam::app

@@ -1,0 +1,68 @@
+#pragma once
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <chrono>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "budget_slam/core/Backend.h"
+#include "budget_slam/dataset/GroundTruth.h"
+#include "budget_slam/metrics/GroundTruthErrors.h"
+#include "budget_slam/reducers/BudgetManager.h"
+#include "budget_slam/report/CsvWriter.h"
+#include "budget_slam/report/OutputFolder.h"
+
+namespace budget_slam::app {
+
+/// Creates the backend named in [MappingApplication] backend. Throws ConfigError for an unknown
+/// name.
+std::unique_ptr<Backend> makeBackend(const std::string& name,
+                                     const mrpt::config::CConfigFileBase& ini);
+
+/// One SLAM run under a budget: backend + budget manager + the run's output folder
+/// (DESIGN.md "Data flow" and "Outputs"). Steps go in one at a time; steps.csv and evictions.csv
+/// are written as they happen, the rest by finish().
+class Pipeline {
+ public:
+  Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
+           const reducers::BudgetOptions& budget, report::OutputFolder folder,
+           std::shared_ptr<const dataset::GroundTruth> truth);
+
+  /// Runs one step: backend update (evicted landmarks filtered out when readmission is off), then
+  /// the budget. Throws Error on bad data; the outputs written so far stay.
+  void process(const Step& step);
+
+  /// Writes trajectory.tum, landmarks.csv and summary.json with `status` (ok | failed |
+  /// interrupted) and `error`. `steps_in_rawlog` maps ground truth rows. Returns the summary.
+  nlohmann::json finish(const std::string& status, const std::string& error,
+                        std::size_t steps_in_rawlog, const nlohmann::json& extra = {});
+
+  const Backend& backend() const { return *backend_; }
+  const reducers::BudgetManager& budget() const { return *manager_; }
+  const report::OutputFolder& folder() const { return folder_; }
+  std::size_t stepsDone() const { return steps_done_; }
+  std::size_t evictions() const { return evictions_; }
+  /// The online robot pose after each step (for NEES and the metrics against the reference).
+  const std::vector<metrics::PoseRecord>& onlinePoses() const { return online_; }
+  const std::vector<std::size_t>& landmarkCounts() const { return counts_; }
+  double totalStepSeconds() const { return total_step_s_; }
+
+ private:
+  void dumpState(const Backend& backend, StepIndex step) const;
+
+  report::OutputFolder folder_;
+  std::unique_ptr<Backend> backend_;
+  std::unique_ptr<reducers::BudgetManager> manager_;
+  std::shared_ptr<const dataset::GroundTruth> truth_;
+  report::CsvWriter steps_csv_, evictions_csv_;
+  std::vector<metrics::PoseRecord> online_;
+  std::vector<std::size_t> counts_;
+  std::size_t steps_done_ = 0, evictions_ = 0, peak_landmarks_ = 0, landmarks_added_ = 0;
+  double total_step_s_ = 0, max_step_s_ = 0;
+};
+
+/// Peak resident memory of this process [bytes].
+std::size_t peakResidentBytes();
+
+}  // namespace budget_slam::app

@@ -1,0 +1,113 @@
+#include "RunConfig.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "budget_slam/core/Error.h"
+#include "budget_slam/core/IniSchema.h"
+#include "budget_slam/ekf/MrptIniKeys.h"
+#include "budget_slam/reducers/BuiltinReducers.h"
+
+namespace fs = std::filesystem;
+
+namespace budget_slam::app {
+namespace {
+
+IniSchema knownKeys() {
+  IniSchema schema;
+  for (const auto& [section, keys] : ekf::mrptKfSlamIniKeys()) schema.addSection(section, keys);
+  schema.addSection(MappingOptions::kSection, MappingOptions::keys());
+  schema.addSection(reducers::BudgetOptions::kSection, reducers::BudgetOptions::keys());
+  for (const auto* e : reducers::builtinReducers().entries())
+    if (!e->section.empty()) schema.addSection(e->section, e->keys);
+  return schema;
+}
+
+/// Copies every key of `from` into `to` (later files override earlier ones).
+void overlay(mrpt::config::CConfigFileMemory& to, const mrpt::config::CConfigFileBase& from) {
+  std::vector<std::string> sections;
+  from.getAllSections(sections);
+  for (const auto& s : sections) {
+    std::vector<std::string> keys;
+    from.getAllKeys(s, keys);
+    for (const auto& k : keys) to.write(s, k, from.read_string(s, k, "", false));
+  }
+}
+
+void applySet(mrpt::config::CConfigFileMemory& ini, const std::string& set) {
+  const auto dot = set.find('.'), eq = set.find('=');
+  if (dot == std::string::npos || eq == std::string::npos || dot == 0 || dot > eq || eq == dot + 1)
+    throw ConfigError("--set '" + set + "': expected Section.key=value");
+  ini.write(set.substr(0, dot), set.substr(dot + 1, eq - dot - 1), set.substr(eq + 1));
+}
+
+std::string resolveRawlog(const std::string& from_ini, const std::string& config_path) {
+  if (from_ini.empty() || fs::path(from_ini).is_absolute() || fs::exists(from_ini)) return from_ini;
+  if (!config_path.empty()) {
+    const fs::path beside = fs::path(config_path).parent_path() / from_ini;
+    if (fs::exists(beside)) return beside.string();
+  }
+  return from_ini;
+}
+
+}  // namespace
+
+RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const CommandLine& cli,
+                        const std::string& config_label) {
+  RunConfig rc;
+  rc.ini.setContent(params.getContent());
+  const std::string prefix = config_label + ": ";
+  try {
+    // The rawlog decides which sidecar applies, so read it before the overlays.
+    MappingOptions first;
+    first.rawlog_file = rc.ini.read_string(MappingOptions::kSection, "rawlog_file", "", false);
+    rc.rawlog = cli.rawlog.empty() ? resolveRawlog(first.rawlog_file, cli.config) : cli.rawlog;
+    if (rc.rawlog.empty())
+      throw ConfigError("no rawlog: give -i or [MappingApplication] rawlog_file");
+
+    const fs::path sidecar = fs::path(rc.rawlog).replace_extension(".ini");
+    if (fs::path(rc.rawlog).extension() == ".rawlog" && fs::exists(sidecar)) {
+      rc.sidecar = sidecar.string();
+      mrpt::config::CConfigFileMemory side;
+      std::ifstream in(rc.sidecar);
+      std::stringstream ss;
+      ss << in.rdbuf();
+      side.setContent(ss.str());
+      overlay(rc.ini, side);
+    }
+    for (const auto& s : cli.sets) applySet(rc.ini, s);
+    if (!cli.reducer.empty())
+      rc.ini.write(reducers::BudgetOptions::kSection, "reducer", cli.reducer);
+    if (cli.cap) {
+      if (*cli.cap < 1)
+        throw ConfigError("--cap " + std::to_string(*cli.cap) + ": must be at least 1");
+      rc.ini.write(reducers::BudgetOptions::kSection, "max_landmarks", std::to_string(*cli.cap));
+    }
+    if (!cli.backend.empty()) {
+      const auto& b = MappingOptions::backends();
+      if (std::find(b.begin(), b.end(), cli.backend) == b.end())
+        throw ConfigError("--backend " + cli.backend + ": must be one of ekf, graph");
+      rc.ini.write(MappingOptions::kSection, "backend", cli.backend);
+    }
+    if (!cli.rawlog.empty()) rc.ini.write(MappingOptions::kSection, "rawlog_file", cli.rawlog);
+
+    knownKeys().validate(rc.ini);
+    rc.mapping.loadFromConfigFile(rc.ini, MappingOptions::kSection);
+    rc.budget.loadFromConfigFile(rc.ini, reducers::BudgetOptions::kSection);
+    reducers::builtinReducers().entry(rc.budget.reducer);  // unknown name: error now
+    for (const auto& s : rc.budget.shadow_reducers) reducers::builtinReducers().entry(s);
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    // Flag and name errors speak for themselves; ini errors get the file's name.
+    if (msg.rfind("--", 0) == 0 || msg.rfind("unknown reducer", 0) == 0 ||
+        msg.rfind("no rawlog", 0) == 0)
+      throw;
+    throw ConfigError(prefix + msg);
+  }
+  rc.outdir = cli.outdir.empty() ? rc.mapping.logOutput_dir : cli.outdir;
+  return rc;
+}
+
+}  // namespace budget_slam::app

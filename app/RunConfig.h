@@ -1,0 +1,28 @@
+#pragma once
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <string>
+
+#include "BudgetSlamApp.h"
+#include "MappingOptions.h"
+#include "budget_slam/reducers/BudgetOptions.h"
+
+namespace budget_slam::app {
+
+/// The settings of one invocation, merged in order (later wins): the ini (`params`), the rawlog's
+/// sidecar `<rawlog>.ini` when it sits next to the rawlog, --set overrides, then the flags
+/// --reducer, --cap and --backend. Checked against the known sections and keys.
+struct RunConfig {
+  mrpt::config::CConfigFileMemory ini;  ///< merged; written as config_used.ini
+  MappingOptions mapping;
+  reducers::BudgetOptions budget;
+  std::string rawlog;   ///< resolved path of the input rawlog
+  std::string sidecar;  ///< sidecar ini applied, "" if none
+  std::string outdir;
+};
+
+/// Throws ConfigError whose message names the file, flag or key at fault.
+RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const CommandLine& cli,
+                        const std::string& config_label);
+
+}  // namespace budget_slam::app

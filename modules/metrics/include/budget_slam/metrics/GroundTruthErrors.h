@@ -1,0 +1,43 @@
+#pragma once
+#include <limits>
+#include <vector>
+
+#include "budget_slam/core/Estimates.h"
+#include "budget_slam/dataset/GroundTruth.h"
+
+namespace budget_slam::metrics {
+
+/// The online estimate of the robot pose after one step (what the filter knew then).
+struct PoseRecord {
+  StepIndex step = 0;
+  PoseEstimate estimate;
+};
+
+/// Errors against ground truth (DESIGN.md "Metrics"), SI units; NaN when not computable.
+struct GroundTruthErrors {
+  std::size_t poses = 0;                                              ///< poses compared
+  double trajectory_rmse = std::numeric_limits<double>::quiet_NaN();  ///< [m]
+  double trajectory_max = std::numeric_limits<double>::quiet_NaN();   ///< [m]
+  std::size_t landmarks = 0;                                          ///< landmarks matched by id
+  double landmark_rmse = std::numeric_limits<double>::quiet_NaN();    ///< [m]
+  /// Mean normalized estimation error squared of the robot pose (x, y, yaw) over the steps: 3 for
+  /// a consistent filter; much larger means overconfident.
+  double nees_mean = std::numeric_limits<double>::quiet_NaN();
+  std::size_t nees_samples = 0;
+};
+
+/// Ground-truth row of step k: MRPT's simul-landmarks writes the start pose as the first row, so
+/// a path with one row more than there are steps maps step k to row k+1; otherwise to row k.
+std::size_t groundTruthRow(StepIndex step, std::size_t path_rows, std::size_t steps);
+
+/// The estimate starts at the origin; ground truth is brought into that frame by the inverse of
+/// its start pose (the row before step 0, or row 0), which is the identity for MRPT's files.
+GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajectory,
+                                    const std::vector<PoseRecord>& online,
+                                    const std::vector<LandmarkView>& landmarks,
+                                    const dataset::GroundTruth& truth, std::size_t steps);
+
+/// (x, y, yaw) error e of `estimate` w.r.t. `truth` (yaw wrapped) and its NEES e' P^-1 e.
+double poseNees(const PoseEstimate& estimate, const mrpt::math::TPose2D& truth);
+
+}  // namespace budget_slam::metrics

@@ -1,0 +1,61 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "budget_slam/metrics/GroundTruthErrors.h"
+
+using namespace budget_slam;
+using namespace budget_slam::metrics;
+
+TEST(GroundTruthErrors, RowMappingFollowsSimulLandmarks) {
+  EXPECT_EQ(groundTruthRow(0, 250, 249), 1u);  // start pose written first
+  EXPECT_EQ(groundTruthRow(248, 250, 249), 249u);
+  EXPECT_EQ(groundTruthRow(5, 100, 100), 5u);
+}
+
+TEST(GroundTruthErrors, TrajectoryLandmarkAndNeesAgainstKnownErrors) {
+  dataset::GroundTruth gt;
+  // Start pose at (10, 5, 90 deg): the estimate's origin. Truth moves 1 m a step along its +x.
+  const double yaw0 = M_PI / 2;
+  gt.path.push_back({10, 5, yaw0});
+  for (int k = 1; k <= 4; ++k) gt.path.push_back({10, 5.0 + k, yaw0});
+  gt.landmarks[7] = Eigen::Vector2d(8, 7);  // 2 m ahead, 2 m to the left: estimate frame (2, 2)
+
+  std::vector<TrajectoryPoint> traj;
+  std::vector<PoseRecord> online;
+  const double errs[4] = {0.0, 0.3, 0.4, 0.0};  // lateral errors, metres
+  for (int k = 0; k < 4; ++k) {
+    TrajectoryPoint p;
+    p.step = k;
+    p.pose = {k + 1.0, errs[k], 0.0};
+    traj.push_back(p);
+    PoseRecord r;
+    r.step = k;
+    r.estimate.mean = p.pose;
+    r.estimate.cov = Eigen::Vector3d(0.01, 0.04, 0.01).asDiagonal();
+    online.push_back(r);
+  }
+  LandmarkView l;
+  l.id = 7;
+  l.mean = Eigen::Vector2d(2.0, 2.5);
+  LandmarkView unknown;
+  unknown.id = 99;
+
+  const auto e = groundTruthErrors(traj, online, {l, unknown}, gt, 4);
+  EXPECT_EQ(e.poses, 4u);
+  EXPECT_NEAR(e.trajectory_rmse, std::sqrt((0.09 + 0.16) / 4), 1e-12);
+  EXPECT_NEAR(e.trajectory_max, 0.4, 1e-12);
+  EXPECT_EQ(e.landmarks, 1u);
+  EXPECT_NEAR(e.landmark_rmse, 0.5, 1e-12);
+  EXPECT_EQ(e.nees_samples, 4u);
+  EXPECT_NEAR(e.nees_mean, (0.09 / 0.04 + 0.16 / 0.04) / 4, 1e-12);
+}
+
+TEST(GroundTruthErrors, NeesWrapsYawAndRejectsSingularCovariance) {
+  PoseEstimate est;
+  est.mean = {0, 0, M_PI - 0.1};
+  est.cov = Eigen::Matrix3d::Identity() * 0.01;
+  EXPECT_NEAR(poseNees(est, {0, 0, -M_PI + 0.1}), 0.04 / 0.01, 1e-9);
+  est.cov.setZero();
+  EXPECT_TRUE(std::isnan(poseNees(est, {0, 0, 0})));
+}

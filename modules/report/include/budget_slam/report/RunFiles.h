@@ -1,0 +1,26 @@
+#pragma once
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "budget_slam/core/Estimates.h"
+
+namespace budget_slam::report {
+
+/// trajectory.tum: `t x y z qx qy qz qw` a pose, z = 0, rotation about z only; readable by evo and
+/// rpg_trajectory_evaluation (8 numeric columns, strictly increasing t, unit quaternions).
+void writeTrajectoryTum(const std::string& path, const std::vector<TrajectoryPoint>& trajectory);
+
+/// landmarks.csv: id, x, y, cov_xx, cov_xy, cov_yy, n_obs, obs_mean_x, obs_mean_y, first_step,
+/// last_step — one row a landmark in the final map.
+void writeLandmarksCsv(const std::string& path, const std::vector<LandmarkView>& landmarks);
+
+/// summary.json, pretty-printed, written atomically (temporary file + rename) so that a reader
+/// never sees half a file.
+void writeJson(const std::string& path, const nlohmann::json& j);
+
+/// Columns of steps.csv and evictions.csv (DESIGN.md "Outputs").
+const std::vector<std::string>& stepsCsvColumns();
+const std::vector<std::string>& evictionsCsvColumns();
+
+}  // namespace budget_slam::report

@@ -1,0 +1,81 @@
+#pragma once
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "BudgetSlamApp.h"
+
+namespace budget_slam::testing {
+
+inline const std::string kRoot = BUDGET_SLAM_SOURCE_DIR;
+inline const std::string kDemo = kRoot + "/rawlogs/kf-slam_demo.rawlog";
+inline const std::string kMrptIni = kRoot + "/tests/data/EKF-SLAM_test_2d.ini";
+
+/// A fresh, empty folder under the system temp folder (its parent is created, it is not).
+inline std::filesystem::path freshDir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / "budget_slam_tests" / name;
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d.parent_path());
+  return d;
+}
+
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+inline nlohmann::json readJson(const std::filesystem::path& p) {
+  return nlohmann::json::parse(slurp(p));
+}
+
+/// Rows of a CSV file with a header, as strings.
+inline std::vector<std::vector<std::string>> readCsv(const std::filesystem::path& p) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(slurp(p));
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+/// Result of one in-process run of the application.
+struct AppResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+/// Runs `budget-slam <args...>` in-process, as main() would.
+inline AppResult runApp(const std::vector<std::string>& args,
+                        std::function<void(app::BudgetSlamApp&)> prepare = {}) {
+  AppResult r;
+  app::BudgetSlamApp a;
+  std::ostringstream out, err;
+  a.out = &out;
+  a.err = &err;
+  std::vector<std::string> argv = {"budget-slam"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  try {
+    a.initialize(argv);
+  } catch (const std::exception& e) {
+    r.exit_code = 2;
+    r.err = std::string("budget-slam: ") + e.what() + "\n";
+    return r;
+  }
+  if (prepare) prepare(a);
+  r.exit_code = a.run();
+  r.out = out.str();
+  r.err = err.str();
+  return r;
+}
+
+}  // namespace budget_slam::testing

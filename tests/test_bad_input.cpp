@@ -1,0 +1,198 @@
+// DESIGN.md "Bad input": a one-line error naming the file, step or key, a non-zero exit, no
+// crash, and summary.json saying why wherever the output folder could be made.
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CRawlog.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <csignal>
+#include <random>
+
+#include "AppTestUtil.h"
+#include "Interrupt.h"
+#include "budget_slam/reducers/BuiltinReducers.h"
+
+using namespace budget_slam;
+using namespace budget_slam::testing;
+namespace fs = std::filesystem;
+
+namespace {
+
+AppResult runOn(const std::string& rawlog, const fs::path& out,
+                std::vector<std::string> extra = {}) {
+  std::vector<std::string> args = {"run",  "-c", kMrptIni,     "-i",
+                                   rawlog, "-o", out.string(), "--quiet"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return runApp(args);
+}
+
+void expectFailed(const AppResult& r, const fs::path& out, const std::string& message) {
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "budget-slam: error: " + message + "\n");
+  ASSERT_TRUE(fs::exists(out / "summary.json")) << r.err;
+  const auto s = readJson(out / "summary.json");
+  EXPECT_EQ(s["status"], "failed");
+  EXPECT_EQ(s["error"], message);
+}
+
+}  // namespace
+
+TEST(BadInput, MissingRawlog) {
+  const auto out = freshDir("missing");
+  const std::string path = (out.parent_path() / "no_such.rawlog").string();
+  expectFailed(runOn(path, out), out, "rawlog '" + path + "': no such file");
+}
+
+TEST(BadInput, RandomBytes) {
+  const auto out = freshDir("random");
+  const auto path = out.parent_path() / "random.rawlog";
+  std::mt19937 rng(1);
+  std::ofstream f(path, std::ios::binary);
+  for (int i = 0; i < 4096; ++i) f.put(static_cast<char>(rng() & 0xff));
+  f.close();
+  expectFailed(runOn(path.string(), out), out,
+               "rawlog '" + path.string() +
+                   "': not an MRPT rawlog (no serialized MRPT object at its start)");
+}
+
+TEST(BadInput, TruncatedRawlogKeepsTheStepsAlreadyDone) {
+  const auto out = freshDir("truncated");
+  const auto path = out.parent_path() / "truncated.rawlog";
+  const std::string bytes = slurp(kDemo);
+  std::ofstream(path, std::ios::binary) << bytes.substr(0, 20000);
+  const auto r = runOn(path.string(), out);
+  expectFailed(r, out,
+               "rawlog '" + path.string() +
+                   "': truncated or corrupt at step 102 (the file ends inside a "
+                   "mrpt::obs::CActionCollection)");
+  // The 102 steps before the damage are in the outputs.
+  EXPECT_EQ(readCsv(out / "steps.csv").size(), 102u);
+  EXPECT_EQ(readJson(out / "summary.json")["counts"]["steps"], 102);
+  EXPECT_FALSE(slurp(out / "trajectory.tum").empty());
+  EXPECT_FALSE(slurp(out / "landmarks.csv").empty());
+}
+
+TEST(BadInput, RawlogWithoutBearingRangeSaysWhatItHolds) {
+  const auto out = freshDir("no_bearing_range");
+  const auto path = out.parent_path() / "odometry_only.rawlog";
+  {
+    mrpt::io::CFileGZOutputStream f(path.string());
+    auto arch = mrpt::serialization::archiveFrom(f);
+    for (int k = 0; k < 5; ++k) {
+      mrpt::obs::CActionCollection acts;
+      mrpt::obs::CSensoryFrame sf;
+      auto odo = std::make_shared<mrpt::obs::CObservationOdometry>();
+      odo->odometry = mrpt::poses::CPose2D(0.1 * k, 0, 0);
+      sf.insert(odo);
+      arch << acts << sf;
+    }
+  }
+  expectFailed(runOn(path.string(), out), out,
+               "rawlog '" + path.string() +
+                   "' holds no CObservationBearingRange (it holds: CObservationOdometry)");
+  EXPECT_EQ(readCsv(out / "steps.csv").size(), 5u);
+}
+
+TEST(BadInput, UnknownReducerListsRegistered) {
+  const auto out = freshDir("unknown_reducer");
+  std::string list;
+  for (const auto& n : reducers::builtinReducers().names()) list += (list.empty() ? "" : ", ") + n;
+  expectFailed(runOn(kDemo, out, {"--reducer", "bogus"}), out,
+               "unknown reducer 'bogus' (registered: " + list + ")");
+}
+
+TEST(BadInput, CapBelowOne) {
+  const auto out = freshDir("cap0");
+  expectFailed(runOn(kDemo, out, {"--reducer", "oldest", "--cap", "0"}), out,
+               "--cap 0: must be at least 1");
+  const auto out2 = freshDir("cap0_ini");
+  expectFailed(runOn(kDemo, out2, {"--set", "LandmarkBudget.max_landmarks=-3"}), out2,
+               kMrptIni + ": [LandmarkBudget] max_landmarks = -3: must be at least 1");
+}
+
+TEST(BadInput, UnknownIniKeySuggestsTheClosest) {
+  const auto out = freshDir("unknown_key");
+  expectFailed(
+      runOn(kDemo, out, {"--set", "LandmarkBudget.max_landmark=10"}), out,
+      kMrptIni + ": unknown key [LandmarkBudget] max_landmark (did you mean max_landmarks?)");
+  const auto out2 = freshDir("unknown_key_mrpt");
+  expectFailed(runOn(kDemo, out2, {"--set", "RangeBearingKFSLAM.std_sensor_rnage=0.1"}), out2,
+               kMrptIni +
+                   ": unknown key [RangeBearingKFSLAM] std_sensor_rnage (did you mean "
+                   "std_sensor_range?)");
+}
+
+TEST(BadInput, NonEmptyOutputFolderNeedsForceAndNothingIsDeleted) {
+  const auto out = freshDir("non_empty");
+  fs::create_directories(out);
+  std::ofstream(out / "notes.txt") << "mine";
+  const auto r = runOn(kDemo, out);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "budget-slam: error: output folder '" + out.string() +
+                       "' is not empty (use --force to write into it)\n");
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+  const auto forced = runOn(kDemo, out, {"--force"});
+  EXPECT_EQ(forced.exit_code, 0) << forced.err;
+  EXPECT_EQ(slurp(out / "notes.txt"), "mine");
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+}
+
+TEST(BadInput, CtrlCEndsWithStatusInterruptedAndOutputs) {
+  const auto out = freshDir("interrupted");
+  const auto r = runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", out.string(), "--quiet",
+                         "--reducer", "oldest", "--cap", "10"},
+                        [](app::BudgetSlamApp& a) {
+                          a.on_step = [](StepIndex s) {
+                            if (s == 100) std::raise(SIGINT);  // as Ctrl-C does
+                          };
+                        });
+  EXPECT_EQ(r.exit_code, 130);
+  EXPECT_EQ(r.err, "budget-slam: interrupted by Ctrl-C after step 100\n");
+  const auto s = readJson(out / "summary.json");
+  EXPECT_EQ(s["status"], "interrupted");
+  EXPECT_EQ(s["counts"]["steps"], 101);
+  EXPECT_EQ(readCsv(out / "steps.csv").size(), 101u);
+}
+
+TEST(BadInput, NegativeAndNanReadingsNameTheStep) {
+  // A copy of the demo whose step 3 has a negative range.
+  const auto out = freshDir("negative_range");
+  const auto path = out.parent_path() / "negative_range.rawlog";
+  {
+    mrpt::io::CFileGZInputStream in(kDemo);
+    auto ia = mrpt::serialization::archiveFrom(in);
+    mrpt::io::CFileGZOutputStream o(path.string());
+    auto oa = mrpt::serialization::archiveFrom(o);
+    mrpt::obs::CActionCollection::Ptr act;
+    mrpt::obs::CSensoryFrame::Ptr sf;
+    size_t entry = 0;
+    for (int k = 0; mrpt::obs::CRawlog::readActionObservationPair(ia, act, sf, entry); ++k) {
+      if (k == 3) {
+        auto obs = sf->getObservationByClass<mrpt::obs::CObservationBearingRange>();
+        obs->sensedData.at(1).range = -2.5;
+      }
+      oa << *act << *sf;
+    }
+  }
+  const auto r = runOn(path.string(), out);
+  expectFailed(r, out,
+               "rawlog '" + path.string() +
+                   "': step 3: reading 1 has a negative or non-finite range (-2.500000)");
+  EXPECT_EQ(readCsv(out / "steps.csv").size(), 3u);
+}
+
+TEST(BadInput, MissingConfigFileAndBadSetSyntax) {
+  const auto r = runApp({"run", "-c", "/nonexistent/config.ini"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err,
+            "budget-slam: config file '/nonexistent/config.ini': no such file or not "
+            "readable\n");
+  const auto out = freshDir("bad_set");
+  expectFailed(runOn(kDemo, out, {"--set", "nodot=3"}), out,
+               "--set 'nodot=3': expected Section.key=value");
+}

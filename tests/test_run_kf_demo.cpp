@@ -1,0 +1,140 @@
+// The foundation's end-to-end checks on MRPT's kf-slam demo rawlog (issue 2 "Done when").
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <set>
+
+#include "AppTestUtil.h"
+#include "budget_slam/reducers/BuiltinReducers.h"
+
+using namespace budget_slam;
+using namespace budget_slam::testing;
+namespace fs = std::filesystem;
+
+namespace {
+/// Last row of trajectory.tum as x, y, yaw.
+std::array<double, 3> lastTumPose(const fs::path& tum) {
+  std::istringstream in(slurp(tum));
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  std::istringstream ls(last);
+  double t, x, y, z, qx, qy, qz, qw;
+  ls >> t >> x >> y >> z >> qx >> qy >> qz >> qw;
+  return {x, y, 2 * std::atan2(qz, qw)};
+}
+}  // namespace
+
+// Issue 2: with --reducer none and MRPT's EKF-SLAM_test_2d.ini, the last pose equals the one
+// MRPT's kf-slam app writes in its robot_pose_*.txt, to 1e-6.
+TEST(RunKfDemo, NoReducerMatchesMrptKfSlamApp) {
+  const auto dir = freshDir("kfslam_app");
+  fs::create_directories(dir);
+  // kf-slam saves robot_pose_<step>.txt every SAVE_LOG_FREQUENCY steps; 1 gives the last step.
+  std::string ini = slurp(kMrptIni);
+  ini +=
+      "\n[MappingApplication]\nSHOW_3D_LIVE=false\nSAVE_LOG_FREQUENCY=1\nSAVE_3D_SCENES=false\n"
+      "logOutput_dir=" +
+      (dir / "kf").string() + "\n";
+  std::ofstream(dir / "kf.ini") << ini;
+  const std::string cmd = "kf-slam " + (dir / "kf.ini").string() + " " + kDemo + " > " +
+                          (dir / "kf.log").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "kf.log");
+  std::istringstream pose(slurp(dir / "kf" / "robot_pose_00248.txt"));
+  double kx, ky, kyaw;
+  pose >> kx >> ky >> kyaw;
+  ASSERT_TRUE(pose) << "kf-slam wrote no pose for step 248";
+
+  const auto r = runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", (dir / "ours").string(),
+                         "--reducer", "none", "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto p = lastTumPose(dir / "ours" / "trajectory.tum");
+  EXPECT_NEAR(p[0], kx, 1e-6);
+  EXPECT_NEAR(p[1], ky, 1e-6);
+  EXPECT_NEAR(std::remainder(p[2] - kyaw, 2 * M_PI), 0.0, 1e-6);
+  const auto summary = readJson(dir / "ours" / "summary.json");
+  EXPECT_EQ(summary["status"], "ok");
+  EXPECT_EQ(summary["counts"]["steps"], 249);
+  EXPECT_EQ(summary["counts"]["landmarks_final"], 70);
+  EXPECT_EQ(summary["counts"]["evictions"], 0);
+  // Unreduced EKF against simul-landmarks' ground truth: sub-decimetre on this easy set.
+  EXPECT_LT(summary["ground_truth"]["trajectory_rmse_m"].get<double>(), 0.05);
+  EXPECT_LT(summary["ground_truth"]["landmark_rmse_m"].get<double>(), 0.05);
+}
+
+// Issue 2: every step of steps.csv is at or under the cap, for every baseline; evictions.csv
+// agrees with the counts; summary says ok.
+TEST(RunKfDemo, EveryBaselineKeepsEveryStepUnderTheCap) {
+  for (const std::string reducer : {"info-content", "random", "oldest"}) {
+    const auto dir = freshDir("cap_" + reducer);
+    const auto r = runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--reducer",
+                           reducer, "--cap", "20", "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto steps = readCsv(dir / "steps.csv");
+    ASSERT_EQ(steps.size(), 249u);
+    std::size_t dropped = 0;
+    for (const auto& row : steps) {
+      EXPECT_LE(std::stoul(row[2]), 20u) << reducer << " step " << row[0];
+      dropped += std::stoul(row[4]);
+    }
+    const auto evictions = readCsv(dir / "evictions.csv");
+    EXPECT_EQ(evictions.size(), dropped);
+    EXPECT_GT(dropped, 49u) << reducer;
+    for (const auto& e : evictions) EXPECT_EQ(e[2], reducer);
+    const auto summary = readJson(dir / "summary.json");
+    EXPECT_EQ(summary["status"], "ok");
+    EXPECT_EQ(summary["counts"]["landmarks_final"], 20);
+  }
+}
+
+// Issue 2: readmission on: an evicted sensor ID seen again comes back as a new landmark;
+// off: it never comes back.
+TEST(RunKfDemo, ReadmissionOnAndOff) {
+  for (const bool readmit : {true, false}) {
+    const auto dir = freshDir(readmit ? "readmit_on" : "readmit_off");
+    const auto r =
+        runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--reducer", "oldest",
+                "--cap", "15", "--quiet", "--set",
+                std::string("LandmarkBudget.readmit_evicted=") + (readmit ? "true" : "false")});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::map<long, std::size_t> evicted_at;
+    for (const auto& e : readCsv(dir / "evictions.csv"))
+      evicted_at.emplace(std::stol(e[1]), std::stoul(e[0]));
+    std::size_t came_back = 0;
+    for (const auto& l : readCsv(dir / "landmarks.csv")) {
+      const auto it = evicted_at.find(std::stol(l[0]));
+      if (it == evicted_at.end()) continue;
+      ++came_back;
+      EXPECT_GT(std::stoul(l[9]), it->second) << "readmitted landmark keeps its old first_step";
+    }
+    const auto summary = readJson(dir / "summary.json");
+    const std::size_t added = summary["counts"]["landmarks_added"];
+    if (readmit) {
+      EXPECT_GT(came_back, 0u);
+      EXPECT_GT(added, 70u);  // re-sightings re-enter as new landmarks
+    } else {
+      EXPECT_EQ(came_back, 0u);
+      EXPECT_EQ(added, 70u);  // each sensor ID enters the map once
+    }
+  }
+}
+
+TEST(RunKfDemo, ShadowReducersAreLoggedWithAgreement) {
+  const auto dir = freshDir("shadows");
+  const auto r =
+      runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--reducer", "info-content",
+              "--cap", "25", "--quiet", "--set", "LandmarkBudget.shadow_reducers=oldest,random"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto evictions = readCsv(dir / "evictions.csv");
+  ASSERT_FALSE(evictions.empty());
+  for (const auto& e : evictions) {
+    ASSERT_EQ(e.size(), 8u);
+    EXPECT_EQ(e[7].rfind("oldest:", 0), 0u) << e[7];
+    EXPECT_NE(e[7].find(";random:"), std::string::npos) << e[7];
+  }
+  const auto summary = readJson(dir / "summary.json");
+  ASSERT_EQ(summary["agreement"].size(), 3u);
+  EXPECT_EQ(summary["agreement"][0]["a"], "info-content");
+  EXPECT_EQ(summary["agreement"][0]["b"], "oldest");
+  EXPECT_EQ(summary["agreement"][0]["total"], evictions.size());
+}
