@@ -228,18 +228,18 @@ ConvertedDataset convertUtias(const std::string& folder, int robot) {
 
   char buf[256];
   std::snprintf(buf, sizeof buf,
-                "Odometry noise fitted to ground truth: variance %.3g m^2/s (x, y), %.3g rad^2/s "
-                "(yaw), times the step duration.",
+                "Odometry noise fitted to ground truth: variance %.3g m^2/s (x, y), %.3g "
+                "rad^2/s (yaw) x step duration.",
                 qxy, qth);
   out.notes = {
       "Made by budget-convert --format utias from " + convert::baseName(folder) + ", robot " +
           std::to_string(robot) + ".",
       "One step per measurement time with a landmark sighting; odometry (v, omega) integrated",
       "exactly (constant between records) from the first odometry record. Times: Unix seconds.",
-      "Landmark ids: subject numbers through Barcodes.dat; sightings of robots (subjects 1-5: " +
-          std::to_string(robots_left_out) + "), unknown barcodes (" +
-          std::to_string(unknown_left_out) + ") and before the start (" +
-          std::to_string(early_left_out) + ") left out.",
+      "Landmark ids: subject numbers through Barcodes.dat. Left out: sightings of robots",
+      "(subjects 1-5): " + std::to_string(robots_left_out) +
+          ", of unknown barcodes: " + std::to_string(unknown_left_out) +
+          ", before the first odometry record: " + std::to_string(early_left_out) + ".",
       "Ground truth (Vicon) in the frame of the robot's true start pose.",
       "Sensor noise fitted to ground truth: 1.4826 x MAD of range and bearing residuals.",
       buf,

@@ -1,5 +1,6 @@
 #pragma once
 #include <string>
+#include <vector>
 
 #include "budget_slam/dataset/ConvertedDataset.h"
 
@@ -34,5 +35,12 @@ ConvertedDataset convertUtias(const std::string& folder, int robot);
 /// (`ODOMETRY r1 t r2` followed by `SENSOR id range bearing` lines). Noise of the course's EKF
 /// exercise.
 ConvertedDataset convertFreiburg(const std::string& world, const std::string& sensor_data);
+
+/// The converter named `format` ("isam", "g2o", "utias", "freiburg") on `inputs`, as
+/// budget-convert calls it: isam and g2o take one file; utias one folder (and `robot`); freiburg
+/// world.dat and sensor_data.dat, or one folder holding both. An unknown format or a wrong number
+/// of inputs is a ConfigError.
+ConvertedDataset convertByFormat(const std::string& format, const std::vector<std::string>& inputs,
+                                 int robot);
 
 }  // namespace budget_slam::dataset

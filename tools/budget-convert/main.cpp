@@ -1,0 +1,59 @@
+// budget-convert: a public planar landmark-SLAM dataset -> MRPT rawlog + ground truth + sidecar
+// ini. All the work is in budget_slam::dataset (Converters.h, DatasetFiles.h).
+#include <tclap/CmdLine.h>
+
+#include <iostream>
+#include <set>
+
+#include "budget_slam/core/Error.h"
+#include "budget_slam/dataset/Converters.h"
+#include "budget_slam/dataset/DatasetFiles.h"
+
+int main(int argc, char** argv) {
+  using namespace budget_slam;
+  try {
+    TCLAP::CmdLine cmd(
+        "Converts a planar landmark-SLAM dataset into a gzip MRPT rawlog, its ground-truth files "
+        "(when the dataset has ground truth) and a sidecar .ini with the sensor noise.",
+        ' ', "0.1");
+    std::vector<std::string> formats = {"isam", "g2o", "utias", "freiburg"};
+    TCLAP::ValuesConstraint<std::string> format_values(formats);
+    TCLAP::ValueArg<std::string> format("f", "format", "input format", true, "", &format_values,
+                                        cmd);
+    TCLAP::ValueArg<int> robot("r", "robot", "UTIAS MRCLAM robot number (1-5)", false, 1, "N", cmd);
+    TCLAP::ValueArg<std::string> out("o", "out", "output rawlog (name ends in .rawlog)", true, "",
+                                     "out.rawlog", cmd);
+    TCLAP::UnlabeledMultiArg<std::string> inputs("INPUT", "input file(s) or folder (see --format)",
+                                                 true, "INPUT", cmd);
+    cmd.setExceptionHandling(false);
+    cmd.parse(argc, argv);
+
+    const auto dataset =
+        dataset::convertByFormat(format.getValue(), inputs.getValue(), robot.getValue());
+    dataset::saveDataset(dataset, out.getValue());
+    std::size_t sightings = 0;
+    std::set<LandmarkId> ids;
+    for (const auto& s : dataset.steps)
+      if (s.scan)
+        for (const auto& r : s.scan->readings) {
+          ++sightings;
+          ids.insert(r.id);
+        }
+    std::cout << out.getValue() << ": " << dataset.steps.size() << " steps, " << sightings
+              << " sightings of " << ids.size() << " landmarks"
+              << (dataset.ground_truth.empty() ? "" : ", with ground truth") << "\n";
+    return 0;
+  } catch (const TCLAP::ExitException& e) {
+    return e.getExitStatus();
+  } catch (const TCLAP::ArgException& e) {
+    std::cerr << "budget-convert: " << e.error() << " (" << e.argId() << "); see --help\n";
+    return 2;
+  } catch (const budget_slam::Error& e) {
+    std::cerr << "budget-convert: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    std::cerr << "budget-convert: internal error: " << what.substr(0, what.find('\n')) << "\n";
+    return 3;
+  }
+}
