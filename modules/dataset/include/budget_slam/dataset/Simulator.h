@@ -1,0 +1,67 @@
+#pragma once
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "budget_slam/core/Step.h"
+#include "budget_slam/dataset/ConvertedDataset.h"
+
+namespace budget_slam::dataset {
+
+/// Options of the scenario simulator (budget-simulate; MRPT's options pattern). Noise values
+/// below 0 mean "the scenario's default" (docs/DATASETS.md lists them).
+struct SimulationOptions {
+  std::string scenario = "rooms";  ///< paper-synthetic | rooms | park | lifelong
+  std::uint64_t seed = 1;          ///< seed of the world and of the noise; same seed, same bytes
+  bool with_ids = true;            ///< false: readings carry no landmark ID (--no-ids)
+  int laps = 0;                    ///< laps of the route; 0: scenario default (lifelong: 2)
+  double odo_std_xy = -1;          ///< odometry noise per step, x and y [m]; < 0: default
+  double odo_std_yaw_deg = -1;     ///< odometry noise per step [deg]; < 0: default
+  double sensor_std_range = -1;    ///< range noise [m]; < 0: default
+  double sensor_std_yaw_deg = -1;  ///< bearing noise [deg]; < 0: default
+  double dt = 1.0;                 ///< time between steps [s]; step k is at t = (k + 1) dt
+
+  /// Reads the keys above from `section` (same names); ConfigError on a bad value.
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini, const std::string& section);
+  void dumpToTextStream(std::ostream& out) const;
+};
+
+/// Drives a robot through a scenario world: Gaussian odometry noise on each true increment (x, y,
+/// yaw; the rawlog states the covariance of that noise), range-bearing readings of the landmarks
+/// in range and field of view that no wall hides, with Gaussian range and bearing noise.
+/// Deterministic: std::mt19937_64 with our own normal sampling.
+class Simulator {
+ public:
+  /// ConfigError for an unknown scenario or a bad option.
+  explicit Simulator(const SimulationOptions& options);
+  ~Simulator();
+
+  /// Simulates every step, handing each to `sink` (streaming: lifelong runs are long). The
+  /// ground-truth path is complete when it returns.
+  void run(const std::function<void(const Step&)>& sink);
+
+  /// Every landmark that ever exists, and the true path (start pose, then one pose a step).
+  const GroundTruth& groundTruth() const;
+  /// The sensor and noise the readings are made with (sidecar ini).
+  const SensorNoise& noise() const;
+  /// Lines for the sidecar ini header.
+  std::vector<std::string> notes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The whole simulation in memory.
+ConvertedDataset simulate(const SimulationOptions& options);
+
+/// Simulates straight into `rawlog` + its ground-truth files + sidecar ini, without holding the
+/// steps in memory. Returns the number of steps written.
+std::size_t simulateToFiles(const SimulationOptions& options, const std::string& rawlog);
+
+}  // namespace budget_slam::dataset

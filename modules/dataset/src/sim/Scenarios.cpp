@@ -1,0 +1,264 @@
+#include <algorithm>
+#include <cmath>
+
+#include "Random.h"
+#include "Scenario.h"
+#include "budget_slam/core/Error.h"
+
+namespace budget_slam::dataset::sim {
+namespace {
+
+using V = Eigen::Vector2d;
+constexpr double kDeg = M_PI / 180;
+
+/// `n` landmarks uniform in [lo, hi], at least `spacing` apart (rejection sampling), ids from
+/// `next_id`, visible from `region` only (-1: anywhere).
+void scatter(Scenario& s, Random& rng, int n, V lo, V hi, int region, double spacing,
+             LandmarkId& next_id, int first_lap = 0) {
+  for (int placed = 0, tries = 0; placed < n && tries < 1000 * n; ++tries) {
+    const V p = quantize(V(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y())));
+    const bool crowded =
+        spacing > 0 &&
+        std::any_of(s.world.landmarks.begin(), s.world.landmarks.end(), [&](const Landmark& l) {
+          return l.last_lap >= first_lap && (l.p - p).norm() < spacing;
+        });
+    if (crowded) continue;
+    Landmark l;
+    l.id = next_id++;
+    l.p = p;
+    l.region = region;
+    l.first_lap = first_lap;
+    s.world.landmarks.push_back(l);
+    ++placed;
+  }
+}
+
+/// A wall from a to b with door gaps [d - w/2, d + w/2] along it (d: distances from a).
+void wallWithDoors(World& w, V a, V b, std::vector<double> doors, double width) {
+  const double len = (b - a).norm();
+  const V dir = (b - a) / len;
+  std::sort(doors.begin(), doors.end());
+  double from = 0;
+  for (const double d : doors) {
+    if (d - width / 2 > from) w.walls.push_back({a + from * dir, a + (d - width / 2) * dir});
+    from = d + width / 2;
+  }
+  if (from < len) w.walls.push_back({a + from * dir, b});
+}
+
+/// Walls around an axis-aligned box; `doors` on its top (+y) or bottom (-y) side at given x.
+void box(World& w, V lo, V hi, std::vector<double> top_doors_x, std::vector<double> bottom_doors_x,
+         double door) {
+  for (auto& x : top_doors_x) x -= lo.x();
+  for (auto& x : bottom_doors_x) x -= lo.x();
+  wallWithDoors(w, V(lo.x(), lo.y()), V(hi.x(), lo.y()), bottom_doors_x, door);
+  wallWithDoors(w, V(lo.x(), hi.y()), V(hi.x(), hi.y()), top_doors_x, door);
+  w.walls.push_back({V(lo.x(), lo.y()), V(lo.x(), hi.y())});
+  w.walls.push_back({V(hi.x(), lo.y()), V(hi.x(), hi.y())});
+}
+
+// Choudhary et al.'s synthetic set: 50 x 50 m, 23 landmarks, 96 poses, about 420 measurements,
+// no loop closure. A lawnmower drive with a 360 deg, 14.5 m sensor gives about those numbers.
+Scenario paperSynthetic(Random& rng) {
+  Scenario s;
+  s.name = "paper-synthetic";
+  s.description =
+      "Like Choudhary et al.'s synthetic set: 50 x 50 m, 23 landmarks, lawnmower drive without "
+      "loop closure.";
+  LandmarkId id = 1;
+  scatter(s, rng, 23, V(2, 2), V(48, 48), -1, 4.0, id);
+  s.start = V(5, 6);
+  s.route = {V(45, 6), V(45, 25), V(5, 25), V(5, 44), V(45, 44)};
+  s.step = 1.75;
+  s.max_turn = 45 * kDeg;
+  s.sensor.min_range = 0.5;  // closer, the bearing Jacobian (1/r) blows an EKF up
+  s.sensor.max_range = 14.5;
+  s.sensor.fov_yaw = 2 * M_PI;
+  s.sensor.std_range = 0.1;
+  s.sensor.std_yaw = 1 * kDeg;
+  s.odo_std_xy = 0.05;
+  s.odo_std_yaw = 0.5 * kDeg;
+  return s;
+}
+
+// Hochdorfer & Schlegel's experiment: a lab dense with landmarks, the hallway, a second room
+// (C12) with few; 0.3 m steps; loops of about 8 m and 14 m in the lab and 10 m through its two
+// doors; landmarks seen only from inside their room.
+Scenario rooms(Random& rng) {
+  Scenario s;
+  s.name = "rooms";
+  s.description =
+      "Like Hochdorfer & Schlegel's experiment: lab (115 landmarks), hallway (25), room C12 "
+      "(15), seen only from inside their room; 0.3 m steps; loops of 8, 10 and 14 m.";
+  auto& w = s.world;
+  w.regions = {
+      {"lab", V(0, 0), V(10, 8)}, {"hallway", V(0, 8), V(26, 10.5)}, {"C12", V(16, 0), V(26, 8)}};
+  box(w, V(0, 0), V(10, 8), {3, 6.5}, {}, 1.0);  // lab: doors A (x = 3) and B (x = 6.5)
+  box(w, V(16, 0), V(26, 8), {20}, {}, 1.0);     // C12: door at x = 20
+  w.walls.push_back({V(0, 10.5), V(26, 10.5)});  // hallway: far wall, ends, the part between
+  w.walls.push_back({V(0, 8), V(0, 10.5)});
+  w.walls.push_back({V(26, 8), V(26, 10.5)});
+  w.walls.push_back({V(10, 8), V(16, 8)});
+  LandmarkId id = 1;
+  scatter(s, rng, 115, V(0.3, 0.3), V(9.7, 7.7), 0, 0.2, id);
+  scatter(s, rng, 25, V(0.3, 8.3), V(25.7, 10.2), 1, 0.2, id);
+  scatter(s, rng, 15, V(16.3, 0.3), V(25.7, 7.7), 2, 0.2, id);
+  s.start = V(2, 2);
+  s.route = {// loop 1 (8 m) in the lab
+             V(4.5, 2), V(4.5, 3.5), V(2, 3.5), V(2, 2),
+             // loop 2 (about 10 m): out through door A, back in through door B
+             V(3, 7), V(3, 9.25), V(6.5, 9.25), V(6.5, 7), V(3, 7), V(3, 9.25),
+             // along the hallway into C12 and around it
+             V(20, 9.25), V(20, 6), V(24, 6), V(24, 2), V(18, 2), V(18, 6), V(20, 6), V(20, 9.25),
+             // back to the lab through door B; loop 3 (14 m) around the meeting table
+             V(6.5, 9.25), V(6.5, 5), V(2.5, 5), V(2.5, 2.5), V(7, 2.5), V(7, 5), V(2.5, 5),
+             V(2.5, 2.5), V(5, 2.5)};
+  s.step = 0.3;
+  s.max_turn = 30 * kDeg;
+  s.sensor.min_range = 0.2;
+  s.sensor.max_range = 3.0;
+  s.sensor.fov_yaw = M_PI;
+  s.sensor.sensor_pose_on_robot = mrpt::math::TPose3D(0.1, 0, 0, 0, 0, 0);
+  s.sensor.std_range = 0.03;
+  s.sensor.std_yaw = 1 * kDeg;
+  s.odo_std_xy = 0.01;
+  s.odo_std_yaw = 0.5 * kDeg;
+  return s;
+}
+
+// Victoria-Park-like: about 150 trees over 200 x 250 m, a long drive with several loops, a
+// 180 deg laser that sees trees out to 25 m.
+Scenario park(Random& rng) {
+  Scenario s;
+  s.name = "park";
+  s.description =
+      "Victoria-Park-like: 150 trees over 200 x 250 m, a 2 km drive with several loops, 180 deg "
+      "laser to 25 m.";
+  LandmarkId id = 1;
+  scatter(s, rng, 150, V(5, 5), V(195, 245), -1, 6.0, id);
+  s.start = V(20, 20);
+  s.route = {V(180, 20),  V(180, 230), V(20, 230), V(20, 20),   // the perimeter
+             V(20, 125),  V(180, 125), V(180, 20), V(100, 20),  // southern loop
+             V(100, 230), V(20, 230),  V(20, 125), V(100, 125), V(100, 60), V(60, 60)};
+  s.step = 1.0;
+  s.max_turn = 20 * kDeg;
+  s.sensor.min_range = 1.0;
+  s.sensor.max_range = 25;
+  s.sensor.fov_yaw = M_PI;
+  s.sensor.std_range = 0.15;
+  s.sensor.std_yaw = 1 * kDeg;
+  s.odo_std_xy = 0.03;
+  s.odo_std_yaw = 0.5 * kDeg;
+  return s;
+}
+
+// A large building for runs of 100,000 steps and more: a 120 m corridor with 12 rooms on each
+// side (80 landmarks a room, 150 in the corridor), walls with doors that occlude. Each lap visits
+// every room; between laps a tenth of the landmarks disappears and as many new ones appear.
+Scenario lifelong(Random& rng, int laps) {
+  Scenario s;
+  s.name = "lifelong";
+  s.laps = std::max(1, laps);
+  s.change_fraction = 0.1;
+  s.description = "Lifelong: 120 m corridor, 24 rooms, about 2,000 landmarks, " +
+                  std::to_string(s.laps) +
+                  " laps; between laps 10% of the landmarks disappear and as many appear.";
+  auto& w = s.world;
+  std::vector<double> bottom_doors, top_doors;
+  for (int i = 0; i < 12; ++i) {
+    const double cx = 10.0 * i + 5;
+    box(w, V(cx - 5, 0), V(cx + 5, 10), {cx}, {}, 1.2);
+    box(w, V(cx - 5, 13), V(cx + 5, 23), {}, {cx}, 1.2);
+  }
+  w.walls.push_back({V(0, 10), V(0, 13)});
+  w.walls.push_back({V(120, 10), V(120, 13)});
+  // Landmarks of a room or the corridor, placed for lap `lap`.
+  std::vector<std::pair<V, V>> areas = {{V(0.3, 10.3), V(119.7, 12.7)}};
+  for (int i = 0; i < 12; ++i) {
+    const double cx = 10.0 * i + 5;
+    areas.push_back({V(cx - 4.7, 0.3), V(cx + 4.7, 9.7)});
+    areas.push_back({V(cx - 4.7, 13.3), V(cx + 4.7, 22.7)});
+  }
+  LandmarkId id = 1;
+  scatter(s, rng, 150, areas[0].first, areas[0].second, -1, 0.3, id);
+  for (std::size_t a = 1; a < areas.size(); ++a)
+    scatter(s, rng, 80, areas[a].first, areas[a].second, -1, 0.3, id);
+  // The changing world: before lap L, a fraction of the landmarks alive in lap L-1 goes, and as
+  // many new ones appear in random rooms (new ids, never reused).
+  for (int lap = 1; lap < s.laps; ++lap) {
+    std::vector<std::size_t> alive;
+    for (std::size_t i = 0; i < w.landmarks.size(); ++i)
+      if (w.landmarks[i].first_lap <= lap - 1 && w.landmarks[i].last_lap >= lap - 1)
+        alive.push_back(i);
+    const auto n = static_cast<std::size_t>(std::lround(s.change_fraction * alive.size()));
+    for (std::size_t k = 0; k < n; ++k) {  // partial Fisher-Yates: n distinct victims
+      const std::size_t j = k + static_cast<std::size_t>(rng.uniform() * (alive.size() - k));
+      std::swap(alive[k], alive[j]);
+      w.landmarks[alive[k]].last_lap = lap - 1;
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto& area = areas[static_cast<std::size_t>(rng.uniform() * areas.size())];
+      scatter(s, rng, 1, area.first, area.second, -1, 0.3, id, lap);
+    }
+  }
+  s.start = V(1, 11.5);
+  // One lap: east along the corridor visiting the rooms below, west visiting the rooms above.
+  for (int i = 0; i < 12; ++i) {
+    const double cx = 10.0 * i + 5;
+    for (const V& p :
+         {V(cx, 11.5), V(cx, 8.5), V(cx + 3, 6), V(cx, 2.5), V(cx - 3, 6), V(cx, 8.5), V(cx, 11.5)})
+      s.route.push_back(p);
+  }
+  for (int i = 11; i >= 0; --i) {
+    const double cx = 10.0 * i + 5;
+    for (const V& p : {V(cx, 11.5), V(cx, 14.5), V(cx - 3, 17), V(cx, 20.5), V(cx + 3, 17),
+                       V(cx, 14.5), V(cx, 11.5)})
+      s.route.push_back(p);
+  }
+  s.route.push_back(V(1, 11.5));
+  s.step = 0.5;
+  s.max_turn = 30 * kDeg;
+  s.sensor.min_range = 0.2;
+  s.sensor.max_range = 5;
+  s.sensor.fov_yaw = M_PI;
+  s.sensor.std_range = 0.05;
+  s.sensor.std_yaw = 1 * kDeg;
+  s.odo_std_xy = 0.01;
+  s.odo_std_yaw = 0.5 * kDeg;
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::string> scenarioNames() {
+  return {"paper-synthetic", "rooms", "park", "lifelong"};
+}
+
+Scenario makeScenario(const std::string& name, std::uint64_t seed, int laps) {
+  Random rng(seed);
+  Scenario s;
+  if (name == "paper-synthetic")
+    s = paperSynthetic(rng);
+  else if (name == "rooms")
+    s = rooms(rng);
+  else if (name == "park")
+    s = park(rng);
+  else if (name == "lifelong")
+    s = lifelong(rng, laps > 0 ? laps : 2);
+  else
+    throw ConfigError("unknown scenario '" + name +
+                      "' (known: paper-synthetic, rooms, park, lifelong)");
+  if (laps > 0) s.laps = laps;
+  // Shift the world so that the robot starts at the origin, where MRPT's filter starts: the
+  // ground truth then compares with its estimate directly (start_yaw is 0 in every scenario).
+  const V shift = -s.start;
+  for (auto& l : s.world.landmarks) l.p = quantize(l.p + shift);
+  for (auto& w : s.world.walls) w.a += shift, w.b += shift;
+  for (auto& r : s.world.regions) r.lo += shift, r.hi += shift;
+  for (auto& p : s.route) p += shift;
+  s.start = V(0, 0);
+  s.world.index(std::max(2.0, s.sensor.max_range));
+  return s;
+}
+
+}  // namespace budget_slam::dataset::sim

@@ -1,0 +1,186 @@
+#include "budget_slam/dataset/Simulator.h"
+
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "Random.h"
+#include "Scenario.h"
+#include "budget_slam/core/Error.h"
+#include "budget_slam/dataset/RawlogWriter.h"
+#include "budget_slam/dataset/SidecarIni.h"
+#include "budget_slam/dataset/StepToMrpt.h"
+
+namespace budget_slam::dataset {
+namespace {
+
+using mrpt::poses::CPose2D;
+constexpr double kDeg = M_PI / 180;
+/// Smallest standard deviation a rawlog states (m, rad): with zero noise the stated covariance
+/// stays invertible for the graph backend, and 1e-6 is far below any real sensor.
+constexpr double kMinStd = 1e-6;
+
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+}  // namespace
+
+struct Simulator::Impl {
+  SimulationOptions options;
+  sim::Scenario scenario;
+  SensorNoise noise;
+  double odo_std_xy = 0, odo_std_yaw = 0;
+  GroundTruth gt;
+  std::size_t steps = 0, readings = 0;
+  double length = 0;
+};
+
+Simulator::Simulator(const SimulationOptions& options) : impl_(std::make_unique<Impl>()) {
+  auto& m = *impl_;
+  m.options = options;
+  if (!(options.dt > 0)) throw ConfigError("dt must be positive");
+  m.scenario = sim::makeScenario(options.scenario, options.seed, options.laps);
+  m.noise = m.scenario.sensor;
+  if (options.sensor_std_range >= 0) m.noise.std_range = options.sensor_std_range;
+  if (options.sensor_std_yaw_deg >= 0) m.noise.std_yaw = options.sensor_std_yaw_deg * kDeg;
+  m.odo_std_xy = options.odo_std_xy >= 0 ? options.odo_std_xy : m.scenario.odo_std_xy;
+  m.odo_std_yaw =
+      options.odo_std_yaw_deg >= 0 ? options.odo_std_yaw_deg * kDeg : m.scenario.odo_std_yaw;
+  for (const auto& l : m.scenario.world.landmarks) m.gt.landmarks[l.id] = l.p;
+}
+
+Simulator::~Simulator() = default;
+
+const GroundTruth& Simulator::groundTruth() const { return impl_->gt; }
+const SensorNoise& Simulator::noise() const { return impl_->noise; }
+
+void Simulator::run(const std::function<void(const Step&)>& sink) {
+  auto& m = *impl_;
+  const auto& sc = m.scenario;
+  const auto& world = sc.world;
+  // Its own stream for the noise, so that the world does not depend on the noise settings.
+  sim::Random rng(m.options.seed * 0x9E3779B97F4A7C15ULL + 1);
+  const CPose2D sensor_on_robot(m.noise.sensor_pose_on_robot.x, m.noise.sensor_pose_on_robot.y,
+                                m.noise.sensor_pose_on_robot.yaw);
+  CPose2D pose(sc.start.x(), sc.start.y(), sc.start_yaw);
+  m.gt.path.assign(1, pose.asTPose());
+  m.steps = m.readings = 0;
+  m.length = 0;
+  int lap = 0;
+
+  OdometryIncrement odo;
+  odo.cov = Eigen::Vector3d(std::pow(std::max(m.odo_std_xy, kMinStd), 2),
+                            std::pow(std::max(m.odo_std_xy, kMinStd), 2),
+                            std::pow(std::max(m.odo_std_yaw, kMinStd), 2))
+                .asDiagonal();
+  const bool all_around = m.noise.fov_yaw >= 2 * M_PI - 1e-9;
+
+  auto emit = [&](const CPose2D& inc) {
+    pose = pose + inc;  // the true pose is the composition of the true increments
+    m.length += std::hypot(inc.x(), inc.y());
+    odo.mean = {inc.x() + rng.normal(m.odo_std_xy), inc.y() + rng.normal(m.odo_std_xy),
+                inc.phi() + rng.normal(m.odo_std_yaw)};
+    RangeBearingScan scan;
+    scan.sensor_pose_on_robot = m.noise.sensor_pose_on_robot;
+    scan.min_range = m.noise.min_range;
+    scan.max_range = m.noise.max_range;
+    scan.fov_yaw = m.noise.fov_yaw;
+    scan.std_range = m.noise.std_range;
+    scan.std_yaw = m.noise.std_yaw;
+    const CPose2D s = pose + sensor_on_robot;
+    const Eigen::Vector2d sp(s.x(), s.y());
+    const int region =
+        world.regions.empty() ? -1 : world.regionOf(Eigen::Vector2d(pose.x(), pose.y()));
+    for (const auto i : world.near(sp, m.noise.max_range)) {
+      const auto& l = world.landmarks[i];
+      if (lap < l.first_lap || lap > l.last_lap) continue;
+      if (l.region >= 0 && l.region != region) continue;
+      const Eigen::Vector2d d = l.p - sp;
+      const double range = d.norm();
+      if (range < m.noise.min_range || range <= 0) continue;
+      const double bearing = mrpt::math::wrapToPi(std::atan2(d.y(), d.x()) - s.phi());
+      if (!all_around && std::abs(bearing) > m.noise.fov_yaw / 2) continue;
+      if (world.occluded(sp, l.p)) continue;
+      const double r = range + rng.normal(m.noise.std_range);
+      const double b = mrpt::math::wrapToPi(bearing + rng.normal(m.noise.std_yaw));
+      if (r <= 0) continue;
+      scan.readings.push_back({m.options.with_ids ? l.id : kNoLandmarkId, r, b, 0});
+    }
+    m.readings += scan.readings.size();
+    const StepIndex k = m.steps++;
+    sink(makeStep(k, static_cast<double>(k + 1) * m.options.dt, odo, scan));
+    m.gt.path.push_back(pose.asTPose());
+  };
+
+  for (lap = 0; lap < sc.laps; ++lap)
+    for (const auto& wp : sc.route) {
+      for (std::size_t guard = 0;; ++guard) {
+        if (guard > 1000000) throw std::logic_error("simulator: waypoint never reached");
+        const Eigen::Vector2d d = wp - Eigen::Vector2d(pose.x(), pose.y());
+        const double dist = d.norm();
+        if (dist < sc.step / 2) break;
+        const double err = mrpt::math::wrapToPi(std::atan2(d.y(), d.x()) - pose.phi());
+        const double turn = std::clamp(err, -sc.max_turn, sc.max_turn);
+        // Turn, then drive along the new heading; turn in place while far off course.
+        const double fwd = std::abs(err) <= 45 * kDeg ? std::min(sc.step, dist) : 0.0;
+        emit(CPose2D(fwd * std::cos(turn), fwd * std::sin(turn), turn));
+      }
+    }
+}
+
+std::vector<std::string> Simulator::notes() const {
+  const auto& m = *impl_;
+  const auto& o = m.options;
+  std::vector<std::string> n = {
+      "Made by budget-simulate --scenario " + o.scenario + " --seed " + std::to_string(o.seed) +
+          (o.with_ids ? "" : " --no-ids") +
+          (o.laps > 0 ? " --laps " + std::to_string(o.laps) : "") + ".",
+      m.scenario.description,
+      "Odometry: true increment + Gaussian noise, std " + num(m.odo_std_xy) + " m (x, y) and " +
+          num(m.odo_std_yaw / kDeg) + " deg (yaw) per step; stated covariance the same (at least " +
+          "1e-6 std).",
+      "Readings: landmarks in range and field of view not hidden by a wall" +
+          std::string(m.scenario.world.regions.empty() ? "" : " and in the robot's room") +
+          "; Gaussian range and bearing noise with the stds below.",
+      "Times: step k at t = (k + 1) x " + num(o.dt) + " s. Ground truth: start pose, then one " +
+          "pose a step.",
+  };
+  if (m.steps)
+    n.push_back(std::to_string(m.steps) + " steps, " + std::to_string(m.readings) + " readings, " +
+                std::to_string(m.gt.landmarks.size()) + " landmarks, path " + num(m.length) +
+                " m.");
+  return n;
+}
+
+ConvertedDataset simulate(const SimulationOptions& options) {
+  Simulator sim(options);
+  ConvertedDataset out;
+  sim.run([&](const Step& s) { out.steps.push_back(s); });
+  out.ground_truth = sim.groundTruth();
+  out.noise = sim.noise();
+  out.notes = sim.notes();
+  return out;
+}
+
+std::size_t simulateToFiles(const SimulationOptions& options, const std::string& rawlog) {
+  const std::string ext = ".rawlog";
+  if (rawlog.size() <= ext.size() || rawlog.compare(rawlog.size() - ext.size(), ext.size(), ext))
+    throw InputError("output '" + rawlog + "': the rawlog name must end in .rawlog");
+  Simulator sim(options);
+  RawlogWriter writer(rawlog);
+  sim.run([&](const Step& s) { writer.write(s); });
+  writer.close();
+  saveGroundTruthLandmarks(groundTruthLandmarksPathFor(rawlog), sim.groundTruth().landmarks);
+  saveGroundTruthPath(groundTruthRobotPathFor(rawlog), sim.groundTruth().path);
+  writeSidecarIni(sidecarIniPathFor(rawlog), sim.noise(), sim.notes());
+  return writer.stepsWritten();
+}
+
+}  // namespace budget_slam::dataset

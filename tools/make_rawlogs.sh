@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Rebuilds the shipped rawlogs (rawlog + ground truth + sidecar ini) from the public datasets in
+# ../shared/datasets (relative to the repository root) and the scenario simulator.
+#   tools/make_rawlogs.sh [OUT_DIR]      default OUT_DIR: rawlogs/
+# Binaries are taken from $BUDGET_SLAM_BIN (default: build/bin). The kf-slam demo files in
+# rawlogs/ are copies of MRPT's and are not rebuilt here.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+out="$(realpath -m "${1:-$root/rawlogs}")"
+bin="$(realpath -m "${BUDGET_SLAM_BIN:-$root/build/bin}")"
+for tool in budget-convert budget-simulate; do
+  if [[ ! -x "$bin/$tool" ]]; then
+    echo "make_rawlogs.sh: $bin/$tool not found (build first, or set BUDGET_SLAM_BIN)" >&2
+    exit 1
+  fi
+done
+mkdir -p "$out"
+cd "$root"
+data=../shared/datasets
+
+"$bin/budget-convert" --format isam "$data/victoria_park_gtsam/victoria_park.txt" \
+  -o "$out/victoria_park.rawlog"
+"$bin/budget-convert" --format utias "$data/utias_mrclam/MRCLAM_Dataset7" --robot 1 \
+  -o "$out/mrclam7_robot1.rawlog"
+"$bin/budget-simulate" --scenario rooms --seed 1 -o "$out/rooms.rawlog"
+"$bin/budget-simulate" --scenario paper-synthetic --seed 1 -o "$out/paper_synthetic.rawlog"
+"$bin/budget-simulate" --scenario park --seed 1 -o "$out/park.rawlog"
