@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
     cmd.setExceptionHandling(false);
     cmd.parse(argc, argv);
 
+    dataset::checkRawlogName(out.getValue());  // before a long conversion
     const auto dataset =
         dataset::convertByFormat(format.getValue(), inputs.getValue(), robot.getValue());
     dataset::saveDataset(dataset, out.getValue());

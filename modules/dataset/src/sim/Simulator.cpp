@@ -11,6 +11,7 @@
 #include "Random.h"
 #include "Scenario.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/dataset/DatasetFiles.h"
 #include "budget_slam/dataset/RawlogWriter.h"
 #include "budget_slam/dataset/SidecarIni.h"
 #include "budget_slam/dataset/StepToMrpt.h"
@@ -170,9 +171,7 @@ ConvertedDataset simulate(const SimulationOptions& options) {
 }
 
 std::size_t simulateToFiles(const SimulationOptions& options, const std::string& rawlog) {
-  const std::string ext = ".rawlog";
-  if (rawlog.size() <= ext.size() || rawlog.compare(rawlog.size() - ext.size(), ext.size(), ext))
-    throw InputError("output '" + rawlog + "': the rawlog name must end in .rawlog");
+  checkRawlogName(rawlog);
   Simulator sim(options);
   RawlogWriter writer(rawlog);
   sim.run([&](const Step& s) { writer.write(s); });
