@@ -20,9 +20,20 @@ std::vector<std::size_t> dropCandidates(const std::vector<LandmarkView>& landmar
   return out;
 }
 
+namespace {
+
+BudgetOptions inForce(BudgetOptions options, const Reducer* active) {
+  if (active && !active->readmitsEvicted()) options.readmit_evicted = false;
+  return options;
+}
+
+}  // namespace
+
 BudgetManager::BudgetManager(const BudgetOptions& options, std::unique_ptr<Reducer> active,
                              std::vector<std::unique_ptr<Reducer>> shadows)
-    : options_(options), active_(std::move(active)), shadows_(std::move(shadows)) {
+    : options_(inForce(options, active.get())),
+      active_(std::move(active)),
+      shadows_(std::move(shadows)) {
   std::vector<std::string> names;
   if (active_) names.push_back(active_->name());
   for (const auto& s : shadows_) names.push_back(s->name());
@@ -30,9 +41,62 @@ BudgetManager::BudgetManager(const BudgetOptions& options, std::unique_ptr<Reduc
     for (std::size_t j = i + 1; j < names.size(); ++j) agreements_.push_back({names[i], names[j]});
 }
 
+std::vector<std::pair<std::string, ReducerChoice>> BudgetManager::askShadows(
+    const DropContext& ctx, const ReducerChoice& active) {
+  std::vector<ReducerChoice> choices = {active};
+  for (auto& s : shadows_) choices.push_back(s->choose(ctx));
+  std::size_t pair = 0;
+  for (std::size_t i = 0; i < choices.size(); ++i)
+    for (std::size_t j = i + 1; j < choices.size(); ++j, ++pair) {
+      agreements_[pair].total++;
+      agreements_[pair].agree += choices[i].id == choices[j].id;
+    }
+  std::vector<std::pair<std::string, ReducerChoice>> out;
+  for (std::size_t k = 0; k < shadows_.size(); ++k)
+    out.emplace_back(shadows_[k]->name(), choices[k + 1]);
+  return out;
+}
+
+std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex step, bool final) {
+  std::vector<Eviction> out;
+  ScheduleContext sctx{backend, step, final, {}};
+  if (scratch_factory_) sctx.scratch = [this, &backend] { return scratch_factory_(backend); };
+  const ScheduledDrops plan = active_->scheduled(sctx);
+  if (plan.drops.empty() && !plan.marginalize_poses) return out;
+
+  if (!plan.drops.empty() && before_drop_event_) before_drop_event_(backend, step);
+  for (const ReducerChoice& victim : plan.drops) {
+    const auto landmarks = backend.landmarks();
+    if (std::none_of(landmarks.begin(), landmarks.end(),
+                     [&](const LandmarkView& l) { return l.id == victim.id; }))
+      throw std::logic_error("reducer '" + active_->name() + "' scheduled landmark " +
+                             std::to_string(victim.id) + ", not in the map");
+    Eviction e;
+    e.step = step;
+    e.id = victim.id;
+    e.reducer = active_->name();
+    e.score = victim.score;
+    e.n_before = landmarks.size();
+    e.reason = plan.reason;
+    // The shadows see the same map and the candidates of a cap decision.
+    bool all_protected = false;
+    const auto candidates =
+        dropCandidates(landmarks, step, options_.protect_recent_steps, &all_protected);
+    e.shadow = askShadows({backend, landmarks, candidates, step}, victim);
+    backend.removeLandmark(victim.id);
+    e.n_after = backend.landmarkCount();
+    evicted_.insert(victim.id);
+    out.push_back(std::move(e));
+  }
+  if (plan.marginalize_poses)
+    poses_marginalized_ += backend.marginalizePosesWithoutLandmarks(plan.keep_last_poses);
+  return out;
+}
+
 std::vector<Eviction> BudgetManager::enforce(Backend& backend, StepIndex step) {
   std::vector<Eviction> out;
   if (!active_) return out;
+  out = runScheduled(backend, step, false);
   bool event_started = false;
   while (backend.landmarkCount() > options_.max_landmarks) {
     if (!event_started && before_drop_event_) before_drop_event_(backend, step);
@@ -44,21 +108,11 @@ std::vector<Eviction> BudgetManager::enforce(Backend& backend, StepIndex step) {
         dropCandidates(landmarks, step, options_.protect_recent_steps, &all_protected);
     const DropContext ctx{backend, landmarks, candidates, step};
 
-    std::vector<ReducerChoice> choices;
-    choices.push_back(active_->choose(ctx));
-    for (auto& s : shadows_) choices.push_back(s->choose(ctx));
-    const ReducerChoice victim = choices.front();
+    const ReducerChoice victim = active_->choose(ctx);
     if (std::none_of(candidates.begin(), candidates.end(),
                      [&](std::size_t i) { return landmarks[i].id == victim.id; }))
       throw std::logic_error("reducer '" + active_->name() + "' chose landmark " +
                              std::to_string(victim.id) + ", not a candidate");
-
-    std::size_t pair = 0;
-    for (std::size_t i = 0; i < choices.size(); ++i)
-      for (std::size_t j = i + 1; j < choices.size(); ++j, ++pair) {
-        agreements_[pair].total++;
-        agreements_[pair].agree += choices[i].id == choices[j].id;
-      }
 
     Eviction e;
     e.step = step;
@@ -66,15 +120,19 @@ std::vector<Eviction> BudgetManager::enforce(Backend& backend, StepIndex step) {
     e.reducer = active_->name();
     e.score = victim.score;
     e.n_before = landmarks.size();
+    e.shadow = askShadows(ctx, victim);
     backend.removeLandmark(victim.id);
     e.n_after = backend.landmarkCount();
     e.reason = all_protected ? "over_cap_all_protected" : "over_cap";
-    for (std::size_t k = 0; k < shadows_.size(); ++k)
-      e.shadow.emplace_back(shadows_[k]->name(), choices[k + 1]);
     evicted_.insert(victim.id);
     out.push_back(std::move(e));
   }
   return out;
+}
+
+std::vector<Eviction> BudgetManager::finish(Backend& backend, StepIndex last_step) {
+  if (!active_) return {};
+  return runScheduled(backend, last_step, true);
 }
 
 std::vector<Agreement> BudgetManager::agreements() const { return agreements_; }

@@ -1,6 +1,8 @@
 #include "budget_slam/reducers/BuiltinReducers.h"
 
 #include "budget_slam/reducers/BaselineReducers.h"
+#include "budget_slam/reducers/CoverageReducer.h"
+#include "budget_slam/reducers/MutualInformationReducer.h"
 
 namespace budget_slam::reducers {
 namespace {
@@ -18,6 +20,9 @@ ReducerRegistry makeRegistry() {
   r.add(RandomReducer::entry());
   r.add(OldestReducer::entry());
   r.add(InfoContentReducer::entry());
+  r.add(MutualInformationReducer::entry());
+  r.add(CoverageReducer::entry());
+  r.add(CoverageMiReducer::entry());
   return r;
 }
 

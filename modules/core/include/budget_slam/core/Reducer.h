@@ -1,4 +1,6 @@
 #pragma once
+#include <functional>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -23,6 +25,26 @@ struct ReducerChoice {
   double score = 0;
 };
 
+/// What a reducer is told when the BudgetManager offers it a drop event of its own (besides the
+/// cap), after every step and once more after the last one.
+struct ScheduleContext {
+  const Backend& backend;
+  StepIndex step;  ///< last step processed
+  bool final;      ///< true only for the call after the last step (BudgetManager::finish)
+  /// A disposable copy of `backend` for look-ahead (e.g. the whole greedy sequence of Choudhary
+  /// et al. Alg. 3 before deciding where to stop); empty when the application provides none.
+  std::function<std::unique_ptr<Backend>()> scratch;
+};
+
+/// Landmarks a reducer drops on its own schedule (Choudhary et al. Alg. 3 and 5), in order.
+struct ScheduledDrops {
+  std::vector<ReducerChoice> drops;  ///< removed in this order
+  std::string reason;                ///< evictions.csv reason, e.g. "objective"
+  /// After the drops, Backend::marginalizePosesWithoutLandmarks(keep_last_poses) (Alg. 3 l. 15-16).
+  bool marginalize_poses = false;
+  std::size_t keep_last_poses = 0;
+};
+
 /// A rule that picks the landmark to drop (DESIGN.md "Reducers"). Registered by name in a
 /// ReducerRegistry; adding one is one file plus one line in reducers/BuiltinReducers.cpp.
 class Reducer {
@@ -35,6 +57,14 @@ class Reducer {
 
   /// Writes the reducer's options, MRPT's dumpToTextStream style.
   virtual void dumpOptions(std::ostream& out) const {}
+
+  /// Drops the reducer schedules itself besides the cap (default: none). Only the active reducer
+  /// is asked; the BudgetManager removes them, logs them and asks the shadows at each one.
+  virtual ScheduledDrops scheduled(const ScheduleContext& ctx) { return {}; }
+
+  /// False when dropped landmarks must never come back (Choudhary et al. Alg. 5); the
+  /// BudgetManager then reports readmit_evicted = false whatever [LandmarkBudget] says.
+  virtual bool readmitsEvicted() const { return true; }
 };
 
 }  // namespace budget_slam

@@ -19,7 +19,8 @@ struct Eviction {
   double score = 0;
   std::size_t n_before = 0, n_after = 0;
   /// over_cap: an unprotected landmark went; over_cap_all_protected: every landmark was protected
-  /// (seen in the last P steps) so the lowest-scored protected one went.
+  /// (seen in the last P steps) so the lowest-scored protected one went; otherwise the reason of
+  /// a drop event the reducer scheduled itself (ScheduledDrops::reason: objective, incremental).
   std::string reason;
   /// What each shadow reducer would have dropped at this decision.
   std::vector<std::pair<std::string, ReducerChoice>> shadow;
@@ -39,9 +40,22 @@ class BudgetManager {
   BudgetManager(const BudgetOptions& options, std::unique_ptr<Reducer> active,
                 std::vector<std::unique_ptr<Reducer>> shadows = {});
 
-  /// Called after backend.process(step): asks the active reducer for a victim and removes it,
-  /// until the map holds at most max_landmarks. Returns the drops made, in order.
+  /// Called after backend.process(step): first the drop event the active reducer schedules
+  /// itself, if any (Reducer::scheduled; e.g. mi incremental every psi steps), then the cap: asks
+  /// the active reducer for a victim and removes it until the map holds at most max_landmarks.
+  /// Returns the drops made, in order.
   std::vector<Eviction> enforce(Backend& backend, StepIndex step);
+
+  /// Called once after the last step, before Backend::finish() and the outputs: the active
+  /// reducer's final scheduled event (mi objective mode runs Alg. 3 here). Returns its drops.
+  std::vector<Eviction> finish(Backend& backend, StepIndex last_step);
+
+  /// Gives reducers a disposable copy of the backend for look-ahead (ScheduleContext::scratch).
+  using ScratchFactory = std::function<std::unique_ptr<Backend>(const Backend&)>;
+  void setScratchFactory(ScratchFactory f) { scratch_factory_ = std::move(f); }
+
+  /// Poses marginalized by scheduled events so far (Backend::marginalizePosesWithoutLandmarks).
+  std::size_t posesMarginalized() const { return poses_marginalized_; }
 
   /// Ids dropped so far (for readmit_evicted = false).
   const std::set<LandmarkId>& evicted() const { return evicted_; }
@@ -54,6 +68,8 @@ class BudgetManager {
     before_drop_event_ = std::move(hook);
   }
 
+  /// The options in force: as given, except readmit_evicted = false when the active reducer
+  /// never re-admits (Reducer::readmitsEvicted, mi incremental mode).
   const BudgetOptions& options() const { return options_; }
   bool reduces() const { return active_ != nullptr; }
   const Reducer* activeReducer() const { return active_.get(); }
@@ -65,6 +81,13 @@ class BudgetManager {
   std::set<LandmarkId> evicted_;
   std::vector<Agreement> agreements_;  ///< pairs (0,1), (0,2), ..., (1,2), ...
   std::function<void(const Backend&, StepIndex)> before_drop_event_;
+  ScratchFactory scratch_factory_;
+  std::size_t poses_marginalized_ = 0;
+
+  std::vector<Eviction> runScheduled(Backend& backend, StepIndex step, bool final);
+  /// Asks the shadows about the current map and counts agreement with the active choice.
+  std::vector<std::pair<std::string, ReducerChoice>> askShadows(const DropContext& ctx,
+                                                                const ReducerChoice& active);
 };
 
 /// Indices of the landmarks that may be dropped after `step`: those not seen in the last

@@ -1,0 +1,35 @@
+#pragma once
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace budget_slam::reducers {
+
+/// [MutualInformationReducer]: the `mi` reducer (Choudhary et al. ICRA 2015; DESIGN.md "mi").
+struct MutualInformationOptions : public mrpt::config::CLoadableOptions {
+  static constexpr const char* kSection = "MutualInformationReducer";
+
+  /// When landmarks go:
+  ///  cap:         only when the map is over [LandmarkBudget] max_landmarks, least informative
+  ///               first (Alg. 4 as a victim picker).
+  ///  objective:   additionally Alg. 3 (active minimization) once, after the last step.
+  ///  incremental: additionally Alg. 3 every `psi` steps (Alg. 5); dropped landmarks never return.
+  enum class Mode { Cap, Objective, Incremental };
+  Mode mode = Mode::Cap;
+  double lambda = 0.4;    ///< weight of memory vs. accuracy in rho, Eq. 4, in [0, 1] (paper: 0.4)
+  std::size_t psi = 500;  ///< Psi: steps between two minimizations in incremental mode, >= 1
+  std::size_t pose_lag = 5;  ///< P: landmarks seen in the last P steps are no Alg. 3 candidates,
+                             ///< and the last P poses are never marginalized [steps]
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
+                          const std::string& section) override;
+  void dumpToTextStream(std::ostream& out) const override;
+
+  /// Keys of the section, for unknown-key checks.
+  static std::vector<std::string> keys();
+  static std::string modeName(Mode m);
+};
+
+}  // namespace budget_slam::reducers

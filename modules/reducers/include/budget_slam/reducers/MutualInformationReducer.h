@@ -1,0 +1,37 @@
+#pragma once
+#include <optional>
+
+#include "budget_slam/core/ReducerRegistry.h"
+#include "budget_slam/reducers/MutualInformationOptions.h"
+
+namespace budget_slam::reducers {
+
+/// `mi` (Choudhary et al. ICRA 2015, Alg. 2-5; DESIGN.md "mi"). At a cap decision: the candidate
+/// with the lowest information gain Backend::informationGain [bits] (Alg. 4), ties to the lowest
+/// id; score = that gain. Modes `objective` and `incremental` add the drop events of Alg. 3 and
+/// Alg. 5 through Reducer::scheduled (see MutualInformationOptions).
+class MutualInformationReducer : public Reducer {
+ public:
+  explicit MutualInformationReducer(const MutualInformationOptions& options);
+
+  std::string name() const override { return "mi"; }
+  ReducerChoice choose(const DropContext& ctx) override;
+  void dumpOptions(std::ostream& out) const override { options_.dumpToTextStream(out); }
+  /// objective: Alg. 3 once, on the final call (after the last step, before the outputs; the
+  /// paper's "active minimization" of its Table II). incremental: Alg. 3 after every `psi` steps
+  /// counted from the previous minimization (Alg. 5). cap: nothing.
+  ScheduledDrops scheduled(const ScheduleContext& ctx) override;
+  /// Alg. 5: "dropped landmarks are not re-admitted" in incremental mode.
+  bool readmitsEvicted() const override {
+    return options_.mode != MutualInformationOptions::Mode::Incremental;
+  }
+
+  const MutualInformationOptions& options() const { return options_; }
+  static ReducerRegistry::Entry entry();
+
+ private:
+  MutualInformationOptions options_;
+  std::size_t steps_since_minimization_ = 0;
+};
+
+}  // namespace budget_slam::reducers
