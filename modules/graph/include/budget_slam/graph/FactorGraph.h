@@ -1,0 +1,112 @@
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "budget_slam/core/Estimates.h"
+#include "budget_slam/core/Ids.h"
+#include "budget_slam/graph/Factors.h"
+
+namespace budget_slam::graph {
+
+/// A robot pose of the graph (one per kept step).
+struct PoseNode {
+  Pose2 x = Pose2::Zero();  ///< current estimate
+  double t = 0;             ///< timestamp of its step [s]
+  std::size_t n_obs = 0;    ///< range-bearing factors on this pose
+  /// Odometry from the previous pose of the graph to this one (none on the first pose).
+  std::optional<BetweenFactor> odo;
+  mutable int col = -1;  ///< first column in the linear system (a cache of FactorGraph)
+};
+
+/// One range-bearing factor, stored with its landmark.
+struct Observation {
+  StepIndex pose = 0;
+  RangeBearingFactor f;
+};
+
+/// An R^2 landmark and every factor that touches it.
+struct LandmarkNode {
+  Eigen::Vector2d x = Eigen::Vector2d::Zero();  ///< current estimate [m]
+  std::vector<Observation> obs;
+  mutable int col = -1;  ///< first column in the linear system (a cache of FactorGraph)
+};
+
+/// Landmark SLAM factor graph (Choudhary et al. Eq. 1-3): a prior on the first pose, one odometry
+/// factor between consecutive kept poses, range-bearing factors between poses and landmarks.
+/// Poses are keyed by step index, landmarks by id. The structure is a chain of poses, so removing
+/// a pose composes its two odometry factors (marginalizePose).
+///
+/// Linear system: with every factor whitened (r = S e, A = S de/dx), H = sum A^T A and
+/// g = sum A^T r; the Gauss-Newton step solves H dx = -g. Columns: poses in step order, then
+/// landmarks in id order (CHOLMOD reorders for fill).
+class FactorGraph {
+ public:
+  // -- building --
+  /// The first pose with its prior. Throws std::logic_error if the graph already has poses.
+  void addFirstPose(StepIndex step, double t, const Pose2& x, const PriorFactor& prior);
+  /// A pose after the last one, tied to it by `odo`. Throws std::logic_error if `step` is not
+  /// after the last pose.
+  void addPose(StepIndex step, double t, const Pose2& x, const BetweenFactor& odo);
+  /// Throws std::logic_error if the id exists.
+  void addLandmark(LandmarkId id, const Eigen::Vector2d& x);
+  /// Throws std::out_of_range if the pose or landmark is unknown.
+  void addObservation(StepIndex pose, LandmarkId id, const RangeBearingFactor& f);
+
+  /// Deletes the landmark and its factors; throws std::out_of_range if unknown.
+  void removeLandmark(LandmarkId id);
+  /// True when the pose has no landmark factor and sits between two poses (it then carries only
+  /// its two odometry factors and can leave by composing them).
+  bool canMarginalizePose(StepIndex step) const;
+  /// Replaces x_{i} -> x_j -> x_k by the composed factor x_i -> x_k (composeBetween) and deletes
+  /// x_j. Throws std::logic_error unless canMarginalizePose(step).
+  void marginalizePose(StepIndex step);
+
+  // -- access --
+  const std::map<StepIndex, PoseNode>& poses() const { return poses_; }
+  const std::map<LandmarkId, LandmarkNode>& landmarks() const { return landmarks_; }
+  const PriorFactor& prior() const { return prior_; }
+  bool hasPose(StepIndex s) const { return poses_.count(s) != 0; }
+  bool hasLandmark(LandmarkId id) const { return landmarks_.count(id) != 0; }
+  const PoseNode& pose(StepIndex s) const { return poses_.at(s); }
+  const LandmarkNode& landmark(LandmarkId id) const { return landmarks_.at(id); }
+  Pose2& poseValue(StepIndex s) { return poses_.at(s).x; }
+  Eigen::Vector2d& landmarkValue(LandmarkId id) { return landmarks_.at(id).x; }
+  std::size_t factorCount() const;
+
+  /// Bumped by every change of variables or factors (not of values): the sparsity pattern of H,
+  /// and so CHOLMOD's symbolic analysis, depends only on it.
+  std::uint64_t structureVersion() const { return structure_version_; }
+
+  // -- linear system --
+  /// Size of the state (3 a pose, 2 a landmark).
+  int dim() const;
+  /// First column of a variable; throws std::out_of_range if unknown.
+  int column(const VariableKey& v) const;
+  /// Sum of squared whitened residuals (twice the negative log-likelihood up to a constant).
+  double chi2() const;
+  /// H (lower triangle only, as CHOLMOD reads it) and g at the current estimate.
+  void linearize(Eigen::SparseMatrix<double>* H, Eigen::VectorXd* g) const;
+  /// x <- x + dx (yaw wrapped), dx laid out as column().
+  void retract(const Eigen::VectorXd& dx);
+  /// The current estimate stacked as column() (for tests and comparisons).
+  Eigen::VectorXd values() const;
+  /// Inverse of values().
+  void setValues(const Eigen::VectorXd& v);
+
+ private:
+  void changed();
+  void updateLayout() const;
+
+  std::map<StepIndex, PoseNode> poses_;
+  std::map<LandmarkId, LandmarkNode> landmarks_;
+  PriorFactor prior_;
+  std::uint64_t structure_version_ = 0;
+  mutable std::uint64_t layout_version_ = ~std::uint64_t(0);
+  mutable int dim_ = 0;
+};
+
+}  // namespace budget_slam::graph

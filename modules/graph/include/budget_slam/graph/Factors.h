@@ -1,0 +1,68 @@
+#pragma once
+#include <Eigen/Core>
+
+#include "budget_slam/graph/Se2.h"
+
+namespace budget_slam::graph {
+
+/// A square root S of the information, S^T S = cov^-1 (S = L^-1 for cov = L L^T): whitening a
+/// residual e by S turns the factor's Mahalanobis cost e^T cov^-1 e into |S e|^2 (square-root
+/// information, Dellaert & Kaess 2006).
+/// Throws std::invalid_argument when cov is not symmetric positive definite.
+Eigen::Matrix3d sqrtInformation(const Eigen::Matrix3d& cov);
+Eigen::Matrix2d sqrtInformation(const Eigen::Matrix2d& cov);
+
+/// Gaussian prior on one pose: e = (x - mean) with the yaw difference wrapped.
+struct PriorFactor {
+  Pose2 mean = Pose2::Zero();
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();        ///< [m^2, m^2, rad^2]
+  Eigen::Matrix3d sqrt_info = Eigen::Matrix3d::Identity();  ///< sqrtInformation(cov)
+
+  static PriorFactor make(const Pose2& mean, const Eigen::Matrix3d& cov);
+  /// Unwhitened residual; J = de/dx.
+  Eigen::Vector3d error(const Pose2& x, Eigen::Matrix3d* J = nullptr) const;
+};
+
+/// Odometry between two poses, as MRPT's CActionRobotMovement2D gives it: the mean increment z in
+/// the frame of the first pose and the covariance of its parameters (dx, dy, dyaw).
+/// e = between(xi, xj) - z, yaw wrapped (the additive-noise model of CPosePDFGaussian).
+struct BetweenFactor {
+  Pose2 z = Pose2::Zero();
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d sqrt_info = Eigen::Matrix3d::Identity();
+
+  static BetweenFactor make(const Pose2& z, const Eigen::Matrix3d& cov);
+  Eigen::Vector3d error(const Pose2& xi, const Pose2& xj, Eigen::Matrix3d* Ji = nullptr,
+                        Eigen::Matrix3d* Jj = nullptr) const;
+};
+
+/// Range [m] and bearing [rad] of a landmark l (world x, y) seen by a sensor mounted at `sensor`
+/// (x, y, yaw in the robot frame) on the robot at pose x:
+///   q = l - (t + R(yaw) s_t),  range = |q|,  bearing = atan2(q_y, q_x) - (yaw + s_yaw).
+/// e = (range - z_range, wrap(bearing - z_bearing)).
+struct RangeBearingFactor {
+  double range = 0;                                   ///< [m]
+  double bearing = 0;                                 ///< [rad], sensor frame
+  Pose2 sensor = Pose2::Zero();                       ///< sensor pose on the robot
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Identity();  ///< [m^2, rad^2]
+  Eigen::Matrix2d sqrt_info = Eigen::Matrix2d::Identity();
+
+  static RangeBearingFactor make(double range, double bearing, const Pose2& sensor,
+                                 const Eigen::Matrix2d& cov);
+  /// The predicted (range, bearing) of l seen from x, with its Jacobians.
+  Eigen::Vector2d predict(const Pose2& x, const Eigen::Vector2d& l,
+                          Eigen::Matrix<double, 2, 3>* Jx = nullptr,
+                          Eigen::Matrix2d* Jl = nullptr) const;
+  Eigen::Vector2d error(const Pose2& x, const Eigen::Vector2d& l,
+                        Eigen::Matrix<double, 2, 3>* Jx = nullptr,
+                        Eigen::Matrix2d* Jl = nullptr) const;
+  /// The landmark position this reading implies from pose x (initialisation at first sighting).
+  Eigen::Vector2d landmarkFrom(const Pose2& x) const;
+};
+
+/// The single odometry factor that replaces a -> b (x_i -> x_j -> x_k) when x_j is marginalized:
+/// mean z_a (+) z_b, covariance by first-order propagation J_a C_a J_a^T + J_b C_b J_b^T with J the
+/// Jacobians of the composition (exact in the linearized problem, see tests).
+BetweenFactor composeBetween(const BetweenFactor& a, const BetweenFactor& b);
+
+}  // namespace budget_slam::graph

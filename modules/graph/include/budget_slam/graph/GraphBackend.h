@@ -1,0 +1,84 @@
+#pragma once
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <map>
+#include <optional>
+
+#include "budget_slam/core/Backend.h"
+#include "budget_slam/graph/FactorGraph.h"
+#include "budget_slam/graph/GraphOptions.h"
+#include "budget_slam/graph/Solver.h"
+#include "budget_slam/graph/SparseCholesky.h"
+
+namespace budget_slam::graph {
+
+/// Landmark graph SLAM behind the Backend interface (`--backend graph`; DESIGN.md "Graph
+/// backend", docs/GRAPH.md). Full smoothing over every kept pose; covariances and information
+/// gains are evaluated at the current estimate from one cached CHOLMOD factorization, rebuilt
+/// lazily after any change.
+class GraphBackend : public Backend {
+ public:
+  /// Reads [GraphSLAM] and the sensor noise keys of [RangeBearingKFSLAM].
+  explicit GraphBackend(const mrpt::config::CConfigFileBase& ini);
+  GraphBackend(const GraphSlamOptions& options, const RangeBearingNoise& noise);
+
+  std::string name() const override { return "graph"; }
+  /// Adds the step's pose (odometry factor from the previous pose; the first step's pose gets the
+  /// prior at the origin composed with its odometry), its range-bearing factors and new
+  /// landmarks, then runs the incremental schedule (GraphSlamOptions).
+  void process(const Step& step) override;
+  std::vector<LandmarkView> landmarks() const override;
+  std::size_t landmarkCount() const override { return graph_.landmarks().size(); }
+  PoseEstimate robotPose() const override;
+  std::vector<TrajectoryPoint> trajectory() const override;
+  std::size_t poseCount() const override { return graph_.poses().size(); }
+  void removeLandmark(LandmarkId id) override;
+  std::vector<double> informationGain(const std::vector<LandmarkId>& ids) const override;
+  Eigen::Matrix2d landmarkCovariance(LandmarkId id) const override;
+  Eigen::MatrixXd jointCovariance(const std::vector<VariableKey>& vars) const override;
+  std::size_t marginalizePosesWithoutLandmarks(std::size_t keep_last) override;
+  void finish() override;
+
+  /// Solves to convergence now (what finish() does); returns the solver's report.
+  SolveReport optimize();
+  const FactorGraph& graph() const { return graph_; }
+  const GraphSlamOptions& options() const { return options_; }
+  const RangeBearingNoise& noise() const { return noise_; }
+  /// Incremental updates run so far (for reports).
+  std::size_t updateCount() const { return updates_; }
+
+ private:
+  struct Track {  ///< sightings of one landmark (Hochdorfer & Schlegel Eq. 1-2)
+    std::size_t n = 0;
+    Eigen::Vector2d obs_mean = Eigen::Vector2d::Zero();
+    StepIndex first_step = 0, last_step = 0;
+  };
+
+  BetweenFactor odometryFactor(const Step& step) const;
+  /// Landmark ids for the step's readings (kNoLandmarkId readings associated or given fresh ids).
+  std::vector<LandmarkId> associate(const RangeBearingScan& scan, StepIndex pose,
+                                    const Pose2& sensor) const;
+  Eigen::Matrix2d sensorCovariance() const;
+  /// A few warm-started Gauss-Newton iterations (GraphSlamOptions::incremental_iterations).
+  void incrementalUpdate();
+  void touch() { ++estimate_version_; }
+  const SparseCholesky& factorization() const;
+
+  GraphSlamOptions options_;
+  RangeBearingNoise noise_;
+  FactorGraph graph_;
+  std::map<LandmarkId, Track> tracks_;
+  LandmarkId next_fresh_id_ = 0;
+  int poses_since_update_ = 0;
+  std::size_t updates_ = 0;
+  SparseCholesky solver_chol_;
+
+  std::uint64_t estimate_version_ = 1;
+  mutable SparseCholesky query_chol_;
+  mutable std::uint64_t query_version_ = 0;
+  /// Landmark marginals at landmark_cov_version_.
+  mutable std::map<LandmarkId, Eigen::Matrix2d> landmark_cov_;
+  mutable std::uint64_t landmark_cov_version_ = 0;
+};
+
+}  // namespace budget_slam::graph

@@ -1,0 +1,67 @@
+#pragma once
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+#include <vector>
+
+#include "budget_slam/graph/Solver.h"
+
+namespace budget_slam::graph {
+
+/// [GraphSLAM]: the landmark graph backend (DESIGN.md "Graph backend"), MRPT's CLoadableOptions
+/// pattern. Read with budget_slam::IniSection: a bad value is a ConfigError naming the key.
+struct GraphSlamOptions : public mrpt::config::CLoadableOptions {
+  static constexpr const char* kSection = "GraphSLAM";
+
+  std::string solver = "gauss-newton";  ///< gauss-newton | levenberg-marquardt
+  int max_iterations = 100;             ///< iterations of a full solve (finish(), optimize())
+  double step_tolerance = 1e-10;        ///< converged when max |dx| < this [m, rad]
+  double relative_chi2_tolerance = 0;   ///< ...or chi2 drops by less than this fraction (0: off)
+  double lm_initial_lambda = 1e-5;      ///< Levenberg-Marquardt initial damping (x diag H)
+  double lm_lambda_factor = 10.0;       ///< damping multiplier on reject / divisor on accept
+
+  /// Incremental schedule: after every `relinearize_every` new poses, or as soon as a step's
+  /// re-sightings have a mean whitened squared residual above `relinearize_chi2` (a loop closure),
+  /// run `incremental_iterations` warm-started Gauss-Newton iterations on the whole graph.
+  /// finish() always solves to convergence (the batch optimum).
+  int relinearize_every = 10;      ///< [poses]; 0: only at finish()
+  int incremental_iterations = 2;  ///< Gauss-Newton iterations of one incremental update
+  double relinearize_chi2 = 16.0;  ///< [dimensionless, per 2-D reading]; 0: never early
+
+  double prior_std_xy = 1e-3;       ///< prior on the start pose (the origin) [m]
+  double prior_std_yaw_deg = 1e-2;  ///< [deg]
+  /// A step with no odometry: zero increment with this covariance [m], [deg].
+  double no_odometry_std_xy = 0.01;
+  double no_odometry_std_yaw_deg = 0.5;
+  /// Odometry covariances are floored to these standard deviations in every direction (MRPT may
+  /// give a singular one) [m], [deg].
+  double odometry_min_std_xy = 1e-4;
+  double odometry_min_std_yaw_deg = 1e-3;
+  /// Readings without landmark ID: nearest neighbour within this Mahalanobis gate (chi2, 2 dof;
+  /// 9.21 = 99 %), otherwise a new landmark.
+  double association_gate_chi2 = 9.21;
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
+                          const std::string& section) override;
+  void dumpToTextStream(std::ostream& out) const override;
+  static std::vector<std::string> keys();
+
+  SolverSettings solverSettings() const;
+};
+
+/// Range-bearing sensor noise, read from the same keys as MRPT's EKF
+/// (CRangeBearingKFSLAM2D::TOptions), section [RangeBearingKFSLAM].
+struct RangeBearingNoise : public mrpt::config::CLoadableOptions {
+  static constexpr const char* kSection = "RangeBearingKFSLAM";
+
+  double std_sensor_range = 0.1;    ///< [m]
+  double std_sensor_yaw_deg = 0.5;  ///< [deg]
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
+                          const std::string& section) override;
+  void dumpToTextStream(std::ostream& out) const override;
+  /// The two keys read here (the rest of [RangeBearingKFSLAM] belongs to the EKF).
+  static std::vector<std::string> keys();
+};
+
+}  // namespace budget_slam::graph

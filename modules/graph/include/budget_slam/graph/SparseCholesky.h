@@ -1,0 +1,52 @@
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace budget_slam::graph {
+
+/// Sparse Cholesky factorization P H P^T = L L^T of a symmetric positive definite H, by CHOLMOD
+/// through Eigen's CholmodSupport (CHOLMOD picks a fill-reducing ordering, AMD or METIS, and a
+/// simplicial or supernodal factorization). Besides solves and log-determinants it gives blocks
+/// of H^-1 without forming the inverse (inverseBlock).
+class SparseCholesky {
+ public:
+  SparseCholesky();
+  ~SparseCholesky();
+  SparseCholesky(SparseCholesky&&) noexcept;
+  SparseCholesky& operator=(SparseCholesky&&) noexcept;
+
+  /// Factorizes H (only its lower triangle is read). The symbolic analysis (ordering) is reused
+  /// when `pattern_version` equals the previous call's and is not 0 (0: always analyse).
+  /// Returns false when H is not positive definite.
+  bool factorize(const Eigen::SparseMatrix<double>& H, std::uint64_t pattern_version = 0);
+  bool ok() const;
+  int size() const;
+
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  /// ln det(H).
+  double logDet() const;
+  /// Non-zeros of L (fill), for reports.
+  std::size_t factorNonZeros() const;
+
+  /// (H^-1)_{S,S} for the scalar indices S (in H's own ordering), stacked in the order given.
+  /// With Y = L^-1 P E_S, H^-1 = P^T L^-T L^-1 P gives (H^-1)_{S,S} = Y^T Y. Column k of Y is
+  /// non-zero only on the path from k to the root of the elimination tree (Gilbert & Peierls),
+  /// so only forward substitutions along those paths are done: no backward solve, no inverse.
+  Eigen::MatrixXd inverseBlock(const std::vector<int>& S) const;
+  /// W (H^-1)_{S,S} W^T for a dense W (r x |S|), from Y = L^-1 P E_S W^T: one forward
+  /// substitution with r right-hand sides instead of |S| (information gain, low-rank U = W^T W).
+  Eigen::MatrixXd inverseQuadraticForm(const std::vector<int>& S, const Eigen::MatrixXd& W) const;
+  /// The diagonal blocks (H^-1)_{S_g,S_g} of several index groups, sharing one forward
+  /// substitution (for e.g. every landmark's 2x2 marginal at once).
+  std::vector<Eigen::MatrixXd> inverseDiagonalBlocks(
+      const std::vector<std::vector<int>>& groups) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace budget_slam::graph

@@ -1,0 +1,217 @@
+#include "budget_slam/graph/FactorGraph.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace budget_slam::graph {
+
+namespace {
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+/// Adds A_a^T A_b at (ca, cb) into the lower triangle of H. For a == b (ca == cb) only the lower
+/// half of the block goes in; for ca > cb the whole block; ca < cb is sent transposed.
+template <typename MA, typename MB>
+void addBlock(Triplets* t, int ca, const MA& Aa, int cb, const MB& Ab) {
+  if (ca < cb) {
+    addBlock(t, cb, Ab, ca, Aa);
+    return;
+  }
+  const Eigen::Matrix<double, MA::ColsAtCompileTime, MB::ColsAtCompileTime> blk =
+      Aa.transpose() * Ab;
+  for (int r = 0; r < blk.rows(); ++r)
+    for (int c = 0; c < blk.cols(); ++c)
+      if (ca != cb || r >= c) t->emplace_back(ca + r, cb + c, blk(r, c));
+}
+}  // namespace
+
+void FactorGraph::changed() { ++structure_version_; }
+
+void FactorGraph::addFirstPose(StepIndex step, double t, const Pose2& x, const PriorFactor& prior) {
+  if (!poses_.empty()) throw std::logic_error("graph: first pose added twice");
+  PoseNode n;
+  n.x = x;
+  n.t = t;
+  poses_.emplace(step, n);
+  prior_ = prior;
+  changed();
+}
+
+void FactorGraph::addPose(StepIndex step, double t, const Pose2& x, const BetweenFactor& odo) {
+  if (poses_.empty() || poses_.rbegin()->first >= step)
+    throw std::logic_error("graph: pose " + std::to_string(step) + " is not after the last pose");
+  PoseNode n;
+  n.x = x;
+  n.t = t;
+  n.odo = odo;
+  poses_.emplace_hint(poses_.end(), step, n);
+  changed();
+}
+
+void FactorGraph::addLandmark(LandmarkId id, const Eigen::Vector2d& x) {
+  if (landmarks_.count(id))
+    throw std::logic_error("graph: landmark " + std::to_string(id) + " exists");
+  LandmarkNode n;
+  n.x = x;
+  landmarks_.emplace(id, n);
+  changed();
+}
+
+void FactorGraph::addObservation(StepIndex pose, LandmarkId id, const RangeBearingFactor& f) {
+  auto p = poses_.find(pose);
+  if (p == poses_.end()) throw std::out_of_range("graph: no pose " + std::to_string(pose));
+  auto l = landmarks_.find(id);
+  if (l == landmarks_.end()) throw std::out_of_range("graph: no landmark " + std::to_string(id));
+  l->second.obs.push_back({pose, f});
+  ++p->second.n_obs;
+  changed();
+}
+
+void FactorGraph::removeLandmark(LandmarkId id) {
+  auto l = landmarks_.find(id);
+  if (l == landmarks_.end()) throw std::out_of_range("graph: no landmark " + std::to_string(id));
+  for (const Observation& o : l->second.obs) --poses_.at(o.pose).n_obs;
+  landmarks_.erase(l);
+  changed();
+}
+
+bool FactorGraph::canMarginalizePose(StepIndex step) const {
+  auto p = poses_.find(step);
+  if (p == poses_.end() || p == poses_.begin() || p->second.n_obs != 0) return false;
+  return std::next(p) != poses_.end();
+}
+
+void FactorGraph::marginalizePose(StepIndex step) {
+  if (!canMarginalizePose(step))
+    throw std::logic_error("graph: pose " + std::to_string(step) + " cannot be marginalized");
+  auto p = poses_.find(step);
+  auto next = std::next(p);
+  next->second.odo = composeBetween(*p->second.odo, *next->second.odo);
+  poses_.erase(p);
+  changed();
+}
+
+std::size_t FactorGraph::factorCount() const {
+  std::size_t n = poses_.empty() ? 0 : poses_.size();  // prior + one odometry per later pose
+  for (const auto& [id, l] : landmarks_) n += l.obs.size();
+  return n;
+}
+
+void FactorGraph::updateLayout() const {
+  if (layout_version_ == structure_version_) return;
+  int c = 0;
+  for (const auto& [s, p] : poses_) {
+    p.col = c;
+    c += 3;
+  }
+  for (const auto& [id, l] : landmarks_) {
+    l.col = c;
+    c += 2;
+  }
+  dim_ = c;
+  layout_version_ = structure_version_;
+}
+
+int FactorGraph::dim() const {
+  updateLayout();
+  return dim_;
+}
+
+int FactorGraph::column(const VariableKey& v) const {
+  updateLayout();
+  if (v.kind == VariableKey::Kind::Pose) {
+    auto p = poses_.find(static_cast<StepIndex>(v.id));
+    if (p == poses_.end()) throw std::out_of_range("graph: no pose " + std::to_string(v.id));
+    return p->second.col;
+  }
+  auto l = landmarks_.find(v.id);
+  if (l == landmarks_.end()) throw std::out_of_range("graph: no landmark " + std::to_string(v.id));
+  return l->second.col;
+}
+
+double FactorGraph::chi2() const {
+  if (poses_.empty()) return 0;
+  double c = (prior_.sqrt_info * prior_.error(poses_.begin()->second.x)).squaredNorm();
+  const PoseNode* prev = nullptr;
+  for (const auto& [s, p] : poses_) {
+    if (prev) c += (p.odo->sqrt_info * p.odo->error(prev->x, p.x)).squaredNorm();
+    prev = &p;
+  }
+  for (const auto& [id, l] : landmarks_)
+    for (const Observation& o : l.obs)
+      c += (o.f.sqrt_info * o.f.error(poses_.at(o.pose).x, l.x)).squaredNorm();
+  return c;
+}
+
+void FactorGraph::linearize(Eigen::SparseMatrix<double>* H, Eigen::VectorXd* g) const {
+  updateLayout();
+  Triplets t;
+  std::size_t n_obs = 0;
+  for (const auto& [id, l] : landmarks_) n_obs += l.obs.size();
+  t.reserve(poses_.size() * 27 + n_obs * 21);
+  g->setZero(dim_);
+  if (!poses_.empty()) {
+    const PoseNode& p0 = poses_.begin()->second;
+    Eigen::Matrix3d J;
+    const Eigen::Vector3d r = prior_.sqrt_info * prior_.error(p0.x, &J);
+    const Eigen::Matrix3d A = prior_.sqrt_info * J;
+    addBlock(&t, p0.col, A, p0.col, A);
+    g->segment<3>(p0.col) += A.transpose() * r;
+  }
+  const PoseNode* prev = nullptr;
+  for (const auto& [s, p] : poses_) {
+    if (prev) {
+      Eigen::Matrix3d Ji, Jj;
+      const Eigen::Vector3d r = p.odo->sqrt_info * p.odo->error(prev->x, p.x, &Ji, &Jj);
+      const Eigen::Matrix3d Ai = p.odo->sqrt_info * Ji, Aj = p.odo->sqrt_info * Jj;
+      addBlock(&t, prev->col, Ai, prev->col, Ai);
+      addBlock(&t, p.col, Aj, p.col, Aj);
+      addBlock(&t, p.col, Aj, prev->col, Ai);
+      g->segment<3>(prev->col) += Ai.transpose() * r;
+      g->segment<3>(p.col) += Aj.transpose() * r;
+    }
+    prev = &p;
+  }
+  for (const auto& [id, l] : landmarks_) {
+    for (const Observation& o : l.obs) {
+      const PoseNode& p = poses_.at(o.pose);
+      Eigen::Matrix<double, 2, 3> Jx;
+      Eigen::Matrix2d Jl;
+      const Eigen::Vector2d r = o.f.sqrt_info * o.f.error(p.x, l.x, &Jx, &Jl);
+      const Eigen::Matrix<double, 2, 3> Ax = o.f.sqrt_info * Jx;
+      const Eigen::Matrix2d Al = o.f.sqrt_info * Jl;
+      addBlock(&t, p.col, Ax, p.col, Ax);
+      addBlock(&t, l.col, Al, l.col, Al);
+      addBlock(&t, l.col, Al, p.col, Ax);
+      g->segment<3>(p.col) += Ax.transpose() * r;
+      g->segment<2>(l.col) += Al.transpose() * r;
+    }
+  }
+  H->resize(dim_, dim_);
+  H->setFromTriplets(t.begin(), t.end());
+}
+
+void FactorGraph::retract(const Eigen::VectorXd& dx) {
+  updateLayout();
+  for (auto& [s, p] : poses_) {
+    p.x += dx.segment<3>(p.col);
+    p.x.z() = wrapAngle(p.x.z());
+  }
+  for (auto& [id, l] : landmarks_) l.x += dx.segment<2>(l.col);
+}
+
+Eigen::VectorXd FactorGraph::values() const {
+  updateLayout();
+  Eigen::VectorXd v(dim_);
+  for (const auto& [s, p] : poses_) v.segment<3>(p.col) = p.x;
+  for (const auto& [id, l] : landmarks_) v.segment<2>(l.col) = l.x;
+  return v;
+}
+
+void FactorGraph::setValues(const Eigen::VectorXd& v) {
+  updateLayout();
+  if (v.size() != dim_) throw std::invalid_argument("graph: setValues with a wrong size");
+  for (auto& [s, p] : poses_) p.x = v.segment<3>(p.col);
+  for (auto& [id, l] : landmarks_) l.x = v.segment<2>(l.col);
+}
+
+}  // namespace budget_slam::graph

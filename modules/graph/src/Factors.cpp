@@ -1,0 +1,113 @@
+#include "budget_slam/graph/Factors.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <stdexcept>
+
+namespace budget_slam::graph {
+
+namespace {
+template <int N>
+Eigen::Matrix<double, N, N> sqrtInfo(const Eigen::Matrix<double, N, N>& cov) {
+  using M = Eigen::Matrix<double, N, N>;
+  if (!cov.allFinite() || !cov.isApprox(cov.transpose(), 1e-9))
+    throw std::invalid_argument("covariance is not finite and symmetric");
+  const M sym = 0.5 * (cov + cov.transpose());
+  // cov = L L^T  =>  cov^-1 = L^-T L^-1, so S = L^-1 satisfies S^T S = cov^-1. S is lower
+  // triangular; any square root works for whitening, this one needs no explicit inverse of cov.
+  Eigen::LLT<M> llt(sym);
+  if (llt.info() != Eigen::Success)
+    throw std::invalid_argument("covariance is not positive definite");
+  M S = M::Identity();
+  llt.matrixL().solveInPlace(S);
+  return S;
+}
+}  // namespace
+
+Eigen::Matrix3d sqrtInformation(const Eigen::Matrix3d& cov) { return sqrtInfo<3>(cov); }
+Eigen::Matrix2d sqrtInformation(const Eigen::Matrix2d& cov) { return sqrtInfo<2>(cov); }
+
+PriorFactor PriorFactor::make(const Pose2& mean, const Eigen::Matrix3d& cov) {
+  PriorFactor f;
+  f.mean = mean;
+  f.cov = cov;
+  f.sqrt_info = sqrtInformation(cov);
+  return f;
+}
+
+Eigen::Vector3d PriorFactor::error(const Pose2& x, Eigen::Matrix3d* J) const {
+  if (J) J->setIdentity();
+  return Eigen::Vector3d(x.x() - mean.x(), x.y() - mean.y(), wrapAngle(x.z() - mean.z()));
+}
+
+BetweenFactor BetweenFactor::make(const Pose2& z, const Eigen::Matrix3d& cov) {
+  BetweenFactor f;
+  f.z = z;
+  f.cov = cov;
+  f.sqrt_info = sqrtInformation(cov);
+  return f;
+}
+
+Eigen::Vector3d BetweenFactor::error(const Pose2& xi, const Pose2& xj, Eigen::Matrix3d* Ji,
+                                     Eigen::Matrix3d* Jj) const {
+  const Pose2 h = between(xi, xj, Ji, Jj);
+  return Eigen::Vector3d(h.x() - z.x(), h.y() - z.y(), wrapAngle(h.z() - z.z()));
+}
+
+RangeBearingFactor RangeBearingFactor::make(double range, double bearing, const Pose2& sensor,
+                                            const Eigen::Matrix2d& cov) {
+  RangeBearingFactor f;
+  f.range = range;
+  f.bearing = bearing;
+  f.sensor = sensor;
+  f.cov = cov;
+  f.sqrt_info = sqrtInformation(cov);
+  return f;
+}
+
+Eigen::Vector2d RangeBearingFactor::predict(const Pose2& x, const Eigen::Vector2d& l,
+                                            Eigen::Matrix<double, 2, 3>* Jx,
+                                            Eigen::Matrix2d* Jl) const {
+  const double c = std::cos(x.z()), s = std::sin(x.z());
+  // Sensor origin in the world: t + R(yaw) s_t.
+  const Eigen::Vector2d st(c * sensor.x() - s * sensor.y(), s * sensor.x() + c * sensor.y());
+  const Eigen::Vector2d q = l - x.head<2>() - st;
+  const double r2 = q.squaredNorm(), r = std::sqrt(r2);
+  const Eigen::Vector2d z(r, wrapAngle(std::atan2(q.y(), q.x()) - x.z() - sensor.z()));
+  if (Jx || Jl) {
+    // d range/dq = q^T / r, d bearing/dq = (-q_y, q_x) / r^2; dq/dl = I, dq/dt = -I,
+    // dq/dyaw = -dR/dyaw s_t = (st_y, -st_x); d bearing/dyaw has the extra -1 of the frame.
+    Eigen::Matrix2d dz_dq;
+    dz_dq << q.x() / r, q.y() / r, -q.y() / r2, q.x() / r2;
+    if (Jl) *Jl = dz_dq;
+    if (Jx) {
+      Jx->leftCols<2>() = -dz_dq;
+      Jx->col(2) = dz_dq * Eigen::Vector2d(st.y(), -st.x());
+      (*Jx)(1, 2) -= 1.0;
+    }
+  }
+  return z;
+}
+
+Eigen::Vector2d RangeBearingFactor::error(const Pose2& x, const Eigen::Vector2d& l,
+                                          Eigen::Matrix<double, 2, 3>* Jx,
+                                          Eigen::Matrix2d* Jl) const {
+  const Eigen::Vector2d h = predict(x, l, Jx, Jl);
+  return Eigen::Vector2d(h.x() - range, wrapAngle(h.y() - bearing));
+}
+
+Eigen::Vector2d RangeBearingFactor::landmarkFrom(const Pose2& x) const {
+  const Pose2 s = compose(x, sensor);
+  return s.head<2>() +
+         range * Eigen::Vector2d(std::cos(s.z() + bearing), std::sin(s.z() + bearing));
+}
+
+BetweenFactor composeBetween(const BetweenFactor& a, const BetweenFactor& b) {
+  Eigen::Matrix3d Ja, Jb;
+  const Pose2 z = compose(a.z, b.z, &Ja, &Jb);
+  Eigen::Matrix3d cov = Ja * a.cov * Ja.transpose() + Jb * b.cov * Jb.transpose();
+  cov = 0.5 * (cov + cov.transpose());
+  return BetweenFactor::make(z, cov);
+}
+
+}  // namespace budget_slam::graph

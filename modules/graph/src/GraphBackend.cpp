@@ -1,0 +1,304 @@
+#include "budget_slam/graph/GraphBackend.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "budget_slam/graph/InformationGain.h"
+#include "budget_slam/graph/Marginals.h"
+
+namespace budget_slam::graph {
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+
+Pose2 toPose2(const mrpt::math::TPose2D& p) { return Pose2(p.x, p.y, p.phi); }
+
+/// Floors a covariance to the standard deviations `min_std` in every direction: eigenvalues of
+/// D^-1 C D^-1 (D = diag(min_std)) are raised to at least 1. MRPT odometry may be singular.
+Eigen::Matrix3d floorCovariance(const Eigen::Matrix3d& C, const Eigen::Vector3d& min_std) {
+  const Eigen::Matrix3d Dinv = min_std.cwiseInverse().asDiagonal();
+  Eigen::Matrix3d S = Dinv * (0.5 * (C + C.transpose())) * Dinv;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(S);
+  const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(1.0);
+  S = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
+  const Eigen::Matrix3d D = min_std.asDiagonal();
+  return D * S * D;
+}
+}  // namespace
+
+GraphBackend::GraphBackend(const mrpt::config::CConfigFileBase& ini) {
+  options_.loadFromConfigFile(ini, GraphSlamOptions::kSection);
+  noise_.loadFromConfigFile(ini, RangeBearingNoise::kSection);
+}
+
+GraphBackend::GraphBackend(const GraphSlamOptions& options, const RangeBearingNoise& noise)
+    : options_(options), noise_(noise) {}
+
+BetweenFactor GraphBackend::odometryFactor(const Step& step) const {
+  if (!step.odometry) {
+    const double sxy = options_.no_odometry_std_xy, syaw = options_.no_odometry_std_yaw_deg * kDeg;
+    return BetweenFactor::make(Pose2::Zero(),
+                               Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
+  }
+  if (!step.odometry->cov.allFinite())
+    throw std::invalid_argument("step " + std::to_string(step.index) +
+                                ": odometry covariance is not finite");
+  const Eigen::Vector3d min_std(options_.odometry_min_std_xy, options_.odometry_min_std_xy,
+                                options_.odometry_min_std_yaw_deg * kDeg);
+  return BetweenFactor::make(toPose2(step.odometry->mean),
+                             floorCovariance(step.odometry->cov, min_std));
+}
+
+std::vector<LandmarkId> GraphBackend::associate(const RangeBearingScan& scan, StepIndex pose,
+                                                const Pose2& sensor) const {
+  std::vector<LandmarkId> ids(scan.readings.size(), kNoLandmarkId);
+  bool any = false;
+  for (std::size_t r = 0; r < scan.readings.size(); ++r) {
+    ids[r] = scan.readings[r].id;
+    any |= ids[r] == kNoLandmarkId;
+  }
+  if (!any || graph_.landmarks().empty()) return ids;
+  // Joint marginal of the new pose and every landmark (one factorization; only rawlogs without
+  // landmark IDs pay for it): the innovation covariance S = R + J Sigma J^T, J = [J_x J_l],
+  // includes the pose uncertainty and its correlation with each landmark.
+  std::vector<VariableKey> vars{VariableKey::pose(pose)};
+  for (const auto& [id, l] : graph_.landmarks()) vars.push_back(VariableKey::landmark(id));
+  const Eigen::MatrixXd Sigma = jointMarginal(graph_, factorization(), vars);
+  const Pose2& x = graph_.pose(pose).x;
+  const Eigen::Matrix2d R = sensorCovariance();
+  struct Pair {
+    double d2;
+    std::size_t r;
+    LandmarkId id;
+  };
+  std::vector<Pair> pairs;
+  for (std::size_t r = 0; r < scan.readings.size(); ++r) {
+    if (ids[r] != kNoLandmarkId) continue;
+    const RangeBearingFactor f =
+        RangeBearingFactor::make(scan.readings[r].range, scan.readings[r].yaw, sensor, R);
+    int k = 3;
+    for (const auto& [id, l] : graph_.landmarks()) {
+      Eigen::Matrix<double, 2, 3> Jx;
+      Eigen::Matrix2d Jl;
+      const Eigen::Vector2d e = f.error(x, l.x, &Jx, &Jl);
+      Eigen::Matrix<double, 2, 5> J;
+      J << Jx, Jl;
+      Eigen::Matrix<double, 5, 5> P;
+      P << Sigma.topLeftCorner<3, 3>(), Sigma.block<3, 2>(0, k), Sigma.block<2, 3>(k, 0),
+          Sigma.block<2, 2>(k, k);
+      const Eigen::Matrix2d S = R + J * P * J.transpose();
+      const double d2 = e.dot(S.ldlt().solve(e));
+      if (d2 < options_.association_gate_chi2) pairs.push_back({d2, r, id});
+      k += 2;
+    }
+  }
+  // Greedy nearest neighbour: closest pairs first, one landmark per reading and per scan.
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.d2 < b.d2; });
+  std::vector<LandmarkId> used;
+  for (const Pair& p : pairs) {
+    if (ids[p.r] != kNoLandmarkId || std::count(used.begin(), used.end(), p.id)) continue;
+    ids[p.r] = p.id;
+    used.push_back(p.id);
+  }
+  return ids;  // still kNoLandmarkId: a new landmark (fresh id given by process())
+}
+
+Eigen::Matrix2d GraphBackend::sensorCovariance() const {
+  const double sr = noise_.std_sensor_range, sy = noise_.std_sensor_yaw_deg * kDeg;
+  return Eigen::Vector2d(sr * sr, sy * sy).asDiagonal();
+}
+
+void GraphBackend::process(const Step& step) {
+  const BetweenFactor odo = odometryFactor(step);
+  if (graph_.poses().empty()) {
+    // Step 0's action moves the robot from the start pose (the origin, as MRPT's filter) to pose 0.
+    // The start pose sees nothing, so it is marginalized at once: prior on pose 0 = origin (+) odo,
+    // covariance J_a C_prior J_a^T + J_b C_odo J_b^T (composeBetween).
+    const double sxy = options_.prior_std_xy, syaw = options_.prior_std_yaw_deg * kDeg;
+    const BetweenFactor start = BetweenFactor::make(
+        Pose2::Zero(), Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
+    const BetweenFactor first = composeBetween(start, odo);
+    graph_.addFirstPose(step.index, step.t, first.z, PriorFactor::make(first.z, first.cov));
+  } else {
+    const Pose2& last = graph_.poses().rbegin()->second.x;
+    graph_.addPose(step.index, step.t, compose(last, odo.z), odo);
+  }
+  ++poses_since_update_;
+  touch();
+
+  double resight_chi2 = 0;
+  std::size_t resights = 0;
+  if (step.scan) {
+    const RangeBearingScan& scan = *step.scan;
+    const Pose2 sensor(scan.sensor_pose_on_robot.x, scan.sensor_pose_on_robot.y,
+                       scan.sensor_pose_on_robot.yaw);
+    const Pose2 x = graph_.poses().rbegin()->second.x;
+    const Eigen::Matrix2d R = sensorCovariance();
+    for (std::size_t r = 0; r < scan.readings.size(); ++r) {
+      const RangeBearingReading& z = scan.readings[r];
+      if (!std::isfinite(z.range) || !std::isfinite(z.yaw) || z.range <= 0)
+        throw std::invalid_argument("step " + std::to_string(step.index) + ": reading " +
+                                    std::to_string(r) + " has a bad range or bearing");
+    }
+    const bool needs_association =
+        std::any_of(scan.readings.begin(), scan.readings.end(),
+                    [](const RangeBearingReading& z) { return z.id == kNoLandmarkId; });
+    if (needs_association && !graph_.landmarks().empty() && poses_since_update_ > 0) {
+      // The gate assumes the estimate is the MAP of the data so far (its covariance is only
+      // meaningful there): dead-reckoned poses since the last update are not. Update first.
+      incrementalUpdate();
+    }
+    const std::vector<LandmarkId> ids = associate(scan, step.index, sensor);
+    for (LandmarkId id : ids)
+      if (id != kNoLandmarkId) next_fresh_id_ = std::max(next_fresh_id_, id + 1);
+    for (std::size_t r = 0; r < scan.readings.size(); ++r) {
+      const RangeBearingReading& z = scan.readings[r];
+      LandmarkId id = ids[r];
+      if (id == kNoLandmarkId) id = next_fresh_id_++;
+      const RangeBearingFactor f = RangeBearingFactor::make(z.range, z.yaw, sensor, R);
+      if (!graph_.hasLandmark(id)) {
+        graph_.addLandmark(id, f.landmarkFrom(x));  // re-seen after removal: back as new
+        tracks_[id] = Track{0, Eigen::Vector2d::Zero(), step.index, step.index};
+      } else {
+        resight_chi2 += (f.sqrt_info * f.error(x, graph_.landmark(id).x)).squaredNorm();
+        ++resights;
+      }
+      graph_.addObservation(step.index, id, f);
+      Track& t = tracks_[id];
+      ++t.n;
+      t.obs_mean += (x.head<2>() - t.obs_mean) / static_cast<double>(t.n);
+      t.last_step = step.index;
+    }
+  }
+
+  // Incremental schedule (docs/GRAPH.md): a few warm-started Gauss-Newton iterations every
+  // `relinearize_every` poses, or at once when the re-sightings disagree with the estimate.
+  const bool periodic =
+      options_.relinearize_every > 0 && poses_since_update_ >= options_.relinearize_every;
+  const bool surprised = options_.relinearize_chi2 > 0 && resights > 0 &&
+                         resight_chi2 / static_cast<double>(resights) > options_.relinearize_chi2;
+  if (periodic || surprised) incrementalUpdate();
+}
+
+void GraphBackend::incrementalUpdate() {
+  SolverSettings s = options_.solverSettings();
+  s.method = SolverSettings::Method::GaussNewton;
+  s.max_iterations = options_.incremental_iterations;
+  graph::optimize(graph_, s, &solver_chol_);
+  poses_since_update_ = 0;
+  ++updates_;
+  touch();
+}
+
+const SparseCholesky& GraphBackend::factorization() const {
+  if (query_version_ != estimate_version_) {
+    factorizeAtEstimate(graph_, &query_chol_);
+    query_version_ = estimate_version_;
+  }
+  return query_chol_;
+}
+
+std::vector<LandmarkView> GraphBackend::landmarks() const {
+  std::vector<LandmarkView> out;
+  out.reserve(graph_.landmarks().size());
+  if (graph_.landmarks().empty()) return out;
+  if (landmark_cov_version_ != estimate_version_) {
+    std::vector<VariableKey> vars;
+    for (const auto& [id, l] : graph_.landmarks()) vars.push_back(VariableKey::landmark(id));
+    const std::vector<Eigen::MatrixXd> m = marginals(graph_, factorization(), vars);
+    landmark_cov_.clear();
+    for (std::size_t k = 0; k < vars.size(); ++k) landmark_cov_[vars[k].id] = m[k];
+    landmark_cov_version_ = estimate_version_;
+  }
+  for (const auto& [id, l] : graph_.landmarks()) {
+    const Track& t = tracks_.at(id);
+    LandmarkView v;
+    v.id = id;
+    v.mean = l.x;
+    v.cov = landmark_cov_.at(id);
+    v.n_obs = t.n;
+    v.obs_mean = t.obs_mean;
+    v.first_step = t.first_step;
+    v.last_step = t.last_step;
+    out.push_back(v);
+  }
+  return out;
+}
+
+PoseEstimate GraphBackend::robotPose() const {
+  PoseEstimate p;
+  if (graph_.poses().empty()) return p;
+  const auto& [step, node] = *graph_.poses().rbegin();
+  p.mean = mrpt::math::TPose2D(node.x.x(), node.x.y(), node.x.z());
+  p.cov = jointMarginal(graph_, factorization(), {VariableKey::pose(step)});
+  return p;
+}
+
+std::vector<TrajectoryPoint> GraphBackend::trajectory() const {
+  std::vector<TrajectoryPoint> out;
+  out.reserve(graph_.poses().size());
+  for (const auto& [step, node] : graph_.poses())
+    out.push_back({step, node.t, mrpt::math::TPose2D(node.x.x(), node.x.y(), node.x.z())});
+  return out;
+}
+
+void GraphBackend::removeLandmark(LandmarkId id) {
+  if (!graph_.hasLandmark(id))
+    throw std::out_of_range("graph backend: no landmark " + std::to_string(id));
+  graph_.removeLandmark(id);
+  tracks_.erase(id);
+  landmark_cov_.erase(id);
+  touch();
+}
+
+std::vector<double> GraphBackend::informationGain(const std::vector<LandmarkId>& ids) const {
+  for (LandmarkId id : ids)
+    if (!graph_.hasLandmark(id))
+      throw std::out_of_range("graph backend: no landmark " + std::to_string(id));
+  if (ids.empty()) return {};
+  return graph::informationGain(graph_, factorization(), ids);
+}
+
+Eigen::Matrix2d GraphBackend::landmarkCovariance(LandmarkId id) const {
+  if (!graph_.hasLandmark(id))
+    throw std::out_of_range("graph backend: no landmark " + std::to_string(id));
+  if (landmark_cov_version_ == estimate_version_) return landmark_cov_.at(id);
+  return jointMarginal(graph_, factorization(), {VariableKey::landmark(id)});
+}
+
+Eigen::MatrixXd GraphBackend::jointCovariance(const std::vector<VariableKey>& vars) const {
+  if (vars.empty()) return Eigen::MatrixXd(0, 0);
+  for (const VariableKey& v : vars) graph_.column(v);  // throws std::out_of_range if unknown
+  return jointMarginal(graph_, factorization(), vars);
+}
+
+std::size_t GraphBackend::marginalizePosesWithoutLandmarks(std::size_t keep_last) {
+  // Choudhary et al. Alg. 3 lines 15-16: poses that see no kept landmark leave, except the first
+  // and the last `keep_last` (and always the latest: the robot's current pose).
+  const std::size_t n = graph_.poses().size();
+  const std::size_t keep = std::max<std::size_t>(keep_last, 1);
+  if (n <= keep + 1) return 0;
+  std::vector<StepIndex> victims;
+  std::size_t k = 0;
+  for (const auto& [step, node] : graph_.poses()) {
+    if (k > 0 && k + keep < n && node.n_obs == 0) victims.push_back(step);
+    ++k;
+  }
+  for (StepIndex s : victims) graph_.marginalizePose(s);
+  if (!victims.empty()) touch();
+  return victims.size();
+}
+
+SolveReport GraphBackend::optimize() {
+  const SolveReport r = graph::optimize(graph_, options_.solverSettings(), &solver_chol_);
+  poses_since_update_ = 0;
+  touch();
+  return r;
+}
+
+void GraphBackend::finish() { optimize(); }
+
+}  // namespace budget_slam::graph

@@ -1,0 +1,205 @@
+#pragma once
+// Graphs and step sequences for the graph tests and benchmark: seeded synthetic worlds and the
+// Victoria Park iSAM file (../shared/datasets, read here directly until the dataset module's
+// converter is used).
+#include <Eigen/Dense>
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "budget_slam/core/Step.h"
+#include "budget_slam/graph/FactorGraph.h"
+
+namespace budget_slam::graph::testgraphs {
+
+/// A robot walking a seeded random path (1 m steps, turns up to +-0.3 rad) among landmarks
+/// scattered over its area; each landmark in range (8 m) is seen with probability `p_see`.
+/// Ground truth and noisy readings/odometry; the returned graph starts from a perturbed estimate.
+/// Landmark 1000 is seen exactly once.
+inline FactorGraph randomGraph(int n_poses, int n_landmarks, unsigned seed, double p_see = 0.35,
+                               const Pose2& sensor = Pose2(0.3, 0.1, 0.05)) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> N(0.0, 1.0);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<Pose2> truth{Pose2(0, 0, 0)};
+  for (int i = 1; i < n_poses; ++i)
+    truth.push_back(compose(truth.back(), Pose2(1.0, 0.0, 0.6 * (U(rng) - 0.5))));
+  Eigen::Vector2d lo = truth[0].head<2>(), hi = lo;
+  for (const Pose2& p : truth) {
+    lo = lo.cwiseMin(p.head<2>());
+    hi = hi.cwiseMax(p.head<2>());
+  }
+  lo.array() -= 4;
+  hi.array() += 4;
+  std::vector<Eigen::Vector2d> lms;
+  for (int j = 0; j < n_landmarks; ++j)
+    lms.emplace_back(lo.x() + U(rng) * (hi.x() - lo.x()), lo.y() + U(rng) * (hi.y() - lo.y()));
+
+  const Eigen::Matrix3d odo_cov =
+      Eigen::Vector3d(0.05 * 0.05, 0.02 * 0.02, 0.01 * 0.01).asDiagonal();
+  const Eigen::Matrix2d rb_cov = Eigen::Vector2d(0.1 * 0.1, 0.02 * 0.02).asDiagonal();
+  const Eigen::LLT<Eigen::Matrix3d> odo_l(odo_cov);
+  FactorGraph g;
+  auto perturb = [&](const Pose2& p) {
+    return Pose2(p.x() + 0.1 * N(rng), p.y() + 0.1 * N(rng), p.z() + 0.03 * N(rng));
+  };
+  g.addFirstPose(0, 0.0, perturb(truth[0]),
+                 PriorFactor::make(truth[0], Eigen::Vector3d(1e-4, 1e-4, 1e-5).asDiagonal()));
+  for (int i = 1; i < n_poses; ++i) {
+    Pose2 z = between(truth[i - 1], truth[i]);
+    z += odo_l.matrixL() * Eigen::Vector3d(N(rng), N(rng), N(rng));
+    g.addPose(i, i, perturb(truth[i]), BetweenFactor::make(z, odo_cov));
+  }
+  auto observe = [&](int i, int j, LandmarkId id) {
+    RangeBearingFactor f = RangeBearingFactor::make(0, 0, sensor, rb_cov);
+    const Eigen::Vector2d h = f.predict(truth[i], lms[j]);
+    f.range = h.x() + 0.1 * N(rng);
+    f.bearing = wrapAngle(h.y() + 0.02 * N(rng));
+    if (!g.hasLandmark(id)) g.addLandmark(id, lms[j] + Eigen::Vector2d(0.2 * N(rng), 0.2 * N(rng)));
+    g.addObservation(i, id, f);
+  };
+  for (int i = 0; i < n_poses; ++i)
+    for (int j = 0; j < n_landmarks; ++j)
+      if ((truth[i].head<2>() - lms[j]).norm() < 8.0 && U(rng) < p_see) observe(i, j, j);
+  lms.emplace_back(truth[n_poses / 2].head<2>() + Eigen::Vector2d(3, 1));
+  observe(n_poses / 2, n_landmarks, 1000);
+  return g;
+}
+
+/// The same kind of world as a sequence of Steps for the backend: odometry with covariance and
+/// range-bearing scans with landmark ids (or none when `with_ids` is false).
+struct SyntheticRun {
+  std::vector<Step> steps;
+  std::vector<Pose2> truth;                ///< pose of each step
+  std::vector<Eigen::Vector2d> landmarks;  ///< id = index
+};
+
+inline SyntheticRun syntheticRun(int n_steps, int n_landmarks, unsigned seed, bool with_ids = true,
+                                 double max_range = 8.0,
+                                 const Pose2& sensor = Pose2(0.2, 0.05, 0.1)) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> N(0.0, 1.0);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  SyntheticRun run;
+  // A loop: circle of radius 10 m, so landmarks are seen again (loop closures).
+  const double r = 10.0, dth = 2 * M_PI / 40;
+  for (int j = 0; j < n_landmarks; ++j) {
+    const double a = 2 * M_PI * j / n_landmarks,
+                 rr = r + (j % 2 ? 4.0 : -4.0) * (0.5 + 0.5 * U(rng));
+    run.landmarks.emplace_back(rr * std::cos(a), r + rr * std::sin(a));
+  }
+  Pose2 x(0, 0, 0);
+  const Pose2 step_z(2 * r * std::sin(dth / 2), 0, dth);
+  const Eigen::Matrix3d odo_cov =
+      Eigen::Vector3d(0.02 * 0.02, 0.01 * 0.01, 0.005 * 0.005).asDiagonal();
+  for (int k = 0; k < n_steps; ++k) {
+    Step s;
+    s.index = k;
+    s.t = 0.1 * k;
+    x = compose(x, step_z);
+    run.truth.push_back(x);
+    OdometryIncrement o;
+    o.mean = mrpt::math::TPose2D(step_z.x() + 0.02 * N(rng), step_z.y() + 0.01 * N(rng),
+                                 step_z.z() + 0.005 * N(rng));
+    o.cov = odo_cov;
+    s.odometry = o;
+    RangeBearingScan scan;
+    scan.sensor_pose_on_robot = mrpt::math::TPose3D(sensor.x(), sensor.y(), 0, sensor.z(), 0, 0);
+    const Pose2 sp = compose(x, sensor);
+    for (int j = 0; j < n_landmarks; ++j) {
+      const Eigen::Vector2d d = run.landmarks[j] - sp.head<2>();
+      if (d.norm() > max_range) continue;
+      RangeBearingReading z;
+      z.id = with_ids ? j : kNoLandmarkId;
+      z.range = d.norm() + 0.05 * N(rng);
+      z.yaw = wrapAngle(std::atan2(d.y(), d.x()) - sp.z() + 0.01 * N(rng));
+      scan.readings.push_back(z);
+    }
+    s.scan = scan;
+    run.steps.push_back(s);
+  }
+  return run;
+}
+
+/// ../shared/datasets/victoria_park_gtsam/victoria_park.txt next to the repository, "" if absent.
+inline std::string victoriaParkFile() {
+  for (const std::string base :
+       {std::string(BUDGET_SLAM_SOURCE_DIR) + "/../shared", std::string("/work/shared")}) {
+    const std::string f = base + "/datasets/victoria_park_gtsam/victoria_park.txt";
+    if (std::ifstream(f).good()) return f;
+  }
+  return "";
+}
+
+/// iSAM text -> Steps: step k is the k-th ODOMETRY line (pose i -> j, covariance upper triangle)
+/// with the LANDMARK sightings made from its end pose j (range = hypot, bearing = atan2; the
+/// sensor at the robot origin). At most `max_steps` steps.
+inline std::vector<Step> loadIsamSteps(const std::string& file,
+                                       std::size_t max_steps = ~std::size_t(0)) {
+  std::ifstream in(file);
+  std::vector<Step> steps;
+  std::map<long, std::size_t> step_of_pose;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string tag;
+    ls >> tag;
+    if (tag == "ODOMETRY") {
+      long i, j;
+      double dx, dy, dth, c11, c12, c13, c22, c23, c33;
+      ls >> i >> j >> dx >> dy >> dth >> c11 >> c12 >> c13 >> c22 >> c23 >> c33;
+      if (steps.size() >= max_steps) break;
+      Step s;
+      s.index = steps.size();
+      s.t = static_cast<double>(s.index);
+      OdometryIncrement o;
+      o.mean = mrpt::math::TPose2D(dx, dy, dth);
+      o.cov << c11, c12, c13, c12, c22, c23, c13, c23, c33;
+      s.odometry = o;
+      RangeBearingScan scan;
+      scan.sensor_pose_on_robot = mrpt::math::TPose3D(0, 0, 0, 0, 0, 0);
+      s.scan = scan;
+      step_of_pose[j] = s.index;
+      steps.push_back(s);
+    } else if (tag == "LANDMARK") {
+      long i, l;
+      double x, y;
+      ls >> i >> l >> x >> y;
+      auto it = step_of_pose.find(i);
+      if (it == step_of_pose.end()) continue;
+      RangeBearingReading z;
+      z.id = l;
+      z.range = std::hypot(x, y);
+      z.yaw = std::atan2(y, x);
+      steps[it->second].scan->readings.push_back(z);
+    }
+  }
+  return steps;
+}
+
+/// Dense Gauss-Newton to convergence (|dx| < 1e-14 or 200 iterations): the batch reference.
+inline Eigen::VectorXd denseBatchSolve(FactorGraph g) {
+  for (int it = 0; it < 200; ++it) {
+    Eigen::SparseMatrix<double> Hs;
+    Eigen::VectorXd grad;
+    g.linearize(&Hs, &grad);
+    const Eigen::MatrixXd H = Eigen::MatrixXd(Hs).selfadjointView<Eigen::Lower>();
+    const Eigen::VectorXd dx = -H.ldlt().solve(grad);
+    g.retract(dx);
+    if (dx.lpNorm<Eigen::Infinity>() < 1e-14) break;
+  }
+  return g.values();
+}
+
+/// Full symmetric dense H at the graph's estimate.
+inline Eigen::MatrixXd denseInformation(const FactorGraph& g) {
+  Eigen::SparseMatrix<double> Hs;
+  Eigen::VectorXd grad;
+  g.linearize(&Hs, &grad);
+  return Eigen::MatrixXd(Eigen::MatrixXd(Hs).selfadjointView<Eigen::Lower>());
+}
+
+}  // namespace budget_slam::graph::testgraphs

@@ -1,0 +1,50 @@
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <sstream>
+
+#include "budget_slam/core/Error.h"
+#include "budget_slam/graph/GraphBackend.h"
+
+using namespace budget_slam;
+using namespace budget_slam::graph;
+
+TEST(GraphOptions, DefaultsAndValues) {
+  mrpt::config::CConfigFileMemory ini(
+      "[GraphSLAM]\nsolver = levenberg-marquardt\nrelinearize_every = 25  // poses\n"
+      "prior_std_yaw_deg = 0.5\n[RangeBearingKFSLAM]\nstd_sensor_range = 0.3\n");
+  GraphBackend b(ini);
+  EXPECT_EQ(b.options().solver, "levenberg-marquardt");
+  EXPECT_EQ(b.options().relinearize_every, 25);
+  EXPECT_DOUBLE_EQ(b.options().prior_std_yaw_deg, 0.5);
+  EXPECT_EQ(b.options().incremental_iterations, GraphSlamOptions{}.incremental_iterations);
+  EXPECT_DOUBLE_EQ(b.noise().std_sensor_range, 0.3);
+  EXPECT_DOUBLE_EQ(b.noise().std_sensor_yaw_deg, 0.5);
+  EXPECT_EQ(b.options().solverSettings().method, SolverSettings::Method::LevenbergMarquardt);
+}
+
+TEST(GraphOptions, BadValuesNameTheKey) {
+  mrpt::config::CConfigFileMemory bad_solver("[GraphSLAM]\nsolver = newton\n");
+  try {
+    GraphBackend b(bad_solver);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("solver"), std::string::npos) << e.what();
+  }
+  mrpt::config::CConfigFileMemory negative("[RangeBearingKFSLAM]\nstd_sensor_range = -1\n");
+  EXPECT_THROW(GraphBackend b(negative), ConfigError);
+  mrpt::config::CConfigFileMemory iters("[GraphSLAM]\nmax_iterations = 0\n");
+  EXPECT_THROW(GraphBackend b(iters), ConfigError);
+}
+
+TEST(GraphOptions, DumpListsEveryKey) {
+  std::ostringstream out;
+  GraphSlamOptions{}.dumpToTextStream(out);
+  for (const std::string& k : GraphSlamOptions::keys())
+    EXPECT_NE(out.str().find("\n" + k + " "), std::string::npos) << k;
+  EXPECT_EQ(GraphSlamOptions::keys().size(), 16u);
+  std::ostringstream n;
+  RangeBearingNoise{}.dumpToTextStream(n);
+  for (const std::string& k : RangeBearingNoise::keys())
+    EXPECT_NE(n.str().find(k), std::string::npos);
+}
