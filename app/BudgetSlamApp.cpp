@@ -232,9 +232,4 @@ int BudgetSlamApp::runRun() {
   }
 }
 
-int BudgetSlamApp::runCompare() {
-  *err << "budget-slam: error: compare is not built yet" << std::endl;
-  return 1;
-}
-
 }  // namespace budget_slam::app

@@ -4,11 +4,13 @@
 
 #include <fstream>
 #include <iomanip>
+#include <unordered_map>
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/StepFilter.h"
 #include "budget_slam/ekf/EkfBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFiles.h"
 
 namespace budget_slam::app {
@@ -23,6 +25,9 @@ std::vector<std::unique_ptr<Reducer>> makeShadows(const mrpt::config::CConfigFil
   }
   return out;
 }
+
+/// map.png marks at most this many dropped landmarks (a lifelong run drops millions).
+constexpr std::size_t kMaxDroppedMarks = 200000;
 
 double nanIfEmpty(std::size_t n, double v) {
   return n ? v : std::numeric_limits<double>::quiet_NaN();
@@ -68,7 +73,15 @@ void Pipeline::process(const Step& raw) {
   const std::size_t before = backend_->landmarkCount();
   backend_->process(filtered);
   const std::size_t added = backend_->landmarkCount() - before;
+  // Where the landmarks about to be dropped are, for map.png.
+  std::unordered_map<LandmarkId, Eigen::Vector2d> positions;
+  if (manager_->reduces() && backend_->landmarkCount() > budget.max_landmarks)
+    for (const auto& l : backend_->landmarks()) positions.emplace(l.id, l.mean);
   const auto drops = manager_->enforce(*backend_, raw.index);
+  for (const auto& e : drops) {
+    const auto it = positions.find(e.id);
+    if (it != positions.end() && dropped_.size() < kMaxDroppedMarks) dropped_.push_back(it->second);
+  }
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   ++steps_done_;
@@ -114,6 +127,25 @@ void Pipeline::process(const Step& raw) {
   }
 }
 
+void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
+                        const std::vector<LandmarkView>& landmarks) const {
+  report::MapContent map;
+  const auto& budget = manager_->options();
+  map.title = backend_->name() + ", reducer " + budget.reducer +
+              (manager_->reduces() ? ", cap " + std::to_string(budget.max_landmarks) : "") + ": " +
+              std::to_string(landmarks.size()) + " landmarks kept, " + std::to_string(evictions_) +
+              " dropped";
+  for (const auto& p : trajectory) map.trajectory.push_back(p.pose);
+  map.kept = landmarks;
+  map.dropped = dropped_;
+  if (truth_ && !truth_->empty()) {
+    const auto gt = metrics::toEstimateFrame(*truth_);
+    map.ground_truth_path = gt.path;
+    for (const auto& [id, l] : gt.landmarks) map.ground_truth_landmarks.push_back(l);
+  }
+  report::writeMapPng(folder_.file("map.png"), map);
+}
+
 void Pipeline::dumpState(const Backend& backend, StepIndex step) const {
   // Full mean and covariance, robot pose first then landmarks in the backend's order, so that
   // any reducer's score can be recomputed by hand.
@@ -137,13 +169,20 @@ void Pipeline::dumpState(const Backend& backend, StepIndex step) const {
   }
 }
 
+void Pipeline::complete() {
+  if (completed_) return;
+  completed_ = true;
+  backend_->finish();
+}
+
 nlohmann::json Pipeline::finish(const std::string& status, const std::string& error,
                                 std::size_t steps_in_rawlog, const nlohmann::json& extra) {
-  if (status == "ok") backend_->finish();
+  if (status == "ok") complete();
   const auto trajectory = backend_->trajectory();
   const auto landmarks = backend_->landmarks();
   report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory);
   report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks);
+  writeMap(trajectory, landmarks);
 
   const auto& budget = manager_->options();
   nlohmann::json j;

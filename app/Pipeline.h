@@ -33,7 +33,10 @@ class Pipeline {
   /// the budget. Throws Error on bad data; the outputs written so far stay.
   void process(const Step& step);
 
-  /// Writes trajectory.tum, landmarks.csv and summary.json with `status` (ok | failed |
+  /// Runs the backend's end-of-run work (the graph's final solve) once; finish() calls it too.
+  void complete();
+
+  /// Writes trajectory.tum, landmarks.csv, map.png and summary.json with `status` (ok | failed |
   /// interrupted) and `error`. `steps_in_rawlog` maps ground truth rows. Returns the summary.
   nlohmann::json finish(const std::string& status, const std::string& error,
                         std::size_t steps_in_rawlog, const nlohmann::json& extra = {});
@@ -50,6 +53,8 @@ class Pipeline {
 
  private:
   void dumpState(const Backend& backend, StepIndex step) const;
+  void writeMap(const std::vector<TrajectoryPoint>& trajectory,
+                const std::vector<LandmarkView>& landmarks) const;
 
   report::OutputFolder folder_;
   std::unique_ptr<Backend> backend_;
@@ -58,6 +63,8 @@ class Pipeline {
   report::CsvWriter steps_csv_, evictions_csv_;
   std::vector<metrics::PoseRecord> online_;
   std::vector<std::size_t> counts_;
+  std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
+  bool completed_ = false;
   std::size_t steps_done_ = 0, evictions_ = 0, peak_landmarks_ = 0, landmarks_added_ = 0;
   double total_step_s_ = 0, max_step_s_ = 0;
 };

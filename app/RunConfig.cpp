@@ -8,6 +8,7 @@
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSchema.h"
 #include "budget_slam/ekf/MrptIniKeys.h"
+#include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 
 namespace fs = std::filesystem;
@@ -20,6 +21,7 @@ IniSchema knownKeys() {
   for (const auto& [section, keys] : ekf::mrptKfSlamIniKeys()) schema.addSection(section, keys);
   schema.addSection(MappingOptions::kSection, MappingOptions::keys());
   schema.addSection(reducers::BudgetOptions::kSection, reducers::BudgetOptions::keys());
+  schema.addSection(metrics::MetricsOptions::kSection, metrics::MetricsOptions::keys());
   for (const auto* e : reducers::builtinReducers().entries())
     if (!e->section.empty()) schema.addSection(e->section, e->keys);
   return schema;

@@ -138,3 +138,40 @@ TEST(RunKfDemo, ShadowReducersAreLoggedWithAgreement) {
   EXPECT_EQ(summary["agreement"][0]["b"], "oldest");
   EXPECT_EQ(summary["agreement"][0]["total"], evictions.size());
 }
+
+// compare: the reference plus one row a reducer, every metric filled, one folder a run.
+TEST(CompareKfDemo, WritesTableWithReferenceAndEveryReducer) {
+  const auto dir = freshDir("compare_baselines");
+  const std::vector<std::string> reducers = {"info-content", "random", "oldest"};
+  const auto r = runApp({"compare", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--cap", "30",
+                         "--reducers", "info-content,random,oldest", "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = readCsv(dir / "comparison.csv");
+  ASSERT_EQ(rows.size(), 1 + reducers.size());
+  EXPECT_EQ(rows[0][0], "reference");
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), 21u);
+    if (i > 0) EXPECT_EQ(rows[i][0], reducers[i - 1]);
+    EXPECT_EQ(rows[i][3], "ok");
+    for (std::size_t c = 5; c < rows[i].size(); ++c)
+      EXPECT_FALSE(rows[i][c].empty() || rows[i][c] == "nan") << rows[i][0] << " column " << c;
+    EXPECT_TRUE(fs::exists(dir / rows[i][0] / "summary.json"));
+    EXPECT_TRUE(fs::exists(dir / rows[i][0] / "map.png"));
+  }
+  // The reference against itself is exact; a capped run keeps 30 of the 70 landmarks.
+  EXPECT_EQ(std::stod(rows[0][10]), 0.0);
+  EXPECT_EQ(rows[1][5], "30");
+  EXPECT_NEAR(std::stod(rows[1][6]), 100.0 * (1 - 30.0 / 70.0), 1e-9);
+  EXPECT_GT(std::stod(rows[1][10]), 0.0);
+  EXPECT_TRUE(fs::exists(dir / "comparison.md"));
+  EXPECT_TRUE(fs::exists(dir / "comparison.png"));
+
+  // Each run equals a plain `run` with the same reducer: same final map.
+  const auto single = freshDir("compare_single_oldest");
+  ASSERT_EQ(runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", single.string(), "--cap", "30",
+                    "--reducer", "oldest", "--quiet"})
+                .exit_code,
+            0);
+  EXPECT_EQ(slurp(single / "landmarks.csv"), slurp(dir / "oldest" / "landmarks.csv"));
+  EXPECT_EQ(slurp(single / "trajectory.tum"), slurp(dir / "oldest" / "trajectory.tum"));
+}

@@ -22,24 +22,34 @@ double poseNees(const PoseEstimate& estimate, const mrpt::math::TPose2D& truth) 
   return e.dot(ldlt.solve(e));
 }
 
+dataset::GroundTruth toEstimateFrame(const dataset::GroundTruth& truth) {
+  dataset::GroundTruth out = truth;
+  if (truth.path.empty()) return out;
+  const mrpt::poses::CPose2D inv = -mrpt::poses::CPose2D(truth.path.front());
+  for (auto& p : out.path) p = (inv + mrpt::poses::CPose2D(p)).asTPose();
+  for (auto& [id, l] : out.landmarks) {
+    const auto q = inv + mrpt::poses::CPoint2D(l.x(), l.y());
+    l = Eigen::Vector2d(q.x(), q.y());
+  }
+  return out;
+}
+
 GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajectory,
                                     const std::vector<PoseRecord>& online,
                                     const std::vector<LandmarkView>& landmarks,
-                                    const dataset::GroundTruth& truth, std::size_t steps) {
+                                    const dataset::GroundTruth& raw_truth, std::size_t steps) {
   GroundTruthErrors out;
-  const auto& path = truth.path;
   // Frame of the estimate: the ground-truth start pose is its origin.
-  mrpt::poses::CPose2D origin;
-  if (!path.empty()) origin = mrpt::poses::CPose2D(path.front());
-  const mrpt::poses::CPose2D to_estimate_frame = -origin;
+  const dataset::GroundTruth truth = toEstimateFrame(raw_truth);
+  const auto& path = truth.path;
 
   if (!path.empty()) {
     double sum = 0, mx = 0;
     for (const auto& p : trajectory) {
       const std::size_t row = groundTruthRow(p.step, path.size(), steps);
       if (row >= path.size()) continue;
-      const auto gt = to_estimate_frame + mrpt::poses::CPose2D(path[row]);
-      const double d = std::hypot(p.pose.x - gt.x(), p.pose.y - gt.y());
+      const auto& gt = path[row];
+      const double d = std::hypot(p.pose.x - gt.x, p.pose.y - gt.y);
       sum += d * d;
       mx = std::max(mx, d);
       ++out.poses;
@@ -52,8 +62,7 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
     for (const auto& r : online) {
       const std::size_t row = groundTruthRow(r.step, path.size(), steps);
       if (row >= path.size()) continue;
-      const auto gt = (to_estimate_frame + mrpt::poses::CPose2D(path[row])).asTPose();
-      const double n = poseNees(r.estimate, gt);
+      const double n = poseNees(r.estimate, path[row]);
       if (!std::isfinite(n)) continue;  // e.g. the zero covariance before the first motion
       nees += n;
       ++out.nees_samples;
@@ -66,8 +75,7 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
     for (const auto& l : landmarks) {
       const auto it = truth.landmarks.find(l.id);
       if (it == truth.landmarks.end()) continue;
-      const auto gt = to_estimate_frame + mrpt::poses::CPoint2D(it->second.x(), it->second.y());
-      sum += std::pow(l.mean.x() - gt.x(), 2) + std::pow(l.mean.y() - gt.y(), 2);
+      sum += (l.mean - it->second).squaredNorm();
       ++out.landmarks;
     }
     if (out.landmarks) out.landmark_rmse = std::sqrt(sum / out.landmarks);

@@ -37,6 +37,10 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
                                     const std::vector<LandmarkView>& landmarks,
                                     const dataset::GroundTruth& truth, std::size_t steps);
 
+/// Ground truth in the estimate's frame: composed with the inverse of its start pose (the first
+/// row of the path), so that the start pose becomes the origin the estimate starts from.
+dataset::GroundTruth toEstimateFrame(const dataset::GroundTruth& truth);
+
 /// (x, y, yaw) error e of `estimate` w.r.t. `truth` (yaw wrapped) and its NEES e' P^-1 e.
 double poseNees(const PoseEstimate& estimate, const mrpt::math::TPose2D& truth);
 

@@ -1,0 +1,21 @@
+#include "budget_slam/metrics/MetricsOptions.h"
+
+#include <ostream>
+
+#include "budget_slam/core/IniSection.h"
+
+namespace budget_slam::metrics {
+
+void MetricsOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
+                                        const std::string& section) {
+  const IniSection s(ini, section);
+  eig_max_rows =
+      static_cast<std::size_t>(s.readInt("eig_max_rows", static_cast<long long>(eig_max_rows), 0));
+}
+
+void MetricsOptions::dumpToTextStream(std::ostream& out) const {
+  out << "\n----------- [" << kSection << "] ------------\n";
+  out << "eig_max_rows             = " << eig_max_rows << "\n";
+}
+
+}  // namespace budget_slam::metrics

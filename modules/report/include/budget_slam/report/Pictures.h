@@ -1,0 +1,46 @@
+#pragma once
+#include <mrpt/math/TPose2D.h>
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "budget_slam/core/Estimates.h"
+
+namespace budget_slam::report {
+
+/// What map.png shows (DESIGN.md "Outputs"): the trajectory (and ground truth), the kept landmarks
+/// with their 2-sigma ellipses, the dropped landmarks, and the coverage clusters in colour.
+struct MapContent {
+  std::string title;
+  std::vector<mrpt::math::TPose2D> trajectory;
+  std::vector<mrpt::math::TPose2D> ground_truth_path;   ///< in the estimate's frame
+  std::vector<Eigen::Vector2d> ground_truth_landmarks;  ///< in the estimate's frame
+  std::vector<LandmarkView> kept;
+  std::vector<int> cluster_of_kept;      ///< cluster index per kept landmark, or empty
+  std::vector<Eigen::Vector2d> dropped;  ///< where dropped landmarks were when dropped
+};
+
+/// Renders `content` to a PNG of `width` x `height` pixels (OpenCV). Throws Error if it cannot
+/// write the file.
+void writeMapPng(const std::string& path, const MapContent& content, int width = 1000,
+                 int height = 1000);
+
+/// One line of a chart.
+struct Series {
+  std::string name;
+  std::vector<double> x, y;
+};
+
+/// A panel of a chart picture.
+struct ChartPanel {
+  std::string title, x_label, y_label;
+  std::vector<Series> series;
+  bool log_y = false;
+};
+
+/// Renders the panels stacked vertically, with a shared legend (OpenCV).
+void writeChartPng(const std::string& path, const std::vector<ChartPanel>& panels, int width = 1200,
+                   int panel_height = 420);
+
+}  // namespace budget_slam::report

@@ -1,0 +1,61 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "budget_slam/report/Pictures.h"
+
+using namespace budget_slam;
+using namespace budget_slam::report;
+namespace fs = std::filesystem;
+
+namespace {
+/// Pixels of exactly this BGR colour.
+int count(const cv::Mat& img, cv::Vec3b c) {
+  int n = 0;
+  for (int r = 0; r < img.rows; ++r)
+    for (int k = 0; k < img.cols; ++k) n += img.at<cv::Vec3b>(r, k) == c;
+  return n;
+}
+const cv::Vec3b kRed(30, 30, 220), kGreen(40, 150, 40), kBlue(200, 80, 20);
+}  // namespace
+
+TEST(Pictures, MapShowsTrajectoryKeptAndDroppedLandmarks) {
+  const auto dir = fs::temp_directory_path() / "budget_slam_pictures";
+  fs::create_directories(dir);
+  MapContent c;
+  c.title = "test map";
+  for (int k = 0; k <= 20; ++k) c.trajectory.push_back({0.5 * k, std::sin(0.3 * k), 0});
+  LandmarkView l;
+  l.mean = {3, 2};
+  l.cov << 0.04, 0.01, 0.01, 0.09;
+  c.kept = {l};
+  const std::string plain = (dir / "plain.png").string();
+  writeMapPng(plain, c, 600, 500);
+  const cv::Mat a = cv::imread(plain);
+  ASSERT_EQ(a.cols, 600);
+  ASSERT_EQ(a.rows, 500);
+  EXPECT_GT(count(a, kBlue), 100);  // trajectory drawn 2 px wide
+  EXPECT_GT(count(a, kGreen), 10);  // landmark dot and ellipse
+  const int red_without = count(a, kRed);
+
+  c.dropped = {{1, -2}, {8, 3}};
+  const std::string with = (dir / "dropped.png").string();
+  writeMapPng(with, c, 600, 500);
+  EXPECT_GT(count(cv::imread(with), kRed), red_without + 10);
+}
+
+TEST(Pictures, ChartDrawsEverySeriesAndSkipsNan) {
+  const auto dir = fs::temp_directory_path() / "budget_slam_pictures";
+  fs::create_directories(dir);
+  ChartPanel p{"landmarks", "step", "count", {}, false};
+  p.series.push_back({"a", {0, 1, 2, 3}, {1, 2, NAN, 4}});
+  p.series.push_back({"b", {0, 1, 2, 3}, {4, 3, 2, 1}});
+  const std::string path = (dir / "chart.png").string();
+  writeChartPng(path, {p, p}, 800, 300);
+  const cv::Mat img = cv::imread(path);
+  EXPECT_EQ(img.cols, 800);
+  EXPECT_EQ(img.rows, 600);
+  EXPECT_GT(count(img, cv::Vec3b(180, 119, 31)), 50);  // series a
+  EXPECT_GT(count(img, cv::Vec3b(14, 127, 255)), 50);  // series b
+}
