@@ -9,6 +9,7 @@
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/StepFilter.h"
 #include "budget_slam/ekf/EkfBackend.h"
+#include "budget_slam/graph/GraphBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFiles.h"
@@ -41,7 +42,8 @@ nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 std::unique_ptr<Backend> makeBackend(const std::string& name,
                                      const mrpt::config::CConfigFileBase& ini) {
   if (name == "ekf") return std::make_unique<ekf::EkfBackend>(ini);
-  throw ConfigError("unknown backend '" + name + "' (available: ekf)");
+  if (name == "graph") return std::make_unique<graph::GraphBackend>(ini);
+  throw ConfigError("unknown backend '" + name + "' (available: ekf, graph)");
 }
 
 std::size_t peakResidentBytes() {

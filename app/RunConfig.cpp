@@ -8,6 +8,7 @@
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSchema.h"
 #include "budget_slam/ekf/MrptIniKeys.h"
+#include "budget_slam/graph/GraphOptions.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 
@@ -22,6 +23,7 @@ IniSchema knownKeys() {
   schema.addSection(MappingOptions::kSection, MappingOptions::keys());
   schema.addSection(reducers::BudgetOptions::kSection, reducers::BudgetOptions::keys());
   schema.addSection(metrics::MetricsOptions::kSection, metrics::MetricsOptions::keys());
+  schema.addSection(graph::GraphSlamOptions::kSection, graph::GraphSlamOptions::keys());
   for (const auto* e : reducers::builtinReducers().entries())
     if (!e->section.empty()) schema.addSection(e->section, e->keys);
   return schema;
