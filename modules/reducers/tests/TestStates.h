@@ -60,3 +60,44 @@ inline Eigen::MatrixXd eraseBlock(const Eigen::MatrixXd& P, Eigen::Index r) {
 }
 
 }  // namespace budget_slam::testing
+
+namespace budget_slam::testing {
+
+/// Choudhary et al. Alg. 3 by brute force on a Gaussian state (robot then landmarks `ids`):
+/// full inverses at every greedy step, rho of Eq. 4 with d normalised by the largest d of the
+/// sequence, stop at the first increase. Landmarks with `is_candidate` false never go.
+/// Returns the dropped ids and their gains, in order.
+inline std::vector<std::pair<LandmarkId, double>> bruteForceObjective(
+    Eigen::MatrixXd P, std::vector<LandmarkId> ids, const std::vector<bool>& is_candidate_in,
+    double lambda) {
+  std::vector<bool> is_candidate = is_candidate_in;
+  const double N = static_cast<double>(ids.size());
+  std::vector<std::pair<LandmarkId, double>> seq;
+  for (;;) {
+    const auto g = bruteForceGains(P);
+    std::size_t best = ids.size();
+    for (std::size_t i = 0; i < ids.size(); ++i)
+      if (is_candidate[i] &&
+          (best == ids.size() || g[i] < g[best] || (g[i] == g[best] && ids[i] < ids[best])))
+        best = i;
+    if (best == ids.size()) break;
+    seq.emplace_back(ids[best], g[best]);
+    P = eraseBlock(P, 3 + 2 * static_cast<Eigen::Index>(best));
+    ids.erase(ids.begin() + static_cast<long>(best));
+    is_candidate.erase(is_candidate.begin() + static_cast<long>(best));
+  }
+  double D = 0;
+  for (const auto& s : seq) D = std::max(D, s.second);
+  double prev = lambda;
+  std::size_t k = 0;
+  for (; k < seq.size(); ++k) {
+    const double d = D > 0 ? std::max(0.0, seq[k].second) / D : 0.0;
+    const double rho = (1 - lambda) * d + lambda * (N - static_cast<double>(k + 1)) / N;
+    if (rho > prev) break;
+    prev = rho;
+  }
+  seq.resize(k);
+  return seq;
+}
+
+}  // namespace budget_slam::testing
