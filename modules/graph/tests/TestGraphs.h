@@ -1,7 +1,6 @@
 #pragma once
 // Graphs and step sequences for the graph tests and benchmark: seeded synthetic worlds and the
-// Victoria Park iSAM file (../shared/datasets, read here directly until the dataset module's
-// converter is used).
+// Victoria Park rawlog of rawlogs/ (read with the dataset module, as the app reads it).
 #include <Eigen/Dense>
 #include <cmath>
 #include <fstream>
@@ -10,8 +9,12 @@
 #include <string>
 #include <vector>
 
+#include <mrpt/config/CConfigFile.h>
+
 #include "budget_slam/core/Step.h"
+#include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/graph/FactorGraph.h"
+#include "budget_slam/graph/GraphOptions.h"
 
 namespace budget_slam::graph::testgraphs {
 
@@ -124,58 +127,21 @@ inline SyntheticRun syntheticRun(int n_steps, int n_landmarks, unsigned seed, bo
   return run;
 }
 
-/// ../shared/datasets/victoria_park_gtsam/victoria_park.txt next to the repository, "" if absent.
-inline std::string victoriaParkFile() {
-  for (const std::string base :
-       {std::string(BUDGET_SLAM_SOURCE_DIR) + "/../shared", std::string("/work/shared")}) {
-    const std::string f = base + "/datasets/victoria_park_gtsam/victoria_park.txt";
-    if (std::ifstream(f).good()) return f;
-  }
-  return "";
-}
-
-/// iSAM text -> Steps: step k is the k-th ODOMETRY line (pose i -> j, covariance upper triangle)
-/// with the LANDMARK sightings made from its end pose j (range = hypot, bearing = atan2; the
-/// sensor at the robot origin). At most `max_steps` steps.
-inline std::vector<Step> loadIsamSteps(const std::string& file,
-                                       std::size_t max_steps = ~std::size_t(0)) {
-  std::ifstream in(file);
+/// The first `max_steps` steps of rawlogs/victoria_park.rawlog (made by budget-convert from the
+/// iSAM file of ../shared/datasets) and its sensor noise from rawlogs/victoria_park.ini, read as
+/// the app reads them. Empty when the rawlog is absent.
+inline std::vector<Step> victoriaParkSteps(std::size_t max_steps, RangeBearingNoise* noise) {
+  const std::string rawlog = std::string(BUDGET_SLAM_SOURCE_DIR) + "/rawlogs/victoria_park.rawlog";
+  const std::string ini = std::string(BUDGET_SLAM_SOURCE_DIR) + "/rawlogs/victoria_park.ini";
   std::vector<Step> steps;
-  std::map<long, std::size_t> step_of_pose;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "ODOMETRY") {
-      long i, j;
-      double dx, dy, dth, c11, c12, c13, c22, c23, c33;
-      ls >> i >> j >> dx >> dy >> dth >> c11 >> c12 >> c13 >> c22 >> c23 >> c33;
-      if (steps.size() >= max_steps) break;
-      Step s;
-      s.index = steps.size();
-      s.t = static_cast<double>(s.index);
-      OdometryIncrement o;
-      o.mean = mrpt::math::TPose2D(dx, dy, dth);
-      o.cov << c11, c12, c13, c12, c22, c23, c13, c23, c33;
-      s.odometry = o;
-      RangeBearingScan scan;
-      scan.sensor_pose_on_robot = mrpt::math::TPose3D(0, 0, 0, 0, 0, 0);
-      s.scan = scan;
-      step_of_pose[j] = s.index;
-      steps.push_back(s);
-    } else if (tag == "LANDMARK") {
-      long i, l;
-      double x, y;
-      ls >> i >> l >> x >> y;
-      auto it = step_of_pose.find(i);
-      if (it == step_of_pose.end()) continue;
-      RangeBearingReading z;
-      z.id = l;
-      z.range = std::hypot(x, y);
-      z.yaw = std::atan2(y, x);
-      steps[it->second].scan->readings.push_back(z);
-    }
+  if (!std::ifstream(rawlog).good() || !std::ifstream(ini).good()) return steps;
+  mrpt::config::CConfigFile cfg(ini);
+  noise->loadFromConfigFile(cfg, RangeBearingNoise::kSection);
+  dataset::RawlogReader reader(rawlog);
+  while (steps.size() < max_steps) {
+    std::optional<Step> s = reader.next();
+    if (!s) break;
+    steps.push_back(std::move(*s));
   }
   return steps;
 }
