@@ -157,17 +157,21 @@ TEST(UtiasConverter, TinyFolder) {
   TempDir tmp;
   const auto d = convertUtias(writeTinyUtias(tmp), 1);
   ASSERT_EQ(d.steps.size(), 2u);
-  EXPECT_NEAR(d.steps[0].odometry->mean.x, 0.5, 1e-12);
+  // The first step (t = 100.5) defines the start pose: zero motion; then 0.5 s at 1 m/s.
+  EXPECT_EQ(d.steps[0].odometry->mean.x, 0);
   EXPECT_NEAR(d.steps[1].odometry->mean.x, 0.5, 1e-12);
+  EXPECT_NEAR(d.steps[1].odometry->mean.y, 0, 1e-12);
   EXPECT_NEAR(d.steps[1].t, 101, 1e-6);
   ASSERT_EQ(d.steps[0].scan->readings.size(), 1u);  // the robot (barcode 5) is left out
   EXPECT_EQ(d.steps[0].scan->readings[0].id, 6);
   EXPECT_EQ(d.steps[1].scan->readings[0].id, 7);
-  // Ground truth in the start frame: start (1, 1, 90 deg), driving along world +y.
+  // Ground truth in the start frame: Vicon (1, 1.5, 90 deg) at t = 100.5, driving along world +y.
   ASSERT_EQ(d.ground_truth.path.size(), 3u);
-  EXPECT_NEAR(d.ground_truth.path[2].x, 1.0, 1e-12);
+  EXPECT_NEAR(d.ground_truth.path[1].x, 0.0, 1e-12);
+  EXPECT_NEAR(d.ground_truth.path[2].x, 0.5, 1e-12);
   EXPECT_NEAR(d.ground_truth.path[2].y, 0.0, 1e-12);
-  EXPECT_NEAR(d.ground_truth.landmarks.at(7).x(), 0.0, 1e-12);  // world (3, 1): 2 m to the right
+  // World (3, 1): 2 m to the right of and 0.5 m behind the start pose.
+  EXPECT_NEAR(d.ground_truth.landmarks.at(7).x(), -0.5, 1e-12);
   EXPECT_NEAR(d.ground_truth.landmarks.at(7).y(), -2.0, 1e-12);
 }
 

@@ -98,14 +98,14 @@ TEST(ShippedRawlogs, RawlogEditReadsEveryOne) {
 TEST(ShippedRawlogs, KfSlamRunsOnEveryOne) {
   // MRPT's own kf-slam, headless, with the sidecar's sensor noise. Where there is landmark
   // ground truth, its mean landmark error must stay under a bound that catches a broken rawlog
-  // (wrong frame, sign or units give errors of metres) while allowing the odometry drift of
-  // each dataset: rooms and the paper set are short, park is a 1.8 km drive, and MRCLAM's
-  // velocity-command odometry turns the whole map by up to 60 deg before the first landmark is
-  // seen twice (an EKF cannot undo that rotation; compare after alignment).
-  const std::map<std::string, double> bound = {{"rooms", 0.6},
-                                               {"paper_synthetic", 3.0},
-                                               {"park", 4.0},
-                                               {"mrclam7_robot1", 5.0},
+  // (a wrong frame, sign or unit gives errors of metres) with room for each dataset's drift
+  // (measured: rooms 0.05 m, paper_synthetic 0.21 m, park 0.45 m, mrclam7_robot1 3.0 m). MRCLAM's
+  // velocity-command odometry turns the whole map by tens of degrees before a landmark is seen
+  // twice, which an EKF cannot undo (compare it after alignment).
+  const std::map<std::string, double> bound = {{"rooms", 0.2},
+                                               {"paper_synthetic", 0.6},
+                                               {"park", 1.0},
+                                               {"mrclam7_robot1", 4.0},
                                                {"kf-slam_demo", 0.5}};
   for (const auto& name : shippedRawlogs()) {
     TempDir tmp;

@@ -159,9 +159,9 @@ TEST(Simulator, NoiseHasTheStatedSpread) {
   }
   const double n = static_cast<double>(noisy.steps.size());
   const double std_x = std::sqrt(sx / n), std_th = std::sqrt(sth / n);
-  // Stated in the rawlog: park's 0.03 m and 0.5 deg per step; 1813 samples: within 10 %.
+  // Stated in the rawlog: park's 0.03 m and 0.1 deg per step; 1814 samples: within 10 %.
   EXPECT_NEAR(std_x, 0.03, 0.003);
-  EXPECT_NEAR(std_th, 0.5 * M_PI / 180, 0.05 * M_PI / 180);
+  EXPECT_NEAR(std_th, 0.1 * M_PI / 180, 0.01 * M_PI / 180);
   EXPECT_NEAR(std::sqrt(noisy.steps[0].odometry->cov(0, 0)), 0.03, 1e-12);
 }
 

@@ -129,8 +129,9 @@ ConvertedDataset convertUtias(const std::string& folder, int robot) {
                 {"barcode", "range", "bearing"});
 
   // Steps: one per measurement time with at least one landmark sighting, from the first odometry
-  // record on (the robot's start; odometry is integrated from there).
-  const double t0 = odo.front().t;
+  // record on. The start pose is the pose of the first step (its motion is zero): MRPT's 2D EKF
+  // does not predict while its map is empty, so its frame is the pose of the first sighting.
+  const double t_odo = odo.front().t;
   std::vector<double> times;
   std::vector<std::vector<RangeBearingReading>> readings;
   std::size_t robots_left_out = 0, unknown_left_out = 0, early_left_out = 0;
@@ -151,7 +152,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot) {
       ++robots_left_out;
       continue;
     }
-    if (m.t < t0) {
+    if (m.t < t_odo) {
       ++early_left_out;
       continue;
     }
@@ -169,6 +170,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot) {
   }
   if (times.empty()) throw InputError(prefix + "Measurement.dat: no landmark sighting");
 
+  const double t0 = times.front();
   ConvertedDataset out;
   // Ground truth in the frame of the true start pose (the filter starts at the origin).
   const CPose2D start = groundTruthAt(gt, t0);
@@ -219,7 +221,10 @@ ConvertedDataset convertUtias(const std::string& folder, int robot) {
     OdometryIncrement o;
     o.mean = inc[k].asTPose();
     const double dt = times[k] - prev_t;
-    o.cov = Eigen::Vector3d(qxy * dt, qxy * dt, qth * dt).asDiagonal();
+    // At least 1e-6 m / rad std, so that the zero first step stays invertible for a graph.
+    o.cov = Eigen::Vector3d(std::max(qxy * dt, 1e-12), std::max(qxy * dt, 1e-12),
+                            std::max(qth * dt, 1e-12))
+                .asDiagonal();
     RangeBearingScan scan = convert::emptyScan(out.noise);
     scan.readings = readings[k];
     out.steps.push_back(makeStep(k, times[k], o, scan));
@@ -235,7 +240,8 @@ ConvertedDataset convertUtias(const std::string& folder, int robot) {
       "Made by budget-convert --format utias from " + convert::baseName(folder) + ", robot " +
           std::to_string(robot) + ".",
       "One step per measurement time with a landmark sighting; odometry (v, omega) integrated",
-      "exactly (constant between records) from the first odometry record. Times: Unix seconds.",
+      "exactly (constant between records) between step times; the first step (zero motion)",
+      "defines the start pose. Times: Unix seconds.",
       "Landmark ids: subject numbers through Barcodes.dat. Left out: sightings of robots",
       "(subjects 1-5): " + std::to_string(robots_left_out) +
           ", of unknown barcodes: " + std::to_string(unknown_left_out) +

@@ -68,7 +68,7 @@ Scenario paperSynthetic(Random& rng) {
   LandmarkId id = 1;
   scatter(s, rng, 23, V(2, 2), V(48, 48), -1, 4.0, id);
   s.start = V(5, 6);
-  s.route = {V(45, 6), V(45, 25), V(5, 25), V(5, 44), V(45, 44)};
+  s.route = {V(45, 6), V(45, 25), V(5, 25), V(5, 44), V(43, 44)};
   s.step = 1.75;
   s.max_turn = 45 * kDeg;
   s.sensor.min_range = 0.5;  // closer, the bearing Jacobian (1/r) blows an EKF up
@@ -148,7 +148,9 @@ Scenario park(Random& rng) {
   s.sensor.std_range = 0.15;
   s.sensor.std_yaw = 1 * kDeg;
   s.odo_std_xy = 0.03;
-  s.odo_std_yaw = 0.5 * kDeg;
+  // MRPT's 2D EKF (kf-slam) diverges to NaN on this 1.8 km drive with 0.2 deg or more of yaw
+  // noise per step (cause not found; with 0.1 deg it is stable). docs/DATASETS.md.
+  s.odo_std_yaw = 0.1 * kDeg;
   return s;
 }
 

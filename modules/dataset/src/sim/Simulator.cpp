@@ -86,8 +86,12 @@ void Simulator::run(const std::function<void(const Step&)>& sink) {
   auto emit = [&](const CPose2D& inc) {
     pose = pose + inc;  // the true pose is the composition of the true increments
     m.length += std::hypot(inc.x(), inc.y());
-    odo.mean = {inc.x() + rng.normal(m.odo_std_xy), inc.y() + rng.normal(m.odo_std_xy),
-                inc.phi() + rng.normal(m.odo_std_yaw)};
+    // A robot standing still reads no motion (as in MRPT's simul-landmarks).
+    const bool still = inc.x() == 0 && inc.y() == 0 && inc.phi() == 0;
+    odo.mean = still ? mrpt::math::TPose2D(0, 0, 0)
+                     : mrpt::math::TPose2D(inc.x() + rng.normal(m.odo_std_xy),
+                                           inc.y() + rng.normal(m.odo_std_xy),
+                                           inc.phi() + rng.normal(m.odo_std_yaw));
     RangeBearingScan scan;
     scan.sensor_pose_on_robot = m.noise.sensor_pose_on_robot;
     scan.min_range = m.noise.min_range;
@@ -120,6 +124,10 @@ void Simulator::run(const std::function<void(const Step&)>& sink) {
     m.gt.path.push_back(pose.asTPose());
   };
 
+  // Step 0 stands still at the start pose: MRPT's 2D EKF does not predict while its map is
+  // empty, so its frame is the pose of the first step with a reading; observing from the start
+  // pose first makes that frame the ground truth's.
+  emit(CPose2D(0, 0, 0));
   for (lap = 0; lap < sc.laps; ++lap)
     for (const auto& wp : sc.route) {
       for (std::size_t guard = 0;; ++guard) {
@@ -150,8 +158,8 @@ std::vector<std::string> Simulator::notes() const {
       "Readings: landmarks in range and field of view not hidden by a wall" +
           std::string(m.scenario.world.regions.empty() ? "" : " and in the robot's room") +
           "; Gaussian range and bearing noise with the stds below.",
-      "Times: step k at t = (k + 1) x " + num(o.dt) + " s. Ground truth: start pose, then one " +
-          "pose a step.",
+      "Step 0 stands still at the start pose (zero motion). Times: step k at t = (k + 1) x " +
+          num(o.dt) + " s. Ground truth: start pose, then one pose a step.",
   };
   if (m.steps)
     n.push_back(std::to_string(m.steps) + " steps, " + std::to_string(m.readings) + " readings, " +
