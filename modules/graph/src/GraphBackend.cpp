@@ -122,9 +122,12 @@ void GraphBackend::process(const Step& step) {
         Pose2::Zero(), Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
     const BetweenFactor first = composeBetween(start, odo);
     graph_.addFirstPose(step.index, step.t, first.z, PriorFactor::make(first.z, first.cov));
+    pose_cov_ = first.cov;
   } else {
     const Pose2& last = graph_.poses().rbegin()->second.x;
-    graph_.addPose(step.index, step.t, compose(last, odo.z), odo);
+    Eigen::Matrix3d Ja, Jb;
+    graph_.addPose(step.index, step.t, compose(last, odo.z, &Ja, &Jb), odo);
+    if (pose_cov_) *pose_cov_ = Ja * *pose_cov_ * Ja.transpose() + Jb * odo.cov * Jb.transpose();
   }
   ++poses_since_update_;
   touch();
@@ -191,6 +194,10 @@ void GraphBackend::incrementalUpdate() {
   poses_since_update_ = 0;
   ++updates_;
   touch();
+  // The solver's last factorization is of the current structure, linearized one step before the
+  // final estimate: the latest pose's marginal from it is exact up to that last step.
+  pose_cov_ =
+      jointMarginal(graph_, solver_chol_, {VariableKey::pose(graph_.poses().rbegin()->first)});
 }
 
 const SparseCholesky& GraphBackend::factorization() const {
@@ -233,7 +240,10 @@ PoseEstimate GraphBackend::robotPose() const {
   if (graph_.poses().empty()) return p;
   const auto& [step, node] = *graph_.poses().rbegin();
   p.mean = mrpt::math::TPose2D(node.x.x(), node.x.y(), node.x.z());
-  p.cov = jointMarginal(graph_, factorization(), {VariableKey::pose(step)});
+  if (options_.exact_pose_covariance || !pose_cov_ || query_version_ == estimate_version_) {
+    pose_cov_ = jointMarginal(graph_, factorization(), {VariableKey::pose(step)});
+  }
+  p.cov = *pose_cov_;
   return p;
 }
 
@@ -251,6 +261,7 @@ void GraphBackend::removeLandmark(LandmarkId id) {
   graph_.removeLandmark(id);
   tracks_.erase(id);
   landmark_cov_.erase(id);
+  pose_cov_.reset();  // the pose lost information: recompute exactly at the next query
   touch();
 }
 
@@ -288,13 +299,17 @@ std::size_t GraphBackend::marginalizePosesWithoutLandmarks(std::size_t keep_last
     ++k;
   }
   for (StepIndex s : victims) graph_.marginalizePose(s);
-  if (!victims.empty()) touch();
+  if (!victims.empty()) {
+    pose_cov_.reset();
+    touch();
+  }
   return victims.size();
 }
 
 SolveReport GraphBackend::optimize() {
   const SolveReport r = graph::optimize(graph_, options_.solverSettings(), &solver_chol_);
   poses_since_update_ = 0;
+  pose_cov_.reset();
   touch();
   return r;
 }

@@ -29,6 +29,7 @@ void GraphSlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& i
   odometry_min_std_xy = s.readDouble("odometry_min_std_xy", odometry_min_std_xy, 1e-12, kInf);
   odometry_min_std_yaw_deg =
       s.readDouble("odometry_min_std_yaw_deg", odometry_min_std_yaw_deg, 1e-12, kInf);
+  exact_pose_covariance = s.readBool("exact_pose_covariance", exact_pose_covariance);
   association_gate_chi2 = s.readDouble("association_gate_chi2", association_gate_chi2, 0, kInf);
 }
 
@@ -49,6 +50,8 @@ void GraphSlamOptions::dumpToTextStream(std::ostream& out) const {
       << "no_odometry_std_yaw_deg  = " << no_odometry_std_yaw_deg << "  // [deg]\n"
       << "odometry_min_std_xy      = " << odometry_min_std_xy << "  // [m]\n"
       << "odometry_min_std_yaw_deg = " << odometry_min_std_yaw_deg << "  // [deg]\n"
+      << "exact_pose_covariance    = " << (exact_pose_covariance ? "true" : "false")
+      << "  // false: propagated between factorizations\n"
       << "association_gate_chi2    = " << association_gate_chi2 << "  // chi2, 2 dof\n";
 }
 
@@ -68,6 +71,7 @@ std::vector<std::string> GraphSlamOptions::keys() {
           "no_odometry_std_yaw_deg",
           "odometry_min_std_xy",
           "odometry_min_std_yaw_deg",
+          "exact_pose_covariance",
           "association_gate_chi2"};
 }
 

@@ -109,7 +109,6 @@ SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {
   impl_->chol.setMode(Eigen::CholmodAuto);
   // A singular H is reported by factorize()'s result, not printed on stdout.
   impl_->chol.cholmod().print = 0;
-
 }
 SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;

@@ -2,8 +2,10 @@
 // removal, pose marginalization, association without ids.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include "TestGraphs.h"
 #include "budget_slam/graph/GraphBackend.h"
+
 #include "budget_slam/graph/InformationGain.h"
 
 using namespace budget_slam;
@@ -104,7 +106,9 @@ TEST(GraphBackend, LandmarkViewsTrackSightings) {
 
 TEST(GraphBackend, CovariancesAgreeAcrossQueries) {
   const testgraphs::SyntheticRun run = testgraphs::syntheticRun(50, 12, 6);
-  GraphBackend b(GraphSlamOptions{}, noiseOf());
+  GraphSlamOptions opt;
+  opt.exact_pose_covariance = true;
+  GraphBackend b(opt, noiseOf());
   for (const Step& s : run.steps) b.process(s);
   const PoseEstimate p = b.robotPose();
   EXPECT_NEAR(p.mean.x, b.trajectory().back().pose.x, 0);
@@ -204,4 +208,25 @@ TEST(GraphBackend, AssociatesReadingsWithoutIds) {
     for (const auto& l : run.landmarks) best = std::min(best, (v.mean - l).norm());
     EXPECT_LT(best, 0.3);
   }
+}
+
+TEST(GraphBackend, PoseCovarianceBetweenFactorizationsIsConservative) {
+  // Between updates the latest pose's covariance is the last factorized one propagated through
+  // odometry: never smaller than the exact marginal; exact again after finish().
+  const testgraphs::SyntheticRun run = testgraphs::syntheticRun(47, 12, 11);
+  GraphSlamOptions opt;
+  opt.relinearize_chi2 = 0;  // updates at steps 9, 19, ..., 39 only
+  GraphBackend cheap(opt, noiseOf());
+  opt.exact_pose_covariance = true;
+  GraphBackend exact(opt, noiseOf());
+  for (const Step& s : run.steps) {
+    cheap.process(s);
+    exact.process(s);
+  }
+  const Eigen::Matrix3d c = cheap.robotPose().cov, e = exact.robotPose().cov;
+  EXPECT_GT((c - e).norm(), 1e-3 * e.norm());  // 7 steps since the last update: they differ
+  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(c - e).eigenvalues().minCoeff(), -1e-12);
+  cheap.finish();
+  exact.finish();
+  EXPECT_TRUE(cheap.robotPose().cov.isApprox(exact.robotPose().cov, 1e-9));
 }

@@ -61,6 +61,7 @@ class GraphBackend : public Backend {
   Eigen::Matrix2d sensorCovariance() const;
   /// A few warm-started Gauss-Newton iterations (GraphSlamOptions::incremental_iterations).
   void incrementalUpdate();
+  /// The estimate or the graph changed: cached factorization and marginals are stale.
   void touch() { ++estimate_version_; }
   const SparseCholesky& factorization() const;
 
@@ -76,6 +77,8 @@ class GraphBackend : public Backend {
   std::uint64_t estimate_version_ = 1;
   mutable SparseCholesky query_chol_;
   mutable std::uint64_t query_version_ = 0;
+  /// Latest pose covariance between factorizations (GraphSlamOptions::exact_pose_covariance).
+  mutable std::optional<Eigen::Matrix3d> pose_cov_;
   /// Landmark marginals at landmark_cov_version_.
   mutable std::map<LandmarkId, Eigen::Matrix2d> landmark_cov_;
   mutable std::uint64_t landmark_cov_version_ = 0;

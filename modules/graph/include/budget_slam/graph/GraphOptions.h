@@ -37,6 +37,12 @@ struct GraphSlamOptions : public mrpt::config::CLoadableOptions {
   /// give a singular one) [m], [deg].
   double odometry_min_std_xy = 1e-4;
   double odometry_min_std_yaw_deg = 1e-3;
+  /// robotPose() covariance: true = the exact marginal at every query (one factorization of the
+  /// whole graph per step when asked every step); false = exact when a factorization at the
+  /// current estimate exists (after an update, finish() or any covariance query), otherwise the
+  /// last one propagated through the odometry since (EKF prediction; the sightings since are
+  /// left out, so it can only be larger than the exact one).
+  bool exact_pose_covariance = false;
   /// Readings without landmark ID: nearest neighbour within this Mahalanobis gate (chi2, 2 dof;
   /// 9.21 = 99 %), otherwise a new landmark.
   double association_gate_chi2 = 9.21;
