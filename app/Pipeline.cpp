@@ -75,6 +75,13 @@ void Pipeline::process(const Step& raw) {
   const std::size_t before = backend_->landmarkCount();
   backend_->process(filtered);
   const std::size_t added = backend_->landmarkCount() - before;
+  const auto diverged = [](const PoseEstimate& p) {
+    return !std::isfinite(p.mean.x) || !std::isfinite(p.mean.y) || !std::isfinite(p.mean.phi) ||
+           !p.cov.allFinite();
+  };
+  if (diverged(backend_->robotPose()))
+    throw Error("step " + std::to_string(raw.index) + ": the " + backend_->name() +
+                " estimate diverged (the robot pose or its covariance is not finite)");
   // Where the landmarks about to be dropped are, for map.png.
   std::unordered_map<LandmarkId, Eigen::Vector2d> positions;
   if (manager_->reduces() && backend_->landmarkCount() > budget.max_landmarks)
@@ -222,6 +229,9 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
                          {"poses", e.poses},
                          {"trajectory_rmse_m", number(e.trajectory_rmse)},
                          {"trajectory_max_m", number(e.trajectory_max)},
+                         {"trajectory_rmse_aligned_m", number(e.trajectory_rmse_aligned)},
+                         {"alignment_rotation_deg", number(e.alignment_rotation_deg)},
+                         {"landmark_rmse_aligned_m", number(e.landmark_rmse_aligned)},
                          {"landmarks", e.landmarks},
                          {"landmark_rmse_m", number(e.landmark_rmse)},
                          {"nees_mean", number(e.nees_mean)},

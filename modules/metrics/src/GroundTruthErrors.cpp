@@ -5,6 +5,8 @@
 #include <mrpt/poses/CPose2D.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <Eigen/SVD>
 #include <cmath>
 
 namespace budget_slam::metrics {
@@ -34,6 +36,23 @@ dataset::GroundTruth toEstimateFrame(const dataset::GroundTruth& truth) {
   return out;
 }
 
+RigidTransform2 alignPoints(const std::vector<Eigen::Vector2d>& a,
+                            const std::vector<Eigen::Vector2d>& b) {
+  RigidTransform2 T;
+  if (a.size() < 2 || a.size() != b.size()) return T;
+  Eigen::Vector2d ma = Eigen::Vector2d::Zero(), mb = Eigen::Vector2d::Zero();
+  for (std::size_t i = 0; i < a.size(); ++i) ma += a[i], mb += b[i];
+  ma /= a.size(), mb /= b.size();
+  Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
+  for (std::size_t i = 0; i < a.size(); ++i) H += (a[i] - ma) * (b[i] - mb).transpose();
+  const Eigen::JacobiSVD<Eigen::Matrix2d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix2d D = Eigen::Matrix2d::Identity();
+  if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0) D(1, 1) = -1;  // no mirror
+  T.R = svd.matrixV() * D * svd.matrixU().transpose();
+  T.t = mb - T.R * ma;
+  return T;
+}
+
 GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajectory,
                                     const std::vector<PoseRecord>& online,
                                     const std::vector<LandmarkView>& landmarks,
@@ -43,8 +62,11 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
   const dataset::GroundTruth truth = toEstimateFrame(raw_truth);
   const auto& path = truth.path;
 
+  RigidTransform2 align;
+  bool aligned = false;
   if (!path.empty()) {
     double sum = 0, mx = 0;
+    std::vector<Eigen::Vector2d> est, ref;
     for (const auto& p : trajectory) {
       const std::size_t row = groundTruthRow(p.step, path.size(), steps);
       if (row >= path.size()) continue;
@@ -53,10 +75,21 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
       sum += d * d;
       mx = std::max(mx, d);
       ++out.poses;
+      est.emplace_back(p.pose.x, p.pose.y);
+      ref.emplace_back(gt.x, gt.y);
     }
     if (out.poses) {
       out.trajectory_rmse = std::sqrt(sum / out.poses);
       out.trajectory_max = mx;
+    }
+    if (est.size() >= 2) {
+      align = alignPoints(est, ref);
+      aligned = true;
+      double asum = 0;
+      for (std::size_t i = 0; i < est.size(); ++i)
+        asum += (align.apply(est[i]) - ref[i]).squaredNorm();
+      out.trajectory_rmse_aligned = std::sqrt(asum / est.size());
+      out.alignment_rotation_deg = std::atan2(align.R(1, 0), align.R(0, 0)) * 180.0 / M_PI;
     }
     double nees = 0;
     for (const auto& r : online) {
@@ -71,14 +104,16 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
   }
 
   if (!truth.landmarks.empty()) {
-    double sum = 0;
+    double sum = 0, asum = 0;
     for (const auto& l : landmarks) {
       const auto it = truth.landmarks.find(l.id);
       if (it == truth.landmarks.end()) continue;
       sum += (l.mean - it->second).squaredNorm();
+      if (aligned) asum += (align.apply(l.mean) - it->second).squaredNorm();
       ++out.landmarks;
     }
     if (out.landmarks) out.landmark_rmse = std::sqrt(sum / out.landmarks);
+    if (out.landmarks && aligned) out.landmark_rmse_aligned = std::sqrt(asum / out.landmarks);
   }
   return out;
 }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 #include "budget_slam/metrics/GroundTruthErrors.h"
@@ -58,4 +59,31 @@ TEST(GroundTruthErrors, NeesWrapsYawAndRejectsSingularCovariance) {
   EXPECT_NEAR(poseNees(est, {0, 0, -M_PI + 0.1}), 0.04 / 0.01, 1e-9);
   est.cov.setZero();
   EXPECT_TRUE(std::isnan(poseNees(est, {0, 0, 0})));
+}
+
+TEST(GroundTruthErrors, AlignmentRemovesARigidRotationOfTheWholeEstimate) {
+  dataset::GroundTruth gt;
+  gt.path.push_back({0, 0, 0});
+  std::vector<TrajectoryPoint> traj;
+  const double a = 0.7;  // the estimate is the truth rotated by 0.7 rad about (1, 1)
+  const Eigen::Rotation2Dd R(a);
+  for (int k = 0; k < 30; ++k) {
+    const Eigen::Vector2d p(0.3 * k, std::sin(0.2 * k));
+    gt.path.push_back({p.x(), p.y(), 0});
+    const Eigen::Vector2d q = R * (p - Eigen::Vector2d(1, 1)) + Eigen::Vector2d(1, 1);
+    TrajectoryPoint t;
+    t.step = k;
+    t.pose = {q.x(), q.y(), 0};
+    traj.push_back(t);
+  }
+  gt.landmarks[3] = Eigen::Vector2d(2, 5);
+  LandmarkView l;
+  l.id = 3;
+  l.mean = R * (Eigen::Vector2d(2, 5) - Eigen::Vector2d(1, 1)) + Eigen::Vector2d(1, 1) +
+           Eigen::Vector2d(0.1, 0);
+  const auto e = groundTruthErrors(traj, {}, {l}, gt, 30);
+  EXPECT_GT(e.trajectory_rmse, 0.5);
+  EXPECT_NEAR(e.trajectory_rmse_aligned, 0.0, 1e-12);
+  EXPECT_NEAR(e.alignment_rotation_deg, -a * 180 / M_PI, 1e-9);
+  EXPECT_NEAR(e.landmark_rmse_aligned, 0.1, 1e-9);
 }

@@ -18,8 +18,14 @@ struct GroundTruthErrors {
   std::size_t poses = 0;                                              ///< poses compared
   double trajectory_rmse = std::numeric_limits<double>::quiet_NaN();  ///< [m]
   double trajectory_max = std::numeric_limits<double>::quiet_NaN();   ///< [m]
-  std::size_t landmarks = 0;                                          ///< landmarks matched by id
-  double landmark_rmse = std::numeric_limits<double>::quiet_NaN();    ///< [m]
+  /// The same after the rigid 2D transform that best aligns the trajectory to ground truth (least
+  /// squares over positions, no scale: Umeyama / evo's --align). SLAM fixes its frame at the start
+  /// pose, so an early heading error rotates the whole estimate; this separates that from shape.
+  double trajectory_rmse_aligned = std::numeric_limits<double>::quiet_NaN();  ///< [m]
+  double alignment_rotation_deg = std::numeric_limits<double>::quiet_NaN();   ///< of that transform
+  std::size_t landmarks = 0;                                        ///< landmarks matched by id
+  double landmark_rmse = std::numeric_limits<double>::quiet_NaN();  ///< [m]
+  double landmark_rmse_aligned = std::numeric_limits<double>::quiet_NaN();  ///< [m], same transform
   /// Mean normalized estimation error squared of the robot pose (x, y, yaw) over the steps: 3 for
   /// a consistent filter; much larger means overconfident.
   double nees_mean = std::numeric_limits<double>::quiet_NaN();
@@ -40,6 +46,15 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
 /// Ground truth in the estimate's frame: composed with the inverse of its start pose (the first
 /// row of the path), so that the start pose becomes the origin the estimate starts from.
 dataset::GroundTruth toEstimateFrame(const dataset::GroundTruth& truth);
+
+/// Rigid 2D transform (R, t) minimising sum |R a_i + t - b_i|^2 (Umeyama 1991 without scale).
+struct RigidTransform2 {
+  Eigen::Matrix2d R = Eigen::Matrix2d::Identity();
+  Eigen::Vector2d t = Eigen::Vector2d::Zero();
+  Eigen::Vector2d apply(const Eigen::Vector2d& p) const { return R * p + t; }
+};
+RigidTransform2 alignPoints(const std::vector<Eigen::Vector2d>& a,
+                            const std::vector<Eigen::Vector2d>& b);
 
 /// (x, y, yaw) error e of `estimate` w.r.t. `truth` (yaw wrapped) and its NEES e' P^-1 e.
 double poseNees(const PoseEstimate& estimate, const mrpt::math::TPose2D& truth);
