@@ -1,6 +1,7 @@
 #include "Pipeline.h"
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <iomanip>
@@ -50,6 +51,13 @@ std::size_t peakResidentBytes() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return static_cast<std::size_t>(u.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+std::size_t residentBytes() {
+  std::ifstream statm("/proc/self/statm");
+  std::size_t pages_total = 0, pages_resident = 0;
+  if (!(statm >> pages_total >> pages_resident)) return 0;
+  return pages_resident * static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
 }
 
 Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
@@ -116,7 +124,8 @@ void Pipeline::process(const Step& raw) {
       .cell(pose.cov(0, 0))
       .cell(pose.cov(1, 1))
       .cell(pose.cov(2, 2))
-      .cell(1e3 * dt);
+      .cell(1e3 * dt)
+      .cell(residentBytes());
   steps_csv_.endRow();
 
   for (const auto& e : drops) {
@@ -153,6 +162,19 @@ void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
     for (const auto& [id, l] : gt.landmarks) map.ground_truth_landmarks.push_back(l);
   }
   report::writeMapPng(folder_.file("map.png"), map);
+}
+
+void Pipeline::writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
+                                   std::size_t steps_in_rawlog) const {
+  // The ground truth of every pose in trajectory.tum, same timestamps, in the estimate's frame:
+  // `evo_ape tum ground_truth.tum trajectory.tum` compares them.
+  const auto gt = metrics::toEstimateFrame(*truth_);
+  std::vector<TrajectoryPoint> rows;
+  for (const auto& p : trajectory) {
+    const std::size_t row = metrics::groundTruthRow(p.step, gt.path.size(), steps_in_rawlog);
+    if (row < gt.path.size()) rows.push_back({p.step, p.t, gt.path[row]});
+  }
+  report::writeTrajectoryTum(folder_.file("ground_truth.tum"), rows);
 }
 
 void Pipeline::dumpState(const Backend& backend, StepIndex step) const {
@@ -192,6 +214,7 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory);
   report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks);
   writeMap(trajectory, landmarks);
+  if (truth_ && !truth_->path.empty()) writeGroundTruthTum(trajectory, steps_in_rawlog);
 
   const auto& budget = manager_->options();
   nlohmann::json j;

@@ -53,6 +53,8 @@ class Pipeline {
 
  private:
   void dumpState(const Backend& backend, StepIndex step) const;
+  void writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
+                           std::size_t steps_in_rawlog) const;
   void writeMap(const std::vector<TrajectoryPoint>& trajectory,
                 const std::vector<LandmarkView>& landmarks) const;
 
@@ -71,5 +73,7 @@ class Pipeline {
 
 /// Peak resident memory of this process [bytes].
 std::size_t peakResidentBytes();
+/// Resident memory of this process now [bytes] (/proc/self/statm; 0 where unavailable).
+std::size_t residentBytes();
 
 }  // namespace budget_slam::app
