@@ -1,7 +1,8 @@
 // Fast (one factorization, low-rank determinant) versus naive (two factorizations per landmark,
 // Choudhary et al. Alg. 1-2) information gain of every landmark, on prefixes of Victoria Park
 // of growing length up to the full graph (6969 poses, 151 landmarks). Each graph is solved to
-// its batch optimum first (not timed). Results: docs/PERFORMANCE.md.
+// its batch optimum first (not timed). Also the whole Victoria Park run (BM_FullSlam).
+// Results: docs/PERFORMANCE.md.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -71,10 +72,34 @@ void BM_NaiveAll(benchmark::State& state) {
   setCounters(state, g);
 }
 
+/// Full graph SLAM over the first n steps as the app runs it: process() and robotPose() (the
+/// steps.csv row) every step, then finish() (solve to the batch optimum) and the final outputs.
+void BM_FullSlam(benchmark::State& state) {
+  RangeBearingNoise noise;
+  const std::vector<Step> steps = testgraphs::victoriaParkSteps(state.range(0), &noise);
+  if (steps.empty()) {
+    state.SkipWithError("rawlogs/victoria_park.rawlog not found");
+    return;
+  }
+  for (auto _ : state) {
+    GraphBackend b(GraphSlamOptions{}, noise);
+    for (const Step& s : steps) {
+      b.process(s);
+      benchmark::DoNotOptimize(b.robotPose());
+    }
+    b.finish();
+    benchmark::DoNotOptimize(b.landmarks());
+    benchmark::DoNotOptimize(b.trajectory());
+    state.counters["updates"] = static_cast<double>(b.updateCount());
+    setCounters(state, b.graph());
+  }
+}
+
 // Steps of the prefix; 6968 steps = the whole file (6969 poses with the start pose).
 #define SIZES Arg(500)->Arg(1000)->Arg(2000)->Arg(4000)->Arg(6968)
 BENCHMARK(BM_FastAll)->SIZES->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_NaiveAll)->SIZES->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_FullSlam)->Arg(6968)->Unit(benchmark::kMillisecond)->Iterations(1);
 }  // namespace
 
 BENCHMARK_MAIN();

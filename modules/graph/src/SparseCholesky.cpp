@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "GramKernel.h"
+
 namespace budget_slam::graph {
 
 namespace {
@@ -67,13 +69,21 @@ struct SparseCholesky::Impl {
     have_L = true;
   }
 
+  // Workspaces reused between calls: fresh multi-megabyte buffers per landmark cost more in
+  // page faults than the arithmetic (not thread-safe; one backend per thread).
+  mutable std::vector<char> seen_ws;
+  mutable std::vector<int> local_ws;
+  using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  mutable std::vector<double> x_ws;
+
   /// Forward substitution L X = P E_S R restricted to the union of etree paths of S, R being
-  /// |S| x r (identity when null). Returns X (rows: the path nodes, ascending).
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> forward(
-      const std::vector<int>& S, const Eigen::MatrixXd* R = nullptr) const {
+  /// |S| x r (identity when null). Returns X (rows: the path nodes, ascending), a view of a
+  /// workspace valid until the next call.
+  Eigen::Map<RowMat> forward(const std::vector<int>& S, const Eigen::MatrixXd* R = nullptr) const {
     extractL();
     std::vector<int> nodes;
-    std::vector<char> seen(n, 0);
+    seen_ws.assign(n, 0);
+    std::vector<char>& seen = seen_ws;
     for (int c : S) {
       if (c < 0 || c >= n) throw std::out_of_range("SparseCholesky: index out of range");
       for (int k = iperm[c]; k != -1 && !seen[k]; k = parent[k]) {
@@ -82,23 +92,33 @@ struct SparseCholesky::Impl {
       }
     }
     std::sort(nodes.begin(), nodes.end());
-    std::vector<int> local(n, -1);
+    local_ws.resize(n);
+    std::vector<int>& local = local_ws;
     for (std::size_t a = 0; a < nodes.size(); ++a) local[nodes[a]] = static_cast<int>(a);
-    using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    RowMat X = RowMat::Zero(nodes.size(), R ? R->cols() : S.size());
+    const Eigen::Index cols = R ? R->cols() : static_cast<Eigen::Index>(S.size());
+    const std::size_t size = nodes.size() * static_cast<std::size_t>(cols);
+    if (x_ws.size() < size) x_ws.resize(size);
+    std::fill(x_ws.begin(), x_ws.begin() + size, 0.0);
+    Eigen::Map<RowMat> X(x_ws.data(), nodes.size(), cols);
     for (std::size_t j = 0; j < S.size(); ++j) {
       if (R)
         X.row(local[iperm[S[j]]]) += R->row(j);
       else
         X(local[iperm[S[j]]], j) = 1.0;
     }
+    // The path's columns of L on local row numbers, for the substitution kernel.
+    std::vector<int> start(nodes.size() + 1, 0), rows;
+    std::vector<double> vals;
     for (std::size_t a = 0; a < nodes.size(); ++a) {
       const int k = nodes[a];
-      auto row = X.row(a);
-      row /= Lx[Lp[k]];
-      if (row.isZero(0.0)) continue;  // below every start node of this path: nothing to push
-      for (int q = Lp[k] + 1; q < Lp[k] + Lnz[k]; ++q) X.row(local[Li[q]]) -= Lx[q] * row;
+      for (int q = Lp[k]; q < Lp[k] + Lnz[k]; ++q) {
+        rows.push_back(q == Lp[k] ? static_cast<int>(a) : local[Li[q]]);
+        vals.push_back(Lx[q]);
+      }
+      start[a + 1] = static_cast<int>(rows.size());
     }
+    detail::forwardSubstitute(X.data(), nodes.size(), X.cols(), start.data(), rows.data(),
+                              vals.data());
     return X;
   }
 };
@@ -160,11 +180,12 @@ Eigen::MatrixXd SparseCholesky::inverseQuadraticForm(const std::vector<int>& S,
   if (W.cols() != static_cast<Eigen::Index>(S.size()))
     throw std::invalid_argument("SparseCholesky: W and S disagree");
   if (S.empty() || W.rows() == 0) return Eigen::MatrixXd::Zero(W.rows(), W.rows());
+  const Eigen::Index r = W.rows();
   const Eigen::MatrixXd R = W.transpose();
   const auto X = impl_->forward(S, &R);
-  // Y^T Y by a symmetric rank update: half the flops of the general product.
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(W.rows(), W.rows());
-  G.selfadjointView<Eigen::Lower>().rankUpdate(X.transpose());
+  // Y^T Y: lower triangle by the blocked kernel, then mirrored.
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(r, r);
+  detail::gramLower(X.data(), X.rows(), r, G.data());
   return G.selfadjointView<Eigen::Lower>();
 }
 
