@@ -55,10 +55,12 @@ bool sameGains(const std::vector<double>& a, const std::vector<double>& b) {
 /// The look-ahead copy: the application's scratch, or a Gaussian snapshot when it reproduces the
 /// backend's own gains.
 std::unique_ptr<Backend> scratchFor(const ScheduleContext& ctx,
-                                    const std::vector<LandmarkId>& candidates) {
+                                    const std::vector<LandmarkId>& candidates,
+                                    const std::string& mode) {
   if (ctx.scratch) return ctx.scratch();
-  const std::string why = "[MutualInformationReducer] mode needs a look-ahead copy of backend '" +
-                          ctx.backend.name() + "' for Alg. 3";
+  const std::string why = "[MutualInformationReducer] mode = " + mode +
+                          " needs a look-ahead copy of backend '" + ctx.backend.name() +
+                          "' for Alg. 3";
   std::unique_ptr<GaussianStateBackend> g;
   try {
     g = std::make_unique<GaussianStateBackend>(
@@ -74,6 +76,13 @@ std::unique_ptr<Backend> scratchFor(const ScheduleContext& ctx,
 }
 
 }  // namespace
+
+void checkLookAhead(const ScheduleContext& ctx, const std::string& mode) {
+  if (ctx.scratch) return;
+  std::vector<LandmarkId> ids;
+  for (const auto& l : ctx.backend.landmarks()) ids.push_back(l.id);
+  if (!ids.empty()) scratchFor(ctx, ids, mode);
+}
 
 ScheduledDrops activeMinimization(const ScheduleContext& ctx, double lambda, std::size_t pose_lag,
                                   const std::string& reason) {
@@ -91,7 +100,7 @@ ScheduledDrops activeMinimization(const ScheduleContext& ctx, double lambda, std
   }
   if (candidates.empty()) return plan;
 
-  auto scratch = scratchFor(ctx, candidates);
+  auto scratch = scratchFor(ctx, candidates, reason);
   const auto sequence = greedySequence(*scratch, candidates);
   std::vector<double> gains;
   for (const auto& s : sequence) gains.push_back(s.gain);

@@ -22,6 +22,11 @@ ReducerChoice MutualInformationReducer::choose(const DropContext& ctx) {
 
 ScheduledDrops MutualInformationReducer::scheduled(const ScheduleContext& ctx) {
   using Mode = MutualInformationOptions::Mode;
+  if (options_.mode != Mode::Cap && !look_ahead_checked_ && ctx.backend.landmarkCount() > 0) {
+    // Fail at the first step with landmarks, not after the whole run.
+    checkLookAhead(ctx, MutualInformationOptions::modeName(options_.mode));
+    look_ahead_checked_ = true;
+  }
   switch (options_.mode) {
     case Mode::Cap:
       return {};

@@ -206,15 +206,23 @@ TEST(ActiveMinimization, BudgetManagerRunsObjectiveModeOnceAtTheEnd) {
 TEST(ActiveMinimization, WithoutAFaithfulLookAheadCopyItIsAConfigError) {
   // The fake's gains are not those of any joint covariance (it has none) and no scratch factory
   // is set.
+  // It fails at the first step with landmarks, not after the run; same at the end.
   ScriptedBackend b = handMade();
   BudgetManager manager(noCap(), std::make_unique<MutualInformationReducer>(objective()));
-  try {
-    manager.finish(b, 100);
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("[MutualInformationReducer] mode"), std::string::npos)
-        << e.what();
+  for (const bool at_end : {false, true}) {
+    try {
+      at_end ? manager.finish(b, 100) : manager.enforce(b, 0);
+      FAIL() << at_end;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("[MutualInformationReducer] mode = objective needs"),
+                std::string::npos)
+          << e.what();
+    }
   }
+  // With no landmark yet there is nothing to check.
+  ScriptedBackend empty(std::vector<LandmarkView>{});
+  BudgetManager fresh(noCap(), std::make_unique<MutualInformationReducer>(objective()));
+  EXPECT_TRUE(fresh.enforce(empty, 0).empty());
 }
 
 TEST(ActiveMinimization, IncrementalModeEveryPsiStepsAndNoReadmission) {

@@ -36,9 +36,14 @@ std::size_t objectiveStop(const std::vector<double>& rho);
 /// Alg. 3 on ctx.backend as a plan for the BudgetManager: the candidates are the landmarks not
 /// seen in the last `pose_lag` steps; the greedy sequence is computed on ctx.scratch() or, when
 /// the application gave none, on a GaussianStateBackend snapshot of the backend (exact for the
-/// EKF; checked against the backend's own gains, ConfigError when they differ). The plan drops
+/// EKF; checked against the backend's own gains, ConfigError naming `mode = <reason>` when they
+/// differ). The plan drops
 /// the prefix before the first increase of rho, then marginalizes the poses that see no kept
 /// landmark except the first and the last `pose_lag` (lines 15-16).
+/// Throws the ConfigError activeMinimization would throw on `ctx` for want of a faithful
+/// look-ahead copy (called at the first step with landmarks, so the run fails early).
+void checkLookAhead(const ScheduleContext& ctx, const std::string& mode);
+
 ScheduledDrops activeMinimization(const ScheduleContext& ctx, double lambda, std::size_t pose_lag,
                                   const std::string& reason);
 

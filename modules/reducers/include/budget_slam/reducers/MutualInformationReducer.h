@@ -1,6 +1,4 @@
 #pragma once
-#include <optional>
-
 #include "budget_slam/core/ReducerRegistry.h"
 #include "budget_slam/reducers/MutualInformationOptions.h"
 
@@ -32,6 +30,7 @@ class MutualInformationReducer : public Reducer {
  private:
   MutualInformationOptions options_;
   std::size_t steps_since_minimization_ = 0;
+  bool look_ahead_checked_ = false;  ///< objective/incremental: Alg. 3 can run on this backend
 };
 
 }  // namespace budget_slam::reducers
