@@ -1,0 +1,226 @@
+#!/usr/bin/python3
+"""Tests of tools/experiments/sweep: the tiny sweep (2 reducers x 2 caps on the kf-slam demo) gives
+exactly the expected results.csv rows and non-empty plots, and a sweep killed after its first job
+runs only the rest when started again.
+
+    test_sweep.py --budget-slam build/bin/budget-slam [unittest options]
+"""
+import argparse
+import csv
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import textwrap
+import time
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+EXP = os.path.dirname(HERE)
+ROOT = os.path.dirname(os.path.dirname(EXP))
+SWEEP = os.path.join(EXP, "sweep")
+TINY = os.path.join(EXP, "experiments", "tiny.ini")
+sys.path.insert(0, EXP)
+import sweeplib  # noqa: E402
+
+BUDGET_SLAM = None
+
+REDUCERS = ["none", "coverage", "mi"]
+CAPS = ["20", "50%"]
+# Every run of the kf-slam demo has ground truth, so every metric is finite.
+METRICS_REFERENCE = [
+    "status_ok", "landmarks", "landmarks_reduction_pct", "poses", "poses_reduction_pct", "evictions",
+    "ate_m", "ale_m", "are_deg", "ud_pct", "eig_min", "eig_max", "gt_trajectory_rmse_m",
+    "gt_trajectory_max_m", "gt_landmark_rmse_m", "nees_mean", "time_s", "gt_trajectory_rmse_aligned_m",
+    "gt_landmark_rmse_aligned_m", "step_ms_mean", "step_ms_max", "peak_rss_bytes", "steps"]
+METRICS_REDUCED = METRICS_REFERENCE + ["cap_landmarks"]
+PLOTS = ["kf-slam_demo__ekf__error_vs_cap.png"] + [
+    f"kf-slam_demo__ekf__cap{c}__{kind}.png" for c in ("20", "50pct") for kind in ("landmarks", "error", "step_time")]
+JOB_DIRS = ["runs/main/kf-slam_demo/ekf/cap20/seed1", "runs/main/kf-slam_demo/ekf/cap50pct/seed1"]
+
+
+def run_sweep(out, *extra, budget_slam=None):
+    return subprocess.run(["/usr/bin/python3", SWEEP, TINY, "-o", out, "-j", "2",
+                           "--budget-slam", budget_slam or BUDGET_SLAM, *extra],
+                          capture_output=True, text=True, timeout=300)
+
+
+class TinySweep(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="test_sweep_")
+        cls.out = os.path.join(cls.tmp.name, "out")
+        cls.proc = run_sweep(cls.out)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_exit_status(self):
+        self.assertEqual(self.proc.returncode, 0, self.proc.stderr)
+
+    def test_results_have_exactly_the_expected_rows(self):
+        with open(os.path.join(self.out, "results.csv"), newline="") as f:
+            reader = csv.reader(f)
+            self.assertEqual(next(reader), ["rawlog", "backend", "reducer", "cap", "seed", "metric", "value"])
+            rows = list(reader)
+        expected = sorted(("kf-slam_demo", "ekf", r, c, "1", m)
+                          for r in REDUCERS for c in CAPS
+                          for m in (METRICS_REFERENCE if r == "none" else METRICS_REDUCED))
+        self.assertEqual(len(rows), 2 * (23 + 2 * 24))
+        self.assertEqual(sorted(tuple(r[:6]) for r in rows), expected)
+        for r in rows:
+            float(r[6])
+        value = {tuple(r[:6]): float(r[6]) for r in rows}
+        # the unreduced demo keeps 70 landmarks: 50% is a cap of 35, and each reducer keeps exactly the cap
+        self.assertEqual(value[("kf-slam_demo", "ekf", "none", "20", "1", "landmarks")], 70)
+        for red in ("coverage", "mi"):
+            self.assertEqual(value[("kf-slam_demo", "ekf", red, "50%", "1", "cap_landmarks")], 35)
+            self.assertEqual(value[("kf-slam_demo", "ekf", red, "50%", "1", "landmarks")], 35)
+            self.assertEqual(value[("kf-slam_demo", "ekf", red, "20", "1", "landmarks")], 20)
+            self.assertEqual(value[("kf-slam_demo", "ekf", red, "20", "1", "status_ok")], 1)
+
+    def test_plots_are_nonempty_pngs(self):
+        self.assertEqual(sorted(os.listdir(os.path.join(self.out, "plots"))), sorted(PLOTS))
+        for p in PLOTS:
+            with open(os.path.join(self.out, "plots", p), "rb") as f:
+                data = f.read()
+            self.assertTrue(data.startswith(b"\x89PNG\r\n\x1a\n"), p)
+            self.assertGreater(len(data), 5000, p)
+
+    def test_job_list_has_one_full_command_line_a_job(self):
+        with open(os.path.join(self.out, "jobs.txt")) as f:
+            lines = f.read().splitlines()
+        self.assertEqual(len(lines), 2)
+        for line, cap, d in zip(lines, ("20", "35"), JOB_DIRS):
+            self.assertIn(f"{BUDGET_SLAM} compare -c {ROOT}/config.ini -i {ROOT}/rawlogs/kf-slam_demo.rawlog", line)
+            self.assertIn(f"--reducers coverage,mi --cap {cap} --backend ekf --set LandmarkBudget.seed=1", line)
+            self.assertIn(f"mv -T {self.out}/{d}.part {self.out}/{d};", line)
+
+    def test_report_has_the_tables_and_plots(self):
+        with open(os.path.join(self.out, "report.md")) as f:
+            text = f.read()
+        self.assertIn("| reducer | cap 20 | cap 50% (=35) |", text)
+        for p in PLOTS:
+            self.assertIn(f"(plots/{p})", text)
+
+    def test_second_run_runs_nothing(self):
+        stamp = os.stat(os.path.join(self.out, JOB_DIRS[0], "comparison.csv")).st_mtime_ns
+        p = run_sweep(self.out)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("2 job(s): 2 already done, 0 to run", p.stderr)
+        self.assertEqual(os.stat(os.path.join(self.out, JOB_DIRS[0], "comparison.csv")).st_mtime_ns, stamp)
+
+
+class KilledSweepResumes(unittest.TestCase):
+    def test_killed_after_first_job_then_only_the_rest_runs(self):
+        with tempfile.TemporaryDirectory(prefix="test_sweep_kill_") as tmp:
+            out = os.path.join(tmp, "out")
+            # budget-slam stand-in: the first compare is real; any later one leaves a half-written
+            # output folder and hangs until killed, as a job caught by the kill would.
+            wrapper = os.path.join(tmp, "budget-slam")
+            with open(wrapper, "w") as f:
+                f.write(textwrap.dedent(f"""\
+                    #!/bin/bash
+                    if [ "$1" = compare ]; then
+                      if ! mkdir {tmp}/first-compare 2>/dev/null; then
+                        while [ $# -gt 0 ]; do [ "$1" = -o ] && out="$2"; shift; done
+                        mkdir -p "$out" && echo "run,reducer" > "$out/comparison.csv"
+                        exec sleep 300
+                      fi
+                    fi
+                    exec {BUDGET_SLAM} "$@"
+                    """))
+            os.chmod(wrapper, 0o755)
+            proc = subprocess.Popen(["/usr/bin/python3", SWEEP, TINY, "-o", out, "-j", "2", "--budget-slam", wrapper],
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+            deadline = time.time() + 120
+            finished = []
+            while time.time() < deadline and not finished:
+                finished = [d for d in JOB_DIRS if os.path.isdir(os.path.join(out, d))]
+                time.sleep(0.05)
+            time.sleep(0.3)  # the hanging job has written its partial output by now
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+            self.assertEqual(len(finished), 1, "exactly one job must have finished before the kill")
+            first = finished[0]
+            other = [d for d in JOB_DIRS if d != first][0]
+            self.assertFalse(os.path.exists(os.path.join(out, other)))
+            self.assertTrue(os.path.isfile(os.path.join(out, other + ".part", "comparison.csv")))
+            stamp = os.stat(os.path.join(out, first, "comparison.csv")).st_mtime_ns
+            log_first = os.path.join(out, "logs", first.replace("/", "_") + ".log")
+            log_stamp = os.stat(log_first).st_mtime_ns
+
+            p = run_sweep(out)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("2 job(s): 1 already done, 1 to run", p.stderr)
+            self.assertEqual(p.stderr.count("[job "), 1, p.stderr)
+            self.assertIn(f"[job 1/1] {other} ", p.stderr)
+            self.assertEqual(os.stat(os.path.join(out, first, "comparison.csv")).st_mtime_ns, stamp)
+            self.assertEqual(os.stat(log_first).st_mtime_ns, log_stamp)
+            self.assertFalse(os.path.exists(os.path.join(out, other + ".part")))
+            with open(os.path.join(out, "results.csv")) as f:
+                self.assertEqual(sum(1 for _ in f), 1 + 2 * (23 + 2 * 24))
+
+
+class ExperimentFile(unittest.TestCase):
+    def write(self, tmp, text):
+        path = os.path.join(tmp, "e.ini")
+        with open(path, "w") as f:
+            f.write(textwrap.dedent(text))
+        return path
+
+    def test_percentage_caps_round_half_up_and_stay_positive(self):
+        self.assertEqual(sweeplib.resolve_cap("25%", 70), 18)   # 17.5 -> 18
+        self.assertEqual(sweeplib.resolve_cap("50%", 151), 76)  # 75.5 -> 76
+        self.assertEqual(sweeplib.resolve_cap("1%", 23), 1)
+        self.assertEqual(sweeplib.resolve_cap("40", 1000), 40)
+
+    def test_groups_expand_to_the_product_and_seeds_to_sim_rawlogs(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            path = self.write(tmp, """\
+                [sweep]
+                reducers = mi coverage
+                caps = 10, 25%
+                [group real]
+                rawlogs = rawlogs/kf-slam_demo.rawlog, rawlogs/rooms.rawlog
+                [group sim]
+                rawlogs = sim:rooms sim:lifelong:2
+                backends = ekf, graph
+                seeds = 1-3, 7
+                """)
+            exp = sweeplib.Experiment(path, os.path.join(tmp, "o"), "/bin/true", "/bin/true")
+            self.assertEqual(len(exp.jobs), 2 * 2 + 2 * 2 * 2 * 4)
+            self.assertEqual(len(exp.simulations), 2 * 4)
+            self.assertIn(os.path.join(tmp, "o", "rawlogs", "sim-lifelong-2laps-seed7.rawlog"), exp.simulations)
+            self.assertEqual(len(exp.baselines), 2 + 2 * 2 * 4)
+            self.assertIn("--laps 2", exp.simulation_command(
+                os.path.join(tmp, "o", "rawlogs", "sim-lifelong-2laps-seed7.rawlog")))
+
+    def test_bad_files_are_refused_with_the_key_named(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            cases = [("[sweep]\nrawlogs = rawlogs/rooms.rawlog\nreducers = mi\ncaps = 10\nreducer = mi\n",
+                      "unknown key 'reducer'"),
+                     ("[sweep]\nrawlogs = rawlogs/rooms.rawlog\nreducers = mi\ncaps = 0\n", "caps: '0'"),
+                     ("[sweep]\nrawlogs = rawlogs/rooms.rawlog\nreducers = mi\ncaps = 1x\n", "caps: '1x'"),
+                     ("[sweep]\nrawlogs = nowhere.rawlog\nreducers = mi\ncaps = 10\n", "'nowhere.rawlog' not found"),
+                     ("[sweep]\nrawlogs = rawlogs/rooms.rawlog\nreducers = mi\ncaps = 10\nbackends = ukf\n",
+                      "backend 'ukf'"),
+                     ("[sweep]\nrawlogs = rawlogs/rooms.rawlog\nreducers = mi\ncaps = 10\nseeds = 3-1\n",
+                      "empty range '3-1'")]
+            for text, message in cases:
+                path = self.write(tmp, text)
+                p = subprocess.run(["/usr/bin/python3", SWEEP, path, "-o", os.path.join(tmp, "o"),
+                                    "--budget-slam", BUDGET_SLAM], capture_output=True, text=True, cwd=ROOT)
+                self.assertEqual(p.returncode, 2, text)
+                self.assertIn(message, p.stderr)
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--budget-slam", default=os.path.join(ROOT, "build", "bin", "budget-slam"))
+    ap.add_argument("--budget-simulate", default=os.path.join(ROOT, "build", "bin", "budget-simulate"))
+    args, rest = ap.parse_known_args()
+    BUDGET_SLAM = os.path.abspath(args.budget_slam)
+    unittest.main(argv=[sys.argv[0]] + rest)

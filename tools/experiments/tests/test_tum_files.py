@@ -1,0 +1,138 @@
+#!/usr/bin/python3
+"""Every .tum file budget-slam writes is one evo's TUM reader accepts, on every shipped rawlog with
+ground truth, for both backends, unreduced and reduced.
+
+What evo demands (evo/tools/file_interface.py read_tum_trajectory_file and
+evo/core/trajectory.py PoseTrajectory3D.check): lines starting with '#' are comments; every other
+line is split by csv.reader with delimiter ' ' (so no double spaces, no trailing space, no blank
+line) into exactly 8 fields that all parse as float; at least one row; timestamps ascending with
+no duplicates; quaternions (qx qy qz qw, the last 4 columns) of unit norm within numpy.allclose's
+default tolerance. Beyond evo: values finite, z = 0 and rotation about z only (2D), and
+ground_truth.tum has exactly the timestamps of trajectory.tum beside it, so evo_ape associates
+every pose.
+
+    test_tum_files.py --budget-slam build/bin/budget-slam [unittest options]
+"""
+import argparse
+import csv
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(HERE)))
+RAWLOGS_WITH_GROUND_TRUTH = ["kf-slam_demo", "paper_synthetic", "rooms", "mrclam7_robot1", "park"]
+BUDGET_SLAM = None
+
+
+def evo_tum_problems(path):
+    """Problems evo's TUM reader (or its trajectory check) would have with the file; [] if none."""
+    problems = []
+    with open(path, "rb") as f:
+        raw = f.read()
+    if raw.startswith(b"\xef\xbb\xbf"):
+        problems.append("UTF-8 byte-order mark")
+    text = raw.decode("utf-8")
+    rows = list(csv.reader((l for l in text.splitlines(True) if not l.startswith("#")), delimiter=" "))
+    if not rows:
+        return problems + ["no rows"]
+    stamps = []
+    for i, row in enumerate(rows, 1):
+        if len(row) != 8:
+            problems.append(f"row {i}: {len(row)} fields, not 8: {row!r}")
+            continue
+        try:
+            v = [float(x) for x in row]
+        except ValueError:
+            problems.append(f"row {i}: not numeric: {row!r}")
+            continue
+        if not all(math.isfinite(x) for x in v):
+            problems.append(f"row {i}: not finite: {row!r}")
+            continue
+        norm = math.sqrt(sum(q * q for q in v[4:]))
+        if abs(norm - 1.0) > 1e-8 + 1e-5:  # numpy.allclose(norms, 1) as evo checks it
+            problems.append(f"row {i}: quaternion norm {norm!r}")
+        if v[3] != 0.0 or v[4] != 0.0 or v[5] != 0.0:
+            problems.append(f"row {i}: not a planar pose (z, qx, qy must be 0): {row!r}")
+        stamps.append(v[0])
+    for i in range(1, len(stamps)):
+        if not stamps[i] > stamps[i - 1]:
+            problems.append(f"timestamps not strictly increasing at row {i + 1}: {stamps[i - 1]!r} then {stamps[i]!r}")
+            break
+    return problems
+
+
+def stamps(path):
+    with open(path) as f:
+        return [l.split(" ", 1)[0] for l in f if not l.startswith("#")]
+
+
+class CheckerCatchesWhatEvoRefuses(unittest.TestCase):
+    """The checker itself: each defect evo refuses is reported."""
+
+    def check(self, text):
+        with tempfile.NamedTemporaryFile("w", suffix=".tum", delete=False) as f:
+            f.write(text)
+        try:
+            return evo_tum_problems(f.name)
+        finally:
+            os.unlink(f.name)
+
+    def test_good_file_passes(self):
+        self.assertEqual(self.check("# t x y z qx qy qz qw\n1 0 0 0 0 0 0 1\n2 1.5 -2 0 0 0 0.6 0.8\n"), [])
+
+    def test_defects(self):
+        for text in ["", "# only a comment\n", "1 0 0 0 0 0 0 1 \n", "1  0 0 0 0 0 0 1\n",
+                     "1 0 0 0 0 0 1\n", "1 0 0 0 0 0 0 1\n\n2 0 0 0 0 0 0 1\n", "1 0 0 0 0 0 0 x\n",
+                     "1 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n", "2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n",
+                     "1 0 0 0 0 0 0 1.001\n", "1 0 0 nan 0 0 0 1\n", "1 0 0 0.5 0 0 0 1\n",
+                     "1 0 0 0 0.6 0 0 0.8\n", "\ufeff1 0 0 0 0 0 0 1\n"]:
+            self.assertNotEqual(self.check(text), [], repr(text))
+
+
+class AppTumFiles(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="test_tum_")
+        cls.folders = {}
+        for rawlog in RAWLOGS_WITH_GROUND_TRUTH:
+            for backend in ("ekf", "graph"):
+                out = os.path.join(cls.tmp.name, f"{rawlog}_{backend}")
+                p = subprocess.run([BUDGET_SLAM, "compare", "-c", os.path.join(ROOT, "config.ini"),
+                                    "-i", os.path.join(ROOT, "rawlogs", rawlog + ".rawlog"), "-o", out,
+                                    "--reducers", "coverage,mi", "--cap", "10", "--backend", backend, "--quiet"],
+                                   capture_output=True, text=True, timeout=600)
+                cls.folders[(rawlog, backend)] = (out, p.returncode, p.stderr)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_every_tum_file_meets_evo(self):
+        for (rawlog, backend), (out, rc, err) in self.folders.items():
+            with self.subTest(rawlog=rawlog, backend=backend):
+                self.assertEqual(rc, 0, err)
+                for run in ("reference", "coverage", "mi"):
+                    traj = os.path.join(out, run, "trajectory.tum")
+                    gt = os.path.join(out, run, "ground_truth.tum")
+                    self.assertTrue(os.path.isfile(traj), traj)
+                    self.assertTrue(os.path.isfile(gt), gt)
+                    self.assertEqual(evo_tum_problems(traj), [], traj)
+                    self.assertEqual(evo_tum_problems(gt), [], gt)
+                    self.assertEqual(stamps(gt), stamps(traj), f"{gt} and {traj} have different timestamps")
+                found = sorted(os.path.relpath(os.path.join(d, f), out)
+                               for d, _, fs in os.walk(out) for f in fs if f.endswith(".tum"))
+                self.assertEqual(found, sorted(f"{r}/{n}.tum" for r in ("reference", "coverage", "mi")
+                                               for n in ("trajectory", "ground_truth")))
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--budget-slam", default=os.path.join(ROOT, "build", "bin", "budget-slam"))
+    ap.add_argument("--budget-simulate", default=os.path.join(ROOT, "build", "bin", "budget-simulate"))
+    args, rest = ap.parse_known_args()
+    BUDGET_SLAM = os.path.abspath(args.budget_slam)
+    unittest.main(argv=[sys.argv[0]] + rest)
