@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Rebuilds the shipped rawlogs (rawlog + ground truth + sidecar ini) from the public datasets in
-# ../shared/datasets (relative to the repository root) and the scenario simulator.
+# Rebuilds the shipped rawlogs (rawlog + ground truth + sidecar ini) from the project's gzipped
+# copies of the public datasets in data/datasets (see data/README.md) and the scenario simulator.
 #   tools/make_rawlogs.sh [OUT_DIR]      default OUT_DIR: rawlogs/
 # Binaries are taken from $BUDGET_SLAM_BIN (default: build/bin). The kf-slam demo files in
 # rawlogs/ are copies of MRPT's and are not rebuilt here.
@@ -16,7 +16,7 @@ for tool in budget-convert budget-simulate; do
 done
 mkdir -p "$out"
 cd "$root"
-data=../shared/datasets
+data=data/datasets
 
 "$bin/budget-convert" --format isam "$data/victoria_park_gtsam/victoria_park.txt" \
   -o "$out/victoria_park.rawlog"

@@ -13,16 +13,46 @@ namespace budget_slam::dataset {
 
 TextTable::TextTable(std::string path) : path_(std::move(path)) {
   struct stat st {};
-  if (::stat(path_.c_str(), &st) != 0)
-    throw InputError(path_ + ": cannot open (" + std::strerror(errno) + ")");
+  if (::stat(path_.c_str(), &st) != 0) {
+    const int err = errno;
+    if (::stat((path_ + ".gz").c_str(), &st) != 0)
+      throw InputError(path_ + ": cannot open (" + std::strerror(err) + ")");
+    path_ += ".gz";
+  }
   if (S_ISDIR(st.st_mode)) throw InputError(path_ + ": cannot open (is a directory)");
-  in_.open(path_);
+  // zlib reads plain files through the same calls.
+  in_ = gzopen(path_.c_str(), "rb");
   if (!in_) throw InputError(path_ + ": cannot open (" + std::strerror(errno) + ")");
 }
 
+TextTable::~TextTable() {
+  if (in_) gzclose(in_);
+}
+
+namespace {
+/// One line without its '\n'; false at the end of the file. Throws on a read error.
+bool readLine(gzFile f, std::string& line, const std::string& path, std::size_t line_no) {
+  line.clear();
+  char buf[4096];
+  while (gzgets(f, buf, sizeof buf)) {
+    line += buf;
+    if (!line.empty() && line.back() == '\n') {
+      line.pop_back();
+      return true;
+    }
+  }
+  int code = Z_OK;
+  const char* msg = gzerror(f, &code);
+  if (code != Z_OK && code != Z_STREAM_END)
+    throw InputError(path + ": read error after line " + std::to_string(line_no) + " (" + msg +
+                     ")");
+  return !line.empty();
+}
+}  // namespace
+
 bool TextTable::next() {
   std::string text;
-  while (std::getline(in_, text)) {
+  while (readLine(in_, text, path_, line_)) {
     ++line_;
     const auto first = text.find_first_not_of(" \t\r");
     if (first == std::string::npos || text[first] == '#' || text[first] == '%') continue;
@@ -31,7 +61,6 @@ bool TextTable::next() {
     for (std::string w; ss >> w;) words_.push_back(w);
     return true;
   }
-  if (in_.bad()) throw InputError(path_ + ": read error after line " + std::to_string(line_));
   words_.clear();
   return false;
 }

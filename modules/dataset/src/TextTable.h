@@ -1,17 +1,23 @@
 #pragma once
-#include <fstream>
+#include <zlib.h>
+
 #include <string>
 #include <vector>
 
 namespace budget_slam::dataset {
 
 /// Reads a whitespace-separated text data file record by record, skipping blank lines and lines
-/// starting with '#' or '%'. Every error is an InputError of one line naming the file and line:
+/// starting with '#' or '%'. Plain or gzip-compressed: when `path` does not exist but `path.gz`
+/// does, that is read (the project keeps its copies of public data gzipped). Every error is an
+/// InputError of one line naming the file and line:
 ///   "<path>:<line>: <what is wrong>"  (or "<path>: cannot open (<reason>)").
 /// Internal to the converters and the ground-truth loader.
 class TextTable {
  public:
   explicit TextTable(std::string path);
+  ~TextTable();
+  TextTable(const TextTable&) = delete;
+  TextTable& operator=(const TextTable&) = delete;
 
   /// Advances to the next record; false at the end of the file.
   bool next();
@@ -39,7 +45,7 @@ class TextTable {
 
  private:
   std::string path_;
-  std::ifstream in_;
+  gzFile in_ = nullptr;
   std::size_t line_ = 0;
   std::vector<std::string> words_;
 };

@@ -58,7 +58,8 @@ inline std::string inputErrorOf(const std::function<void()>& fn) {
 
 /// Root of the repository and the public datasets.
 inline std::string sourceDir() { return BUDGET_SLAM_SOURCE_DIR; }
-inline std::string datasetsDir() { return sourceDir() + "/../shared/datasets"; }
+/// The project's gzipped copies of the public datasets (data/README.md).
+inline std::string datasetsDir() { return sourceDir() + "/data/datasets"; }
 
 /// Runs a shell command, returns its exit status.
 inline int run(const std::string& cmd) {

@@ -14,7 +14,7 @@ TEST(GroundTruth, NamesFollowSimulLandmarks) {
 }
 
 TEST(GroundTruth, LoadsMrptDemoFiles) {
-  const std::string dir = datasetsDir() + "/mrpt_kf-slam_demo/";
+  const std::string dir = sourceDir() + "/rawlogs/";  // copies of MRPT's kf-slam demo files
   const auto gt = loadGroundTruth(dir + "kf-slam_demo.rawlog");
   ASSERT_EQ(gt.landmarks.size(), 70u);
   EXPECT_DOUBLE_EQ(gt.landmarks.at(1).x(), 0.578229);

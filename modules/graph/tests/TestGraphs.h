@@ -128,7 +128,7 @@ inline SyntheticRun syntheticRun(int n_steps, int n_landmarks, unsigned seed, bo
 }
 
 /// The first `max_steps` steps of rawlogs/victoria_park.rawlog (made by budget-convert from the
-/// iSAM file of ../shared/datasets) and its sensor noise from rawlogs/victoria_park.ini, read as
+/// iSAM file in data/datasets) and its sensor noise from rawlogs/victoria_park.ini, read as
 /// the app reads them. Empty when the rawlog is absent.
 inline std::vector<Step> victoriaParkSteps(std::size_t max_steps, RangeBearingNoise* noise) {
   const std::string rawlog = std::string(BUDGET_SLAM_SOURCE_DIR) + "/rawlogs/victoria_park.rawlog";
