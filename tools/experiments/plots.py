@@ -10,11 +10,10 @@ import numpy as np  # noqa: E402
 import sweeplib  # noqa: E402
 
 DPI = 80
-COLORS = {"none": "black"}
 
 
 def _color(name, i):
-    return COLORS.get(name, f"C{i % 10}")
+    return "black" if name.startswith("none") else f"C{i % 10}"
 
 
 def _save(fig, path):
@@ -46,7 +45,7 @@ def error_vs_cap(path, title, caps, series, metrics):
             m = np.array([np.nan if v is None else v[0] for v in vals])
             s = np.array([np.nan if v is None else v[1] for v in vals])
             style = dict(color=_color(reducer, i), label=reducer)
-            if reducer == "none":
+            if reducer.startswith("none"):
                 ax.plot(x, m, "--", **style)
             else:
                 ax.errorbar(x, m, yerr=s, marker="o", ms=3, capsize=2, **style)

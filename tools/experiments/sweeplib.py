@@ -129,7 +129,7 @@ class Job:
         self.baseline = None       # Baseline needed to resolve a percentage cap
 
     def reducer_label(self, reducer):
-        return f"{reducer}:{self.group['label']}" if self.group.get("label") and reducer != "none" else reducer
+        return f"{reducer}:{self.group['label']}" if self.group.get("label") else reducer
 
 
 class Baseline:

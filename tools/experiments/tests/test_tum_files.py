@@ -9,12 +9,13 @@ line) into exactly 8 fields that all parse as float; at least one row; timestamp
 no duplicates; quaternions (qx qy qz qw, the last 4 columns) of unit norm within numpy.allclose's
 default tolerance. Beyond evo: values finite, z = 0 and rotation about z only (2D), and
 ground_truth.tum has exactly the timestamps of trajectory.tum beside it, so evo_ape associates
-every pose.
+every pose. And evo_ape on the pair (aligned or not) gives the trajectory errors of summary.json.
 
     test_tum_files.py --budget-slam build/bin/budget-slam [unittest options]
 """
 import argparse
 import csv
+import json
 import math
 import os
 import subprocess
@@ -63,6 +64,24 @@ def evo_tum_problems(path):
             problems.append(f"timestamps not strictly increasing at row {i + 1}: {stamps[i - 1]!r} then {stamps[i]!r}")
             break
     return problems
+
+
+def evo_ape_rmse(traj_path, gt_path, align):
+    """RMSE of the translation error, as `evo_ape tum GT TRAJ [--align]` computes it: poses paired by
+    timestamp, the estimate aligned to the reference by evo's Umeyama (SE(3), no scale)."""
+    import numpy as np
+    x = np.loadtxt(traj_path, ndmin=2)[:, 1:4].T
+    y = np.loadtxt(gt_path, ndmin=2)[:, 1:4].T
+    if align:
+        mx, my = x.mean(axis=1), y.mean(axis=1)
+        cov = (y - my[:, None]) @ (x - mx[:, None]).T / x.shape[1]
+        u, _, vt = np.linalg.svd(cov)
+        s = np.eye(3)
+        if np.linalg.det(u) * np.linalg.det(vt) < 0:
+            s[2, 2] = -1
+        r = u @ s @ vt
+        x = r @ x + (my - r @ mx)[:, None]
+    return float(np.sqrt(np.mean(np.sum((x - y) ** 2, axis=0))))
 
 
 def stamps(path):
@@ -123,6 +142,13 @@ class AppTumFiles(unittest.TestCase):
                     self.assertEqual(evo_tum_problems(traj), [], traj)
                     self.assertEqual(evo_tum_problems(gt), [], gt)
                     self.assertEqual(stamps(gt), stamps(traj), f"{gt} and {traj} have different timestamps")
+                    # evo_ape on the two files gives the numbers of summary.json
+                    with open(os.path.join(out, run, "summary.json")) as f:
+                        summary = json.load(f)["ground_truth"]
+                    self.assertAlmostEqual(evo_ape_rmse(traj, gt, True), summary["trajectory_rmse_aligned_m"],
+                                           delta=1e-9 * max(1.0, summary["trajectory_rmse_aligned_m"]))
+                    self.assertAlmostEqual(evo_ape_rmse(traj, gt, False), summary["trajectory_rmse_m"],
+                                           delta=1e-9 * max(1.0, summary["trajectory_rmse_m"]))
                 found = sorted(os.path.relpath(os.path.join(d, f), out)
                                for d, _, fs in os.walk(out) for f in fs if f.endswith(".tum"))
                 self.assertEqual(found, sorted(f"{r}/{n}.tum" for r in ("reference", "coverage", "mi")
