@@ -207,7 +207,7 @@ int BudgetSlamApp::runRun() {
       const auto pose = pipeline->backend().robotPose().mean;
       *out << "budget-slam run: " << steps_read << " steps, backend " << rc.mapping.backend
            << ", reducer " << rc.budget.reducer;
-      if (pipeline->budget().reduces()) *out << ", cap " << rc.budget.max_landmarks;
+      if (pipeline->budget().capped()) *out << ", cap " << rc.budget.max_landmarks;
       *out << ": " << pipeline->backend().landmarkCount() << " landmarks kept, "
            << pipeline->evictions() << " dropped\n"
            << "final pose x=" << fixed(pose.x, 3) << " m y=" << fixed(pose.y, 3)

@@ -240,7 +240,7 @@ int BudgetSlamApp::runCompare() {
     row.reducer = r->pipeline->budget().options().reducer;
     row.backend = r->pipeline->backend().name();
     row.status = r->status;
-    row.cap = r->pipeline->budget().reduces()
+    row.cap = r->pipeline->budget().capped()
                   ? static_cast<long long>(r->pipeline->budget().options().max_landmarks)
                   : -1;
     row.landmarks = r->pipeline->backend().landmarkCount();

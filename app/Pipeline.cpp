@@ -5,7 +5,6 @@
 
 #include <fstream>
 #include <iomanip>
-#include <unordered_map>
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/StepFilter.h"
@@ -71,6 +70,9 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
       truth_(std::move(truth)),
       steps_csv_(folder_.file("steps.csv"), report::stepsCsvColumns()),
       evictions_csv_(folder_.file("evictions.csv"), report::evictionsCsvColumns()) {
+  // map.png colours the kept landmarks by the coverage clusters ([CoverageReducer], run's seed).
+  coverage_.seed = budget.seed;
+  coverage_.loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
   if (budget.dump_states)
     manager_->setBeforeDropEvent([this](const Backend& b, StepIndex step) { dumpState(b, step); });
 }
@@ -90,20 +92,12 @@ void Pipeline::process(const Step& raw) {
   if (diverged(backend_->robotPose()))
     throw Error("step " + std::to_string(raw.index) + ": the " + backend_->name() +
                 " estimate diverged (the robot pose or its covariance is not finite)");
-  // Where the landmarks about to be dropped are, for map.png.
-  std::unordered_map<LandmarkId, Eigen::Vector2d> positions;
-  if (manager_->reduces() && backend_->landmarkCount() > budget.max_landmarks)
-    for (const auto& l : backend_->landmarks()) positions.emplace(l.id, l.mean);
   const auto drops = manager_->enforce(*backend_, raw.index);
-  for (const auto& e : drops) {
-    const auto it = positions.find(e.id);
-    if (it != positions.end() && dropped_.size() < kMaxDroppedMarks) dropped_.push_back(it->second);
-  }
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   ++steps_done_;
+  last_step_ = raw.index;
   landmarks_added_ += added;
-  evictions_ += drops.size();
   total_step_s_ += dt;
   max_step_s_ = std::max(max_step_s_, dt);
   const std::size_t n = backend_->landmarkCount();
@@ -128,7 +122,13 @@ void Pipeline::process(const Step& raw) {
       .cell(residentBytes());
   steps_csv_.endRow();
 
+  logEvictions(drops);
+}
+
+void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
+  evictions_ += drops.size();
   for (const auto& e : drops) {
+    if (dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
     std::string shadow;
     for (const auto& [name, choice] : e.shadow)
       shadow += (shadow.empty() ? "" : ";") + name + ":" + std::to_string(choice.id) + ":" +
@@ -150,11 +150,16 @@ void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
   report::MapContent map;
   const auto& budget = manager_->options();
   map.title = backend_->name() + ", reducer " + budget.reducer +
-              (manager_->reduces() ? ", cap " + std::to_string(budget.max_landmarks) : "") + ": " +
+              (manager_->capped() ? ", cap " + std::to_string(budget.max_landmarks) : "") + ": " +
               std::to_string(landmarks.size()) + " landmarks kept, " + std::to_string(evictions_) +
               " dropped";
   for (const auto& p : trajectory) map.trajectory.push_back(p.pose);
   map.kept = landmarks;
+  std::vector<Eigen::Vector2d> obs_means;
+  for (const auto& l : landmarks) obs_means.push_back(l.obs_mean);
+  for (const std::size_t c :
+       reducers::KMeans::cluster(obs_means, coverage_.kmeans(obs_means.size())).label)
+    map.cluster_of_kept.push_back(static_cast<int>(c));
   map.dropped = dropped_;
   if (truth_ && !truth_->empty()) {
     const auto gt = metrics::toEstimateFrame(*truth_);
@@ -203,6 +208,9 @@ void Pipeline::dumpState(const Backend& backend, StepIndex step) const {
 void Pipeline::complete() {
   if (completed_) return;
   completed_ = true;
+  // The reducer's end-of-run event (mi objective mode: Choudhary et al.'s active minimization),
+  // then the backend's (the graph's solve to the batch optimum).
+  if (steps_done_ > 0) logEvictions(manager_->finish(*backend_, last_step_));
   backend_->finish();
 }
 
@@ -222,13 +230,14 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   j["error"] = error;
   j["backend"] = backend_->name();
   j["reducer"] = budget.reducer;
-  j["cap"] = manager_->reduces() ? nlohmann::json(budget.max_landmarks) : nlohmann::json();
+  j["cap"] = manager_->capped() ? nlohmann::json(budget.max_landmarks) : nlohmann::json();
   j["counts"] = {{"steps", steps_done_},
                  {"landmarks_final", landmarks.size()},
                  {"landmarks_peak", peak_landmarks_},
                  {"landmarks_added", landmarks_added_},
                  {"evictions", evictions_},
-                 {"poses_kept", backend_->poseCount()}};
+                 {"poses_kept", backend_->poseCount()},
+                 {"poses_marginalized", manager_->posesMarginalized()}};
   j["timings"] = {
       {"steps_s", total_step_s_},
       {"step_ms_mean", number(nanIfEmpty(steps_done_, 1e3 * total_step_s_ /

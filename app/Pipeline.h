@@ -10,6 +10,7 @@
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/reducers/BudgetManager.h"
+#include "budget_slam/reducers/CoverageOptions.h"
 #include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/report/OutputFolder.h"
 
@@ -53,12 +54,15 @@ class Pipeline {
 
  private:
   void dumpState(const Backend& backend, StepIndex step) const;
+  /// evictions.csv rows, counts and map marks of drops.
+  void logEvictions(const std::vector<reducers::Eviction>& drops);
   void writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
                            std::size_t steps_in_rawlog) const;
   void writeMap(const std::vector<TrajectoryPoint>& trajectory,
                 const std::vector<LandmarkView>& landmarks) const;
 
   report::OutputFolder folder_;
+  reducers::CoverageOptions coverage_;  ///< how map.png clusters the kept landmarks
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<reducers::BudgetManager> manager_;
   std::shared_ptr<const dataset::GroundTruth> truth_;
@@ -67,6 +71,7 @@ class Pipeline {
   std::vector<std::size_t> counts_;
   std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
   bool completed_ = false;
+  StepIndex last_step_ = 0;
   std::size_t steps_done_ = 0, evictions_ = 0, peak_landmarks_ = 0, landmarks_added_ = 0;
   double total_step_s_ = 0, max_step_s_ = 0;
 };

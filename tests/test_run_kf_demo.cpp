@@ -175,3 +175,43 @@ TEST(CompareKfDemo, WritesTableWithReferenceAndEveryReducer) {
   EXPECT_EQ(slurp(single / "landmarks.csv"), slurp(dir / "oldest" / "landmarks.csv"));
   EXPECT_EQ(slurp(single / "trajectory.tum"), slurp(dir / "oldest" / "trajectory.tum"));
 }
+
+// Issue 3: compare with the six reducers writes the reference plus six rows, every metric filled.
+TEST(CompareKfDemo, SixReducersEveryMetricFilled) {
+  const auto dir = freshDir("compare_six");
+  const std::vector<std::string> reducers = {"mi",           "coverage", "coverage-mi",
+                                             "info-content", "random",   "oldest"};
+  const auto r =
+      runApp({"compare", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--reducers",
+              "mi,coverage,coverage-mi,info-content,random,oldest", "--cap", "30", "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = readCsv(dir / "comparison.csv");
+  ASSERT_EQ(rows.size(), 7u);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i][0], i == 0 ? "reference" : reducers[i - 1]);
+    for (std::size_t c = 5; c < rows[i].size(); ++c)
+      EXPECT_FALSE(rows[i][c].empty() || rows[i][c] == "nan") << rows[i][0] << " column " << c;
+    if (i > 0) EXPECT_EQ(rows[i][5], "30");
+  }
+}
+
+// Choudhary et al.'s active minimization (mi objective mode) runs once after the last step; at
+// lambda = 0.95 it drops 32 of the demo's 70 landmarks, as Algorithm 3 on the final EKF state
+// says (the reducers' brute-force test checks the same number), and ignores the cap.
+TEST(RunKfDemo, MiObjectiveModeRunsAlgorithm3AtTheEnd) {
+  const auto dir = freshDir("mi_objective");
+  const auto r =
+      runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--reducer", "mi", "--cap",
+              "10", "--quiet", "--set", "MutualInformationReducer.mode=objective", "--set",
+              "MutualInformationReducer.lambda=0.95"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto evictions = readCsv(dir / "evictions.csv");
+  ASSERT_EQ(evictions.size(), 32u);
+  for (const auto& e : evictions) {
+    EXPECT_EQ(e[6], "objective");
+    EXPECT_EQ(e[0], "248");  // after the last step
+  }
+  const auto s = readJson(dir / "summary.json");
+  EXPECT_EQ(s["counts"]["landmarks_final"], 38);
+  EXPECT_TRUE(s["cap"].is_null());
+}

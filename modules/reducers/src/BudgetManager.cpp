@@ -77,6 +77,9 @@ std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex st
     e.reducer = active_->name();
     e.score = victim.score;
     e.n_before = landmarks.size();
+    e.mean = std::find_if(landmarks.begin(), landmarks.end(), [&](const LandmarkView& l) {
+               return l.id == victim.id;
+             })->mean;
     e.reason = plan.reason;
     // The shadows see the same map and the candidates of a cap decision.
     bool all_protected = false;
@@ -98,7 +101,7 @@ std::vector<Eviction> BudgetManager::enforce(Backend& backend, StepIndex step) {
   if (!active_) return out;
   out = runScheduled(backend, step, false);
   bool event_started = false;
-  while (backend.landmarkCount() > options_.max_landmarks) {
+  while (active_->enforcesCap() && backend.landmarkCount() > options_.max_landmarks) {
     if (!event_started && before_drop_event_) before_drop_event_(backend, step);
     event_started = true;
 
@@ -120,6 +123,9 @@ std::vector<Eviction> BudgetManager::enforce(Backend& backend, StepIndex step) {
     e.reducer = active_->name();
     e.score = victim.score;
     e.n_before = landmarks.size();
+    e.mean = std::find_if(landmarks.begin(), landmarks.end(), [&](const LandmarkView& l) {
+               return l.id == victim.id;
+             })->mean;
     e.shadow = askShadows(ctx, victim);
     backend.removeLandmark(victim.id);
     e.n_after = backend.landmarkCount();

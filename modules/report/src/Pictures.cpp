@@ -70,8 +70,7 @@ void legendRow(cv::Mat& img, int& y, int x, const std::string& label, cv::Scalar
 
 }  // namespace
 
-void writeMapPng(const std::string& path, const MapContent& c, int width, int height) {
-  cv::Mat img(height, width, CV_8UC3, kWhite);
+void writeMapPng(const std::string& path, const MapContent& c, int width, int max_height) {
   double minx = std::numeric_limits<double>::infinity(), maxx = -minx, miny = minx, maxy = -minx;
   const auto grow = [&](double x, double y) {
     minx = std::min(minx, x), maxx = std::max(maxx, x);
@@ -86,7 +85,12 @@ void writeMapPng(const std::string& path, const MapContent& c, int width, int he
   const double pad = 0.05 * std::max({maxx - minx, maxy - miny, 1.0});
   minx -= pad, maxx += pad, miny -= pad, maxy += pad;
 
-  const int left = 70, right = 20, top = 50, bottom = 60;
+  // The picture takes the map's aspect ratio (equal scale on both axes), within [400, max_height].
+  const int left = 70, right = 20, top = 150, bottom = 60;
+  const int height = std::clamp(
+      top + bottom + static_cast<int>((width - left - right) * (maxy - miny) / (maxx - minx)), 400,
+      std::max(400, max_height));
+  cv::Mat img(height, width, CV_8UC3, kWhite);
   const double scale =
       std::min((width - left - right) / (maxx - minx), (height - top - bottom) / (maxy - miny));
   const Frame f{minx, miny, scale, left, height - bottom};
@@ -102,7 +106,7 @@ void writeMapPng(const std::string& path, const MapContent& c, int width, int he
     text(img, tick(y), f(minx, y) + cv::Point(-55, 4), 0.4, kGrey);
   }
   text(img, "x [m]", {width / 2, height - 15}, 0.5, kGrey);
-  text(img, "y [m]", {10, top - 10}, 0.5, kGrey);
+  text(img, "y [m]", {10, top - 15}, 0.5, kGrey);
 
   for (const auto& g : c.ground_truth_landmarks)
     cv::drawMarker(img, f(g.x(), g.y()), kGrey, cv::MARKER_CROSS, 7, 1);
@@ -135,14 +139,14 @@ void writeMapPng(const std::string& path, const MapContent& c, int width, int he
   }
 
   text(img, c.title, {left, 30}, 0.6);
-  int y = top + 20;
-  const int lx = width - right - 230;
+  int y = 60;
+  const int lx = left;
   legendRow(img, y, lx, "estimated trajectory", kBlue, 0);
   if (!c.ground_truth_path.empty()) legendRow(img, y, lx, "ground truth", kBlack, 0);
-  legendRow(
-      img, y, lx,
-      "kept landmark (2 sigma)" + std::string(c.cluster_of_kept.empty() ? "" : ", by cluster"),
-      c.cluster_of_kept.empty() ? kGreen : palette(0), 1);
+  legendRow(img, y, lx,
+            "kept landmark (2 sigma)" +
+                std::string(c.cluster_of_kept.empty() ? "" : ", colour: coverage cluster"),
+            c.cluster_of_kept.empty() ? kGreen : palette(0), 1);
   if (!c.dropped.empty()) legendRow(img, y, lx, "dropped landmark", kRed, 2);
 
   if (!cv::imwrite(path, img)) throw Error("cannot write '" + path + "'");

@@ -62,6 +62,10 @@ class Reducer {
   /// is asked; the BudgetManager removes them, logs them and asks the shadows at each one.
   virtual ScheduledDrops scheduled(const ScheduleContext& ctx) { return {}; }
 
+  /// False when the reducer decides on its own schedule how many landmarks to keep (Choudhary et
+  /// al.'s objective and incremental modes): the BudgetManager then does not apply the cap.
+  virtual bool enforcesCap() const { return true; }
+
   /// False when dropped landmarks must never come back (Choudhary et al. Alg. 5); the
   /// BudgetManager then reports readmit_evicted = false whatever [LandmarkBudget] says.
   virtual bool readmitsEvicted() const { return true; }

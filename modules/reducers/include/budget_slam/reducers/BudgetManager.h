@@ -22,6 +22,8 @@ struct Eviction {
   /// (seen in the last P steps) so the lowest-scored protected one went; otherwise the reason of
   /// a drop event the reducer scheduled itself (ScheduledDrops::reason: objective, incremental).
   std::string reason;
+  /// Where the landmark was when dropped [m] (for map pictures).
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
   /// What each shadow reducer would have dropped at this decision.
   std::vector<std::pair<std::string, ReducerChoice>> shadow;
 };
@@ -72,6 +74,8 @@ class BudgetManager {
   /// never re-admits (Reducer::readmitsEvicted, mi incremental mode).
   const BudgetOptions& options() const { return options_; }
   bool reduces() const { return active_ != nullptr; }
+  /// True when max_landmarks bounds the map (a reducer that does not schedule its own drops).
+  bool capped() const { return active_ && active_->enforcesCap(); }
   const Reducer* activeReducer() const { return active_.get(); }
 
  private:

@@ -21,10 +21,10 @@ struct MapContent {
   std::vector<Eigen::Vector2d> dropped;  ///< where dropped landmarks were when dropped
 };
 
-/// Renders `content` to a PNG of `width` x `height` pixels (OpenCV). Throws Error if it cannot
-/// write the file.
+/// Renders `content` to a PNG `width` pixels wide and as high as the map's aspect ratio asks
+/// (between 400 and `max_height` pixels), legend on top (OpenCV). Throws Error if it cannot write.
 void writeMapPng(const std::string& path, const MapContent& content, int width = 1000,
-                 int height = 1000);
+                 int max_height = 1400);
 
 /// One line of a chart.
 struct Series {
