@@ -182,7 +182,10 @@ int BudgetSlamApp::runRun() {
 
     dataset::RawlogReader reader(rc.rawlog);
     ProgressBar bar(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
-    while (auto step = reader.next()) {
+    const std::size_t limit = rc.mapping.max_steps;
+    while (limit == 0 || steps_read < limit) {
+      auto step = reader.next();
+      if (!step) break;
       steps_read = reader.stepsRead();
       pipeline->process(*step);
       bar.update(reader.progress(), "step " + std::to_string(step->index) + ", " +

@@ -133,7 +133,10 @@ int BudgetSlamApp::runCompare() {
     // The rawlog is parsed once; every pipeline reads the same steps.
     dataset::RawlogReader reader(rc.rawlog);
     ProgressBar reading(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
-    while (auto s = reader.next()) {
+    const std::size_t limit = rc.mapping.max_steps;
+    while (limit == 0 || steps.size() < limit) {
+      auto s = reader.next();
+      if (!s) break;
       steps.push_back(std::move(*s));
       reading.update(reader.progress(), "reading step " + std::to_string(steps.size()));
       if (InterruptGuard::requested()) {

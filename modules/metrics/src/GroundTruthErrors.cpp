@@ -12,7 +12,7 @@
 namespace budget_slam::metrics {
 
 std::size_t groundTruthRow(StepIndex step, std::size_t path_rows, std::size_t steps) {
-  return path_rows == steps + 1 ? step + 1 : step;
+  return path_rows == steps ? step : step + 1;
 }
 
 double poseNees(const PoseEstimate& estimate, const mrpt::math::TPose2D& truth) {

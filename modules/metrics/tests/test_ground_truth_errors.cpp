@@ -12,6 +12,7 @@ TEST(GroundTruthErrors, RowMappingFollowsSimulLandmarks) {
   EXPECT_EQ(groundTruthRow(0, 250, 249), 1u);  // start pose written first
   EXPECT_EQ(groundTruthRow(248, 250, 249), 249u);
   EXPECT_EQ(groundTruthRow(5, 100, 100), 5u);
+  EXPECT_EQ(groundTruthRow(5, 250, 100), 6u);  // a run stopped after 100 steps
 }
 
 TEST(GroundTruthErrors, TrajectoryLandmarkAndNeesAgainstKnownErrors) {

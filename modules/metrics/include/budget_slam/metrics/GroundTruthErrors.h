@@ -33,7 +33,8 @@ struct GroundTruthErrors {
 };
 
 /// Ground-truth row of step k: MRPT's simul-landmarks writes the start pose as the first row, so
-/// a path with one row more than there are steps maps step k to row k+1; otherwise to row k.
+/// step k is row k+1 — unless the path has exactly one row a step, then it is row k. (A run cut
+/// short by max_steps sees more rows than steps: still k+1.)
 std::size_t groundTruthRow(StepIndex step, std::size_t path_rows, std::size_t steps);
 
 /// The estimate starts at the origin; ground truth is brought into that frame by the inverse of
