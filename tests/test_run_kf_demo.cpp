@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <set>
 
+#include <Eigen/Dense>
+
 #include "AppTestUtil.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 
@@ -214,4 +216,67 @@ TEST(RunKfDemo, MiObjectiveModeRunsAlgorithm3AtTheEnd) {
   const auto s = readJson(dir / "summary.json");
   EXPECT_EQ(s["counts"]["landmarks_final"], 38);
   EXPECT_TRUE(s["cap"].is_null());
+}
+
+namespace {
+/// states/step_<k>.txt: ids, mean and covariance as the dump writes them.
+struct DumpedState {
+  std::vector<long> ids;
+  Eigen::VectorXd mean;
+  Eigen::MatrixXd cov;
+};
+DumpedState readState(const fs::path& p) {
+  DumpedState s;
+  std::istringstream in(slurp(p));
+  std::string line;
+  std::vector<std::vector<double>> rows;
+  std::string section;
+  while (std::getline(in, line)) {
+    if (line.rfind("# ids:", 0) == 0) {
+      std::istringstream ls(line.substr(6));
+      for (long id; ls >> id;) s.ids.push_back(id);
+    } else if (line.rfind("# ", 0) == 0) {
+      section = line.substr(2);
+    } else {
+      std::istringstream ls(line);
+      std::vector<double> v;
+      for (double x; ls >> x;) v.push_back(x);
+      if (section == "mean") s.mean = Eigen::Map<Eigen::VectorXd>(v.data(), v.size());
+      if (section == "covariance") rows.push_back(v);
+    }
+  }
+  s.cov.resize(rows.size(), rows.size());
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (std::size_t c = 0; c < rows.size(); ++c) s.cov(r, c) = rows[r][c];
+  return s;
+}
+}  // namespace
+
+// dump_states: every drop event's state is on disk, and the mi score of its first victim can be
+// recomputed by hand from it: 1/2 log2(det P_LL det (P^-1)_LL).
+TEST(RunKfDemo, DumpedStatesReproduceTheMiScores) {
+  const auto dir = freshDir("dump_states");
+  const auto r = runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--reducer", "mi",
+                         "--cap", "25", "--quiet", "--set", "LandmarkBudget.dump_states=true"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::size_t checked = 0;
+  std::string last_step;
+  for (const auto& e : readCsv(dir / "evictions.csv")) {
+    if (e[0] == last_step) continue;  // only the first drop of each event
+    last_step = e[0];
+    const auto state = readState(dir / "states" / ("step_" + e[0] + ".txt"));
+    ASSERT_EQ(state.cov.rows(), static_cast<Eigen::Index>(3 + 2 * state.ids.size()));
+    ASSERT_EQ(state.mean.size(), state.cov.rows());
+    if (state.cov(0, 0) == 0) continue;  // before the first motion P is singular
+    const long victim = std::stol(e[1]);
+    const auto it = std::find(state.ids.begin(), state.ids.end(), victim);
+    ASSERT_NE(it, state.ids.end());
+    const Eigen::Index row = 3 + 2 * (it - state.ids.begin());
+    const Eigen::MatrixXd lambda = state.cov.inverse();
+    const double ig = 0.5 * std::log2(state.cov.block(row, row, 2, 2).determinant() *
+                                      lambda.block(row, row, 2, 2).determinant());
+    EXPECT_NEAR(std::stod(e[3]), ig, 1e-6 * std::max(1.0, ig)) << "step " << e[0];
+    ++checked;
+  }
+  EXPECT_GT(checked, 20u);
 }
