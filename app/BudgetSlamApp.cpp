@@ -78,7 +78,9 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
                                        false, "", "name", cmd);
   TCLAP::ValueArg<std::string> reducers("", "reducers", "comma-separated reducers to compare",
                                         false, "", "a,b,c");
-  if (compare) cmd.add(reducers);
+  TCLAP::ValueArg<unsigned> threads(
+      "", "threads", "runs at once (default: one a core, at most one a run)", false, 0, "N");
+  if (compare) cmd.add(reducers), cmd.add(threads);
   TCLAP::ValueArg<long long> cap("", "cap",
                                  "landmark cap; overrides [LandmarkBudget] "
                                  "max_landmarks",
@@ -113,7 +115,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   cli_.backend = backend.getValue();
   if (cap.isSet()) cli_.cap = cap.getValue();
   cli_.sets = sets.getValue();
-  if (compare) cli_.reducers = splitList(reducers.getValue());
+  if (compare) cli_.reducers = splitList(reducers.getValue()), cli_.threads = threads.getValue();
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
 
@@ -178,7 +180,8 @@ int BudgetSlamApp::runRun() {
     std::ofstream(folder->file("config_used.ini")) << rc.ini.getContent();
     auto truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
-    pipeline = std::make_unique<Pipeline>(rc.ini, rc.mapping.backend, rc.budget, *folder, truth);
+    pipeline = std::make_unique<Pipeline>(rc.ini, rc.mapping.backend, rc.budget, *folder, truth,
+                                          rc.mapping.keep_history);
 
     dataset::RawlogReader reader(rc.rawlog);
     ProgressBar bar(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
@@ -194,7 +197,8 @@ int BudgetSlamApp::runRun() {
       if (on_step) on_step(step->index);
       if (InterruptGuard::requested()) {
         bar.done();
-        return fail("interrupted by Ctrl-C after step " + std::to_string(step->index),
+        return fail(std::string("interrupted by ") + InterruptGuard::what() + " after step " +
+                        std::to_string(step->index),
                     "interrupted");
       }
     }

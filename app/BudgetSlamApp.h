@@ -21,6 +21,7 @@ struct CommandLine {
   std::optional<long long> cap;
   std::vector<std::string> sets;      ///< --set Section.key=value
   std::vector<std::string> reducers;  ///< compare: --reducers a,b,c
+  unsigned threads = 0;               ///< compare: --threads, 0 = one a core
   bool quiet = false, force = false;
 };
 

@@ -141,7 +141,8 @@ int BudgetSlamApp::runCompare() {
       reading.update(reader.progress(), "reading step " + std::to_string(steps.size()));
       if (InterruptGuard::requested()) {
         reading.done();
-        *err << "budget-slam: interrupted by Ctrl-C while reading the rawlog" << std::endl;
+        *err << "budget-slam: interrupted by " << InterruptGuard::what()
+             << " while reading the rawlog" << std::endl;
         report::writeJson(top->file("summary.json"),
                           {{"status", "interrupted"}, {"error", "interrupted while reading"}});
         return 130;
@@ -178,7 +179,7 @@ int BudgetSlamApp::runCompare() {
         for (const auto& s : steps) {
           if (InterruptGuard::requested()) {
             r.status = "interrupted";
-            r.error = "interrupted by Ctrl-C after step " +
+            r.error = std::string("interrupted by ") + InterruptGuard::what() + " after step " +
                       std::to_string(r.steps_done == 0 ? 0 : r.steps_done - 1);
             break;
           }
@@ -192,8 +193,8 @@ int BudgetSlamApp::runCompare() {
       }
     }
   };
-  const std::size_t threads = std::max<std::size_t>(
-      1, std::min<std::size_t>(std::thread::hardware_concurrency(), runs.size()));
+  const std::size_t wanted = cli_.threads ? cli_.threads : std::thread::hardware_concurrency();
+  const std::size_t threads = std::max<std::size_t>(1, std::min<std::size_t>(wanted, runs.size()));
   std::vector<std::thread> pool;
   for (std::size_t t = 0; t < threads; ++t) pool.emplace_back(worker);
   ProgressBar bar(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());

@@ -21,6 +21,7 @@ void MappingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini
   ground_truth_file_robot = s.readString("ground_truth_file_robot", ground_truth_file_robot);
   logOutput_dir = s.readString("logOutput_dir", logOutput_dir);
   max_steps = static_cast<std::size_t>(s.readInt("max_steps", 0, 0));
+  keep_history = s.readBool("keep_history", keep_history);
   // kf-slam's default is the 3D filter, but an ini that does not say is taken as 2D here.
   kf_implementation = s.readChoice("kf_implementation", kf_implementation,
                                    {"CRangeBearingKFSLAM2D", "CRangeBearingKFSLAM"});
@@ -37,8 +38,9 @@ void MappingOptions::dumpToTextStream(std::ostream& out) const {
   out << "ground_truth_file_robot  = " << ground_truth_file_robot << "\n";
   out << "logOutput_dir            = " << logOutput_dir << "\n";
   out << "max_steps                = " << max_steps << "\n";
+  out << "keep_history             = " << (keep_history ? "true" : "false") << "\n";
 }
 
-std::vector<std::string> MappingOptions::keys() { return {"backend", "max_steps"}; }
+std::vector<std::string> MappingOptions::keys() { return {"backend", "max_steps", "keep_history"}; }
 
 }  // namespace budget_slam::app

@@ -17,6 +17,8 @@ struct MappingOptions : public mrpt::config::CLoadableOptions {
   std::string ground_truth_file;        ///< landmarks ground truth ("" = next to the rawlog)
   std::string ground_truth_file_robot;  ///< robot path ground truth ("" = next to the rawlog)
   std::string logOutput_dir = "OUT_budget-slam";  ///< output folder; -o overrides
+  bool keep_history = true;   ///< keep per-step records in memory (run only; false:
+                              ///< flat memory on lifelong runs, see docs/OUTPUTS.md)
   std::size_t max_steps = 0;  ///< stop after this many steps, 0 = the whole rawlog
   std::string kf_implementation = "CRangeBearingKFSLAM2D";  ///< only the 2D filter is supported
 

@@ -26,9 +26,12 @@ std::unique_ptr<Backend> makeBackend(const std::string& name,
 /// are written as they happen, the rest by finish().
 class Pipeline {
  public:
+  /// `keep_history` = false keeps no per-step records in memory (no online poses, no landmark
+  /// counts, the EKF keeps only its latest pose): memory stays flat over arbitrarily long runs,
+  /// everything per step is still in steps.csv, and NEES is accumulated online.
   Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
            const reducers::BudgetOptions& budget, report::OutputFolder folder,
-           std::shared_ptr<const dataset::GroundTruth> truth);
+           std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history = true);
 
   /// Runs one step: backend update (evicted landmarks filtered out when readmission is off), then
   /// the budget. Throws Error on bad data; the outputs written so far stay.
@@ -68,6 +71,12 @@ class Pipeline {
   std::shared_ptr<const dataset::GroundTruth> truth_;
   report::CsvWriter steps_csv_, evictions_csv_;
   std::vector<metrics::PoseRecord> online_;
+  bool keep_history_ = true;
+  /// Ground truth in the estimate's frame, and the NEES sums for the two row conventions
+  /// (metrics::groundTruthRow: step k is row k, or row k+1) until the step count is known.
+  std::optional<dataset::GroundTruth> truth_frame_;
+  double nees_sum_[2] = {0, 0};
+  std::size_t nees_n_[2] = {0, 0};
   std::vector<std::size_t> counts_;
   std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
   bool completed_ = false;

@@ -196,3 +196,16 @@ TEST(BadInput, MissingConfigFileAndBadSetSyntax) {
   expectFailed(runOn(kDemo, out, {"--set", "nodot=3"}), out,
                "--set 'nodot=3': expected Section.key=value");
 }
+
+TEST(BadInput, SigtermEndsLikeCtrlC) {
+  const auto out = freshDir("sigterm");
+  const auto r = runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", out.string(), "--quiet"},
+                        [](app::BudgetSlamApp& a) {
+                          a.on_step = [](StepIndex s) {
+                            if (s == 50) std::raise(SIGTERM);  // kill, timeout, SLURM
+                          };
+                        });
+  EXPECT_EQ(r.exit_code, 130);
+  EXPECT_EQ(r.err, "budget-slam: interrupted by SIGTERM after step 50\n");
+  EXPECT_EQ(readJson(out / "summary.json")["status"], "interrupted");
+}

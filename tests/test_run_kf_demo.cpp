@@ -280,3 +280,26 @@ TEST(RunKfDemo, DumpedStatesReproduceTheMiScores) {
   }
   EXPECT_GT(checked, 20u);
 }
+
+// keep_history = false (lifelong runs): the same map and the same NEES, no per-step records in
+// memory; trajectory.tum then holds the last pose (every pose is in steps.csv).
+TEST(RunKfDemo, WithoutHistoryTheResultsAreTheSame) {
+  const auto with = freshDir("history_on"), without = freshDir("history_off");
+  for (const auto& [dir, keep] : {std::pair{with, "true"}, std::pair{without, "false"}}) {
+    const auto r = runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--reducer",
+                           "coverage", "--cap", "20", "--quiet", "--set",
+                           std::string("MappingApplication.keep_history=") + keep});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  EXPECT_EQ(slurp(with / "landmarks.csv"), slurp(without / "landmarks.csv"));
+  const auto a = readJson(with / "summary.json")["ground_truth"];
+  const auto b = readJson(without / "summary.json")["ground_truth"];
+  EXPECT_EQ(a["nees_mean"], b["nees_mean"]);
+  EXPECT_EQ(a["nees_samples"], b["nees_samples"]);
+  EXPECT_EQ(a["landmark_rmse_m"], b["landmark_rmse_m"]);
+  std::istringstream tum(slurp(without / "trajectory.tum"));
+  std::string line;
+  int lines = 0;
+  while (std::getline(tum, line)) ++lines;
+  EXPECT_EQ(lines, 1);
+}

@@ -28,6 +28,7 @@ void EkfBackend::process(const Step& step) {
     t.obs_mean += (robot - t.obs_mean) / static_cast<double>(t.n);
     t.last_step = step.index;
   }
+  if (!keep_trajectory_) trajectory_.clear();
   trajectory_.push_back({step.index, step.t, mrpt::math::TPose2D(x[0], x[1], x[2])});
 }
 

@@ -88,7 +88,7 @@ std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex st
     e.shadow = askShadows({backend, landmarks, candidates, step}, victim);
     backend.removeLandmark(victim.id);
     e.n_after = backend.landmarkCount();
-    evicted_.insert(victim.id);
+    if (!options_.readmit_evicted) evicted_.insert(victim.id);  // only needed to filter
     out.push_back(std::move(e));
   }
   if (plan.marginalize_poses)
@@ -130,7 +130,7 @@ std::vector<Eviction> BudgetManager::enforce(Backend& backend, StepIndex step) {
     backend.removeLandmark(victim.id);
     e.n_after = backend.landmarkCount();
     e.reason = all_protected ? "over_cap_all_protected" : "over_cap";
-    evicted_.insert(victim.id);
+    if (!options_.readmit_evicted) evicted_.insert(victim.id);  // only needed to filter
     out.push_back(std::move(e));
   }
   return out;

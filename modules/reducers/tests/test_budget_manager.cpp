@@ -29,7 +29,9 @@ std::unique_ptr<Reducer> make(const std::string& name) {
 TEST(BudgetManager, DropsUntilWithinCapNeverAProtectedOneWhileUnprotectedExist) {
   for (const std::string name : {"random", "oldest", "info-content"}) {
     FakeBackend backend({});
-    BudgetManager manager(options(3, 5), make(name));
+    BudgetOptions no_readmission = options(3, 5);
+    no_readmission.readmit_evicted = false;  // so that evicted() records every drop
+    BudgetManager manager(no_readmission, make(name));
     std::mt19937 rng(1);
     for (StepIndex step = 0; step < 60; ++step) {
       // Two new landmarks a step, seen now; older ones were last seen when added.
@@ -55,6 +57,13 @@ TEST(BudgetManager, DropsUntilWithinCapNeverAProtectedOneWhileUnprotectedExist) 
     }
     EXPECT_EQ(manager.evicted().size(), 117u) << name;
   }
+}
+
+TEST(BudgetManager, RemembersEvictedIdsOnlyWhenReadmissionIsOff) {
+  FakeBackend backend({landmark(1, 0.5, 0.5, 0, 0), landmark(2, 0.1, 0.1, 0, 0)});
+  BudgetManager manager(options(1, 0), make("oldest"));
+  EXPECT_EQ(manager.enforce(backend, 3).size(), 1u);
+  EXPECT_TRUE(manager.evicted().empty());  // memory must not grow with the drops
 }
 
 TEST(BudgetManager, ProtectedLandmarkGoesOnlyWhenAllAreProtected) {

@@ -31,6 +31,10 @@ class EkfBackend : public Backend {
   /// Only the latest pose (StepIndex of the last processed step) and landmarks.
   Eigen::MatrixXd jointCovariance(const std::vector<VariableKey>& vars) const override;
 
+  /// false: keep only the latest pose in trajectory() (bounded memory on lifelong runs; the
+  /// per-step poses are in the run's steps.csv anyway). Default: true.
+  void setKeepTrajectory(bool keep) { keep_trajectory_ = keep; }
+
   const ReducibleKFSLAM2D& filter() const { return kf_; }
   /// Ids in state order (the EKF's own ordering of the mean and covariance).
   std::vector<LandmarkId> idsInStateOrder() const;
@@ -48,6 +52,7 @@ class EkfBackend : public Backend {
   ReducibleKFSLAM2D kf_;
   std::unordered_map<LandmarkId, Track> tracks_;
   std::vector<TrajectoryPoint> trajectory_;
+  bool keep_trajectory_ = true;
   StepIndex last_step_ = 0;
   /// Valid from the first informationGain() after a step until the next step.
   mutable std::optional<BlockMutualInformation> mi_;

@@ -59,7 +59,8 @@ class BudgetManager {
   /// Poses marginalized by scheduled events so far (Backend::marginalizePosesWithoutLandmarks).
   std::size_t posesMarginalized() const { return poses_marginalized_; }
 
-  /// Ids dropped so far (for readmit_evicted = false).
+  /// Ids dropped so far, kept only when readmit_evicted = false (the readings to filter out); with
+  /// readmission on it stays empty so that memory does not grow with the drops.
   const std::set<LandmarkId>& evicted() const { return evicted_; }
 
   /// Agreement of every pair among the active and shadow reducers.
