@@ -9,6 +9,8 @@ EkfBackend::EkfBackend(const mrpt::config::CConfigFileBase& ini) {
   kf_.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
 }
 
+std::unique_ptr<Backend> EkfBackend::clone() const { return std::make_unique<EkfBackend>(*this); }
+
 void EkfBackend::process(const Step& step) {
   mi_.reset();
   kf_.processStep(step);

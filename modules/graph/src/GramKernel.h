@@ -14,4 +14,19 @@ void gramLower(const double* Z, std::size_t m, std::size_t r, double* G);
 void forwardSubstitute(double* X, std::size_t m, std::size_t r, const int* start, const int* rows,
                        const double* vals);
 
+/// G[lo + b, lo + a] += sum_i rows[i][a] rows[i][b] for a >= b in [0, w): the lower triangle of
+/// the Gram matrix of m rows of width w given by pointers (rows of one range, see
+/// SparseCholesky::inverseGram); G column-major with leading dimension ldg. Same dispatch.
+void gramLowerRows(const double* const* rows, std::size_t m, std::size_t w, double* G,
+                   std::size_t ldg, std::size_t lo);
+
+/// Forward substitution on the etree path `nodes` (ascending, m of them) of a simplicial LL^T
+/// factor in CSC form (column k: Lp[k] .. Lp[k] + Lnz[k] - 1, diagonal first), in place on the
+/// row-major X (row a = node nodes[a], leading dimension ld); local[] maps a node to its row.
+/// Row a is non-zero only in columns [lo[a], hi[a]), and an ancestor's range holds its
+/// descendants' (SparseCholesky::inverseGram). Same dispatch as gramLower.
+void forwardSubstitutePath(double* X, std::size_t ld, const int* nodes, std::size_t m,
+                           const int* Lp, const int* Lnz, const int* Li, const double* Lx,
+                           const int* local, const int* lo, const int* hi);
+
 }  // namespace budget_slam::graph::detail

@@ -37,6 +37,24 @@ GraphBackend::GraphBackend(const mrpt::config::CConfigFileBase& ini) {
 GraphBackend::GraphBackend(const GraphSlamOptions& options, const RangeBearingNoise& noise)
     : options_(options), noise_(noise) {}
 
+GraphBackend::GraphBackend(const GraphBackend& o)
+    : options_(o.options_),
+      noise_(o.noise_),
+      graph_(o.graph_),
+      tracks_(o.tracks_),
+      next_fresh_id_(o.next_fresh_id_),
+      poses_since_update_(o.poses_since_update_),
+      updates_(o.updates_),
+      estimate_version_(o.estimate_version_),
+      exact_version_(o.exact_version_),
+      pose_cov_(o.pose_cov_),
+      landmark_cov_(o.landmark_cov_),
+      landmark_cov_version_(o.landmark_cov_version_) {}
+
+std::unique_ptr<Backend> GraphBackend::clone() const {
+  return std::unique_ptr<Backend>(new GraphBackend(*this));
+}
+
 BetweenFactor GraphBackend::odometryFactor(const Step& step) const {
   if (!step.odometry) {
     const double sxy = options_.no_odometry_std_xy, syaw = options_.no_odometry_std_yaw_deg * kDeg;
@@ -204,6 +222,7 @@ const SparseCholesky& GraphBackend::factorization() const {
   if (query_version_ != estimate_version_) {
     factorizeAtEstimate(graph_, &query_chol_);
     query_version_ = estimate_version_;
+    exact_version_ = estimate_version_;
   }
   return query_chol_;
 }
@@ -240,7 +259,7 @@ PoseEstimate GraphBackend::robotPose() const {
   if (graph_.poses().empty()) return p;
   const auto& [step, node] = *graph_.poses().rbegin();
   p.mean = mrpt::math::TPose2D(node.x.x(), node.x.y(), node.x.z());
-  if (options_.exact_pose_covariance || !pose_cov_ || query_version_ == estimate_version_) {
+  if (options_.exact_pose_covariance || !pose_cov_ || exact_version_ == estimate_version_) {
     pose_cov_ = jointMarginal(graph_, factorization(), {VariableKey::pose(step)});
   }
   p.cov = *pose_cov_;
@@ -270,6 +289,8 @@ std::vector<double> GraphBackend::informationGain(const std::vector<LandmarkId>&
     if (!graph_.hasLandmark(id))
       throw std::out_of_range("graph backend: no landmark " + std::to_string(id));
   if (ids.empty()) return {};
+  if (options_.information_gain == "conditional")
+    return graph::conditionalInformationGain(graph_, factorization(), ids);
   return graph::informationGain(graph_, factorization(), ids);
 }
 

@@ -31,6 +31,8 @@ void GraphSlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& i
       s.readDouble("odometry_min_std_yaw_deg", odometry_min_std_yaw_deg, 1e-12, kInf);
   exact_pose_covariance = s.readBool("exact_pose_covariance", exact_pose_covariance);
   association_gate_chi2 = s.readDouble("association_gate_chi2", association_gate_chi2, 0, kInf);
+  information_gain =
+      s.readChoice("information_gain", information_gain, {"marginal", "conditional"});
 }
 
 void GraphSlamOptions::dumpToTextStream(std::ostream& out) const {
@@ -52,7 +54,8 @@ void GraphSlamOptions::dumpToTextStream(std::ostream& out) const {
       << "odometry_min_std_yaw_deg = " << odometry_min_std_yaw_deg << "  // [deg]\n"
       << "exact_pose_covariance    = " << (exact_pose_covariance ? "true" : "false")
       << "  // false: propagated between factorizations\n"
-      << "association_gate_chi2    = " << association_gate_chi2 << "  // chi2, 2 dof\n";
+      << "association_gate_chi2    = " << association_gate_chi2 << "  // chi2, 2 dof\n"
+      << "information_gain         = " << information_gain << "  // marginal | conditional\n";
 }
 
 std::vector<std::string> GraphSlamOptions::keys() {
@@ -72,7 +75,8 @@ std::vector<std::string> GraphSlamOptions::keys() {
           "odometry_min_std_xy",
           "odometry_min_std_yaw_deg",
           "exact_pose_covariance",
-          "association_gate_chi2"};
+          "association_gate_chi2",
+          "information_gain"};
 }
 
 SolverSettings GraphSlamOptions::solverSettings() const {

@@ -36,32 +36,148 @@ void landmarkInformationOnPoses(const FactorGraph& graph, LandmarkId id, std::ve
   *W = QtAB.bottomRows(std::max(0, 2 * k - 2));
 }
 
+namespace {
+
+/// The whitened Jacobians of landmark L's k factors: the pose part as 2k sparse columns of
+/// A_B^T (one per row of A_B, on the observing pose's three columns of H) and the landmark part
+/// A_L (2k x 2).
+void sightingJacobians(const FactorGraph& graph, const LandmarkNode& l,
+                       std::vector<SparseColumn>* AB, Eigen::MatrixXd* AL) {
+  const int k = static_cast<int>(l.obs.size());
+  AB->assign(2 * k, SparseColumn{});
+  AL->resize(2 * k, 2);
+  for (int f = 0; f < k; ++f) {
+    const Observation& o = l.obs[f];
+    const PoseNode& p = graph.pose(o.pose);
+    Eigen::Matrix<double, 2, 3> Jx;
+    Eigen::Matrix2d Jl;
+    o.f.error(p.x, l.x, &Jx, &Jl);
+    const Eigen::Matrix<double, 2, 3> Ax = o.f.sqrt_info * Jx;
+    AL->block<2, 2>(2 * f, 0) = o.f.sqrt_info * Jl;
+    const int c = graph.column(VariableKey::pose(o.pose));
+    for (int row = 0; row < 2; ++row) {
+      SparseColumn& col = (*AB)[2 * f + row];
+      col.n = 3;
+      for (int t = 0; t < 3; ++t) {
+        col.idx[t] = c + t;
+        col.val[t] = Ax(row, t);
+      }
+    }
+  }
+}
+
+/// -1/2 log2 det(M) for a small SPD M given by its lower triangle, factorized in place; `spare`
+/// keeps a copy for the fallback (LU on |det|) when round-off broke definiteness.
+double minusHalfLog2Det(Eigen::Ref<Eigen::MatrixXd> M, std::vector<double>* spare) {
+  const Eigen::Index n = M.rows();
+  if (spare->size() < static_cast<std::size_t>(n * n)) spare->resize(n * n);
+  Eigen::Map<Eigen::MatrixXd> copy(spare->data(), n, n);
+  copy.triangularView<Eigen::Lower>() = M;
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(M);
+  double logdet;
+  if (llt.info() == Eigen::Success) {
+    logdet = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
+  } else {
+    const Eigen::MatrixXd full = copy.selfadjointView<Eigen::Lower>();
+    logdet = std::log(std::abs(Eigen::PartialPivLU<Eigen::MatrixXd>(full).determinant()));
+  }
+  return -0.5 * logdet / std::log(2.0);
+}
+
+/// M <- H M H for the reflector H = I - tau v v^T, on the lower triangle of a symmetric M:
+/// M - tau (v w^T + w v^T) + tau^2 (v^T M v) v v^T with w = M v (O(n^2)).
+void reflectBothSides(Eigen::Ref<Eigen::MatrixXd> M, const Eigen::VectorXd& v, double tau) {
+  if (tau == 0) return;
+  const Eigen::VectorXd w = M.selfadjointView<Eigen::Lower>() * v;
+  const double vMv = v.dot(w);
+  // -tau (v w^T + w v^T) + tau^2 vMv v v^T = -tau (v u^T + u v^T), u = w - tau vMv / 2 v.
+  const Eigen::VectorXd u = w - 0.5 * tau * vMv * v;
+  M.selfadjointView<Eigen::Lower>().rankUpdate(v, u, -tau);
+}
+
+}  // namespace
+
 std::vector<double> informationGain(const FactorGraph& graph, const SparseCholesky& chol,
                                     const std::vector<LandmarkId>& ids) {
   std::vector<double> out;
   out.reserve(ids.size());
-  std::vector<StepIndex> B;
-  Eigen::MatrixXd W;
+  std::vector<SparseColumn> AB;
+  Eigen::MatrixXd AL, ALs;
+  std::vector<int> order;
+  std::vector<double> buf, spare;
   for (LandmarkId id : ids) {
-    if (graph.landmark(id).obs.size() <= 1) {  // seen once: L's factor is absorbed by L
+    const LandmarkNode& l = graph.landmark(id);
+    if (l.obs.size() <= 1) {  // seen once: L's factor is absorbed by L
       out.push_back(0.0);
       continue;
     }
-    landmarkInformationOnPoses(graph, id, &B, &W);
-    std::vector<VariableKey> vars;
-    vars.reserve(B.size());
-    for (StepIndex s : B) vars.push_back(VariableKey::pose(s));
-    const Eigen::MatrixXd WSW = chol.inverseQuadraticForm(columnsOf(graph, vars), W);
-    const Eigen::MatrixXd M = Eigen::MatrixXd::Identity(W.rows(), W.rows()) - WSW;
-    // M = I - W Sigma W^T is the covariance ratio of a conditioning, SPD in exact arithmetic.
-    Eigen::LLT<Eigen::MatrixXd> llt(M);
-    double logdet;
-    if (llt.info() == Eigen::Success) {
-      logdet = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
-    } else {
-      logdet = std::log(std::abs(Eigen::PartialPivLU<Eigen::MatrixXd>(M).determinant()));
+    // M = A_B Sigma_BB A_B^T (2k x 2k) on the sightings' etree ranges, rows in the order the
+    // factorization prefers; A_L's rows follow. With Q^T A_L = [R; 0] (Householder),
+    // W = Q_2^T A_B and W Sigma_BB W^T = (Q^T M Q) without its first two rows and columns: two
+    // reflections from each side, O(k^2).
+    sightingJacobians(graph, l, &AB, &AL);
+    const Eigen::Map<const Eigen::MatrixXd> G = chol.inverseGram(AB, &order);
+    const Eigen::Index n = G.rows();
+    ALs.resize(n, 2);
+    for (Eigen::Index p = 0; p < n; ++p) ALs.row(p) = AL.row(order[p]);
+    if (buf.size() < static_cast<std::size_t>(n * n)) buf.resize(n * n);
+    Eigen::Map<Eigen::MatrixXd> M(buf.data(), n, n);
+    M.triangularView<Eigen::Lower>() = G;
+    for (Eigen::Index c = 0; c < 2; ++c) {  // Householder of column c of A_L, rows c..n-1
+      Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
+      double tau, beta;
+      Eigen::VectorXd essential(n - c - 1);
+      ALs.col(c).tail(n - c).makeHouseholder(essential, tau, beta);
+      v(c) = 1.0;
+      v.tail(n - c - 1) = essential;
+      if (c == 0) {  // reflect A_L's second column too
+        const double s = v.tail(n).dot(ALs.col(1));
+        ALs.col(1) -= tau * s * v;
+      }
+      reflectBothSides(M, v, tau);
     }
-    out.push_back(-0.5 * logdet / std::log(2.0));
+    const Eigen::Index r = n - 2;
+    // I - W Sigma_BB W^T: the covariance ratio of a conditioning, SPD in exact arithmetic.
+    auto C = M.bottomRightCorner(r, r);
+    C = -C;
+    C.diagonal().array() += 1.0;
+    out.push_back(minusHalfLog2Det(C, &spare));
+  }
+  return out;
+}
+
+std::vector<double> conditionalInformationGain(const FactorGraph& graph, const SparseCholesky& chol,
+                                               const std::vector<LandmarkId>& ids) {
+  std::vector<double> out;
+  out.reserve(ids.size());
+  std::vector<SparseColumn> cols;
+  Eigen::MatrixXd AL;
+  std::vector<int> order;
+  std::vector<double> spare;
+  for (LandmarkId id : ids) {
+    const LandmarkNode& l = graph.landmark(id);
+    const int k = static_cast<int>(l.obs.size());
+    // Columns A_B^T and the two unit vectors of L: Gram [A S_BB A^T, A S_BL; ., S_LL].
+    sightingJacobians(graph, l, &cols, &AL);
+    const int c = graph.column(VariableKey::landmark(id));
+    for (int t = 0; t < 2; ++t) {
+      SparseColumn e;
+      e.n = 1;
+      e.idx[0] = c + t;
+      e.val[0] = 1.0;
+      cols.push_back(e);
+    }
+    const Eigen::Map<const Eigen::MatrixXd> Gs = chol.inverseGram(cols, &order);
+    const int n = 2 * k + 2;
+    Eigen::MatrixXd G(n, n);  // back to the columns' own order
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) G(order[a], order[b]) = a >= b ? Gs(a, b) : Gs(b, a);
+    // A Sigma_{B|L} A^T = G11 - G12 G22^-1 G21 (conditioning on L).
+    const Eigen::MatrixXd G12 = G.topRightCorner(2 * k, 2);
+    const Eigen::Matrix2d G22 = G.bottomRightCorner<2, 2>();
+    Eigen::MatrixXd M = Eigen::MatrixXd::Identity(2 * k, 2 * k) - G.topLeftCorner(2 * k, 2 * k) +
+                        G12 * G22.ldlt().solve(G12.transpose());
+    out.push_back(minusHalfLog2Det(M, &spare));
   }
   return out;
 }

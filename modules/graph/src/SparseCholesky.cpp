@@ -33,6 +33,11 @@ struct SparseCholesky::Impl {
 
   void extractL() const {
     if (have_L) return;
+    const cholmod_factor* S = chol.factor();
+    if (S->is_super && S->is_ll && S->xtype == CHOLMOD_REAL) {
+      extractSupernodal(*S);
+      return;
+    }
     cholmod_common& c = const_cast<Cholmod&>(chol).cholmod();
     cholmod_factor* F = cholmod_copy_factor(chol.factor(), &c);
     if (!F || !cholmod_change_factor(CHOLMOD_REAL, /*to_ll=*/1, /*to_super=*/0, /*to_packed=*/1,
@@ -69,12 +74,100 @@ struct SparseCholesky::Impl {
     have_L = true;
   }
 
+  /// The CSC columns straight from a supernodal LL^T factor: supernode s holds columns
+  /// super[s] .. super[s+1]-1 as a dense column-major block (rows pi[s] .. pi[s+1]-1 of s[], its
+  /// row indices, ascending with the supernode's own columns first); column j's entries are the
+  /// block's column from its diagonal down. No copy or conversion by CHOLMOD.
+  void extractSupernodal(const cholmod_factor& F) const {
+    const int* super = static_cast<const int*>(F.super);
+    const int* pi = static_cast<const int*>(F.pi);
+    const int* px = static_cast<const int*>(F.px);
+    const int* srows = static_cast<const int*>(F.s);
+    const double* x = static_cast<const double*>(F.x);
+    const int* P = static_cast<const int*>(F.Perm);
+    Lp.assign(n + 1, 0);
+    Lnz.assign(n, 0);
+    for (std::size_t sn = 0; sn < F.nsuper; ++sn) {
+      const int k1 = super[sn], k2 = super[sn + 1], nrows = pi[sn + 1] - pi[sn];
+      for (int k = k1; k < k2; ++k) Lnz[k] = nrows - (k - k1);
+    }
+    for (int k = 0; k < n; ++k) Lp[k + 1] = Lp[k] + Lnz[k];
+    Li.resize(Lp[n]);
+    Lx.resize(Lp[n]);
+    parent.assign(n, -1);
+    for (std::size_t sn = 0; sn < F.nsuper; ++sn) {
+      const int k1 = super[sn], k2 = super[sn + 1], nrows = pi[sn + 1] - pi[sn];
+      const int* rows = srows + pi[sn];
+      const double* blk = x + px[sn];
+      for (int k = k1; k < k2; ++k) {
+        const int c = k - k1;
+        std::copy(rows + c, rows + nrows, Li.begin() + Lp[k]);
+        std::copy(blk + static_cast<std::size_t>(c) * nrows + c,
+                  blk + static_cast<std::size_t>(c + 1) * nrows, Lx.begin() + Lp[k]);
+        if (c + 1 < nrows) parent[k] = rows[c + 1];  // rows ascending: the first below diagonal
+      }
+    }
+    perm.resize(n);
+    iperm.resize(n);
+    for (int k = 0; k < n; ++k) perm[k] = P ? P[k] : k;
+    for (int k = 0; k < n; ++k) iperm[perm[k]] = k;
+    have_L = true;
+  }
+
+  // Postorder of the elimination tree (children before parents, each subtree a contiguous
+  // interval [first[k], post[k]]), built on first use after each factorization.
+  mutable bool have_post = false;
+  mutable std::vector<int> post, first;
+
+  void postorder() const {
+    extractL();
+    if (have_post) return;
+    std::vector<int> head(n, -1), next(n, -1), stack;
+    for (int k = n - 1; k >= 0; --k)  // children lists, ascending
+      if (parent[k] != -1) {
+        next[k] = head[parent[k]];
+        head[parent[k]] = k;
+      }
+    post.assign(n, 0);
+    first.assign(n, 0);
+    int counter = 0;
+    for (int root = 0; root < n; ++root) {
+      if (parent[root] != -1) continue;
+      stack.push_back(root);
+      while (!stack.empty()) {
+        const int k = stack.back();
+        if (head[k] != -1) {  // descend into the next unvisited child
+          const int c = head[k];
+          head[k] = next[c];
+          stack.push_back(c);
+          continue;
+        }
+        stack.pop_back();
+        post[k] = counter++;
+      }
+    }
+    // first[k] = smallest postorder number in k's subtree (children come before parents).
+    for (int k = 0; k < n; ++k) first[k] = post[k];
+    std::vector<int> by_post(n);
+    for (int k = 0; k < n; ++k) by_post[post[k]] = k;
+    for (int p = 0; p < n; ++p) {
+      const int k = by_post[p];
+      if (parent[k] != -1) first[parent[k]] = std::min(first[parent[k]], first[k]);
+    }
+    have_post = true;
+  }
+
   // Workspaces reused between calls: fresh multi-megabyte buffers per landmark cost more in
   // page faults than the arithmetic (not thread-safe; one backend per thread).
   mutable std::vector<char> seen_ws;
   mutable std::vector<int> local_ws;
   using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   mutable std::vector<double> x_ws;
+  // inverseGram's workspaces (kept: fresh multi-megabyte buffers per landmark page-fault).
+  mutable std::vector<int> start_ws, order_ws, pos_ws, post_ws, nodes_ws, lo_ws, hi_ws, range_ws;
+  mutable std::vector<const double*> ptr_ws;
+  mutable std::vector<char> mark_ws;  ///< all zero between calls
+  mutable std::vector<double> g_ws;
 
   /// Forward substitution L X = P E_S R restricted to the union of etree paths of S, R being
   /// |S| x r (identity when null). Returns X (rows: the path nodes, ascending), a view of a
@@ -144,6 +237,7 @@ bool SparseCholesky::factorize(const SpMat& H, std::uint64_t pattern_version) {
     m.version = pattern_version;
   }
   m.chol.factorize(H);
+  m.have_post = false;
   m.ok = m.chol.info() == Eigen::Success;
   if (!m.ok) m.analysed = false;
   return m.ok;
@@ -187,6 +281,97 @@ Eigen::MatrixXd SparseCholesky::inverseQuadraticForm(const std::vector<int>& S,
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(r, r);
   detail::gramLower(X.data(), X.rows(), r, G.data());
   return G.selfadjointView<Eigen::Lower>();
+}
+
+Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<SparseColumn>& cols,
+                                                              std::vector<int>* order) const {
+  if (!impl_->ok) throw std::logic_error("SparseCholesky: no factorization");
+  const Impl& m = *impl_;
+  m.postorder();
+  const int r = static_cast<int>(cols.size());
+  order->resize(r);
+  if (r == 0) return Eigen::Map<const Eigen::MatrixXd>(nullptr, 0, 0);
+  // First node of each column (the first eliminated of its indices; the others are ancestors).
+  std::vector<int>& start_node = m.start_ws;
+  start_node.resize(r);
+  for (int j = 0; j < r; ++j) {
+    const SparseColumn& c = cols[j];
+    if (c.n < 1 || c.n > 3) throw std::invalid_argument("SparseCholesky: bad sparse column");
+    int s = m.n;
+    for (int t = 0; t < c.n; ++t) {
+      if (c.idx[t] < 0 || c.idx[t] >= m.n)
+        throw std::out_of_range("SparseCholesky: index out of range");
+      s = std::min(s, m.iperm[c.idx[t]]);
+    }
+    start_node[j] = s;
+  }
+  // Columns sorted by the postorder of their first node: a subtree's columns are contiguous.
+  for (int j = 0; j < r; ++j) (*order)[j] = j;
+  std::stable_sort(order->begin(), order->end(),
+                   [&](int a, int b) { return m.post[start_node[a]] < m.post[start_node[b]]; });
+  std::vector<int>&pos = m.pos_ws, &sorted_post = m.post_ws;
+  pos.resize(r);
+  sorted_post.resize(r);
+  for (int p = 0; p < r; ++p) {
+    pos[(*order)[p]] = p;
+    sorted_post[p] = m.post[start_node[(*order)[p]]];
+  }
+  // The union of the etree paths, ascending, and each node's range of columns.
+  std::vector<int>& nodes = m.nodes_ws;
+  nodes.clear();
+  m.mark_ws.resize(m.n, 0);
+  for (int j = 0; j < r; ++j)
+    for (int k = start_node[j]; k != -1 && !m.mark_ws[k]; k = m.parent[k]) {
+      m.mark_ws[k] = 1;
+      nodes.push_back(k);
+    }
+  for (const int k : nodes) m.mark_ws[k] = 0;  // clean for the next call
+  std::sort(nodes.begin(), nodes.end());
+  m.local_ws.resize(m.n);
+  for (std::size_t a = 0; a < nodes.size(); ++a) m.local_ws[nodes[a]] = static_cast<int>(a);
+  const std::size_t mm = nodes.size();
+  std::vector<int>&lo = m.lo_ws, &hi = m.hi_ws;
+  lo.resize(mm);
+  hi.resize(mm);
+  for (std::size_t a = 0; a < mm; ++a) {
+    const int k = nodes[a];
+    lo[a] = static_cast<int>(std::lower_bound(sorted_post.begin(), sorted_post.end(), m.first[k]) -
+                             sorted_post.begin());
+    hi[a] = static_cast<int>(std::upper_bound(sorted_post.begin(), sorted_post.end(), m.post[k]) -
+                             sorted_post.begin());
+  }
+  // X = P R on the path rows (zero outside each row's range is never read), then L^-1.
+  const std::size_t ld = static_cast<std::size_t>(r);
+  if (m.x_ws.size() < mm * ld) m.x_ws.resize(mm * ld);
+  double* X = m.x_ws.data();
+  for (std::size_t a = 0; a < mm; ++a) std::fill(X + a * ld + lo[a], X + a * ld + hi[a], 0.0);
+  for (int j = 0; j < r; ++j)
+    for (int t = 0; t < cols[j].n; ++t)
+      X[static_cast<std::size_t>(m.local_ws[m.iperm[cols[j].idx[t]]]) * ld + pos[j]] +=
+          cols[j].val[t];
+  detail::forwardSubstitutePath(X, ld, nodes.data(), mm, m.Lp.data(), m.Lnz.data(), m.Li.data(),
+                                m.Lx.data(), m.local_ws.data(), lo.data(), hi.data());
+  // Y^T Y (lower triangle): rows grouped by range, one blocked Gram product per group.
+  std::vector<int>& by_range = m.range_ws;
+  by_range.resize(mm);
+  for (std::size_t a = 0; a < mm; ++a) by_range[a] = static_cast<int>(a);
+  std::sort(by_range.begin(), by_range.end(),
+            [&](int a, int b) { return lo[a] != lo[b] ? lo[a] < lo[b] : hi[a] < hi[b]; });
+  if (m.g_ws.size() < ld * ld) m.g_ws.resize(ld * ld);
+  std::fill(m.g_ws.begin(), m.g_ws.begin() + ld * ld, 0.0);
+  for (std::size_t g = 0; g < mm;) {
+    const int a0 = by_range[g];
+    m.ptr_ws.clear();
+    std::size_t e = g;
+    for (; e < mm && lo[by_range[e]] == lo[a0] && hi[by_range[e]] == hi[a0]; ++e)
+      m.ptr_ws.push_back(X + static_cast<std::size_t>(by_range[e]) * ld + lo[a0]);
+    if (hi[a0] > lo[a0])
+      detail::gramLowerRows(m.ptr_ws.data(), m.ptr_ws.size(),
+                            static_cast<std::size_t>(hi[a0] - lo[a0]), m.g_ws.data(), ld,
+                            static_cast<std::size_t>(lo[a0]));
+    g = e;
+  }
+  return Eigen::Map<const Eigen::MatrixXd>(m.g_ws.data(), r, r);
 }
 
 std::vector<Eigen::MatrixXd> SparseCholesky::inverseDiagonalBlocks(

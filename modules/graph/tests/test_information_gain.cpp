@@ -94,6 +94,40 @@ TEST(InformationGain, FastEqualsNaiveAndDenseOnRandomGraphs) {
   }
 }
 
+TEST(InformationGain, ConditionalEqualsDenseLogDeterminants) {
+  // Alg. 2 as printed: IG_c(L) = 1/2 log2( |Sigma_r without L| / |Sigma_{r|L}| )
+  //                            = 1/2 log2( det(H_rr) / det(H of the graph without L) ).
+  for (unsigned seed : {5u, 6u}) {
+    FactorGraph g = testgraphs::randomGraph(40, 15, seed);
+    SparseCholesky chol;
+    optimize(g, SolverSettings{}, &chol);
+    factorizeAtEstimate(g, &chol);
+    const std::vector<LandmarkId> L = ids(g);
+    const std::vector<double> fast = conditionalInformationGain(g, chol, L);
+    const Eigen::MatrixXd H = testgraphs::denseInformation(g);
+    int positive = 0;
+    for (std::size_t k = 0; k < L.size(); ++k) {
+      const int c = g.column(VariableKey::landmark(L[k])), n = static_cast<int>(H.rows());
+      std::vector<int> r;
+      for (int i = 0; i < n; ++i)
+        if (i != c && i != c + 1) r.push_back(i);
+      Eigen::MatrixXd Hrr(r.size(), r.size());
+      for (std::size_t a = 0; a < r.size(); ++a)
+        for (std::size_t b = 0; b < r.size(); ++b) Hrr(a, b) = H(r[a], r[b]);
+      FactorGraph reduced = g;
+      reduced.removeLandmark(L[k]);
+      const double dense = 0.5 *
+                           (denseLogDet(Hrr) - denseLogDet(testgraphs::denseInformation(reduced))) /
+                           std::log(2.0);
+      EXPECT_NEAR(fast[k], dense, 1e-9 * std::max(1.0, std::abs(dense))) << "landmark " << L[k];
+      // Conditioning on L gives the poses at least the information of marginalizing L out.
+      EXPECT_GE(fast[k], informationGain(g, chol, {L[k]})[0] - 1e-9);
+      positive += fast[k] > 1e-3;
+    }
+    EXPECT_GT(positive, 5);
+  }
+}
+
 TEST(InformationGain, LandmarkSeenOnceGivesZero) {
   FactorGraph g = testgraphs::randomGraph(40, 15, 8);
   SparseCholesky chol;

@@ -42,7 +42,7 @@ TEST(GraphOptions, DumpListsEveryKey) {
   GraphSlamOptions{}.dumpToTextStream(out);
   for (const std::string& k : GraphSlamOptions::keys())
     EXPECT_NE(out.str().find("\n" + k + " "), std::string::npos) << k;
-  EXPECT_EQ(GraphSlamOptions::keys().size(), 17u);
+  EXPECT_EQ(GraphSlamOptions::keys().size(), 18u);
   std::ostringstream n;
   RangeBearingNoise{}.dumpToTextStream(n);
   for (const std::string& k : RangeBearingNoise::keys())

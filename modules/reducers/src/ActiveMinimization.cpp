@@ -57,7 +57,8 @@ bool sameGains(const std::vector<double>& a, const std::vector<double>& b) {
 std::unique_ptr<Backend> scratchFor(const ScheduleContext& ctx,
                                     const std::vector<LandmarkId>& candidates,
                                     const std::string& mode) {
-  if (ctx.scratch) return ctx.scratch();
+  if (ctx.scratch)
+    if (auto copy = ctx.scratch()) return copy;
   const std::string why = "[MutualInformationReducer] mode = " + mode +
                           " needs a look-ahead copy of backend '" + ctx.backend.name() +
                           "' for Alg. 3";
@@ -78,7 +79,7 @@ std::unique_ptr<Backend> scratchFor(const ScheduleContext& ctx,
 }  // namespace
 
 void checkLookAhead(const ScheduleContext& ctx, const std::string& mode) {
-  if (ctx.scratch) return;
+  if (ctx.scratch && ctx.scratch()) return;
   std::vector<LandmarkId> ids;
   for (const auto& l : ctx.backend.landmarks()) ids.push_back(l.id);
   if (!ids.empty()) scratchFor(ctx, ids, mode);
@@ -101,6 +102,9 @@ ScheduledDrops activeMinimization(const ScheduleContext& ctx, double lambda, std
   if (candidates.empty()) return plan;
 
   auto scratch = scratchFor(ctx, candidates, reason);
+  // Alg. 5 line 5: the gains are those at the optimum Theta* of the graph so far (the graph's
+  // incremental schedule leaves the latest poses dead-reckoned between updates).
+  scratch->finish();
   const auto sequence = greedySequence(*scratch, candidates);
   std::vector<double> gains;
   for (const auto& s : sequence) gains.push_back(s.gain);

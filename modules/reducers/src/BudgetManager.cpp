@@ -60,7 +60,12 @@ std::vector<std::pair<std::string, ReducerChoice>> BudgetManager::askShadows(
 std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex step, bool final) {
   std::vector<Eviction> out;
   ScheduleContext sctx{backend, step, final, {}};
-  if (scratch_factory_) sctx.scratch = [this, &backend] { return scratch_factory_(backend); };
+  // Look-ahead copy: the application's factory, else the backend's own deep copy (clone(), null
+  // when the backend has none; the reducer then falls back, see ActiveMinimization.h).
+  if (scratch_factory_)
+    sctx.scratch = [this, &backend] { return scratch_factory_(backend); };
+  else
+    sctx.scratch = [&backend] { return backend.clone(); };
   const ScheduledDrops plan = active_->scheduled(sctx);
   if (plan.drops.empty() && !plan.marginalize_poses) return out;
 

@@ -203,6 +203,29 @@ TEST(ActiveMinimization, BudgetManagerRunsObjectiveModeOnceAtTheEnd) {
   EXPECT_EQ(manager.posesMarginalized(), 7u);
 }
 
+TEST(ActiveMinimization, BackendCloneIsTheDefaultLookAhead) {
+  // No scratch factory: the manager looks ahead on Backend::clone().
+  struct Copyable : ScriptedBackend {
+    explicit Copyable(const ScriptedBackend& b) : ScriptedBackend(b) {}
+    std::unique_ptr<Backend> clone() const override {
+      ++clones;
+      return std::make_unique<Copyable>(*this);
+    }
+    mutable int clones = 0;
+  };
+  Copyable b(handMade());
+  BudgetManager manager(noCap(), std::make_unique<MutualInformationReducer>(objective()));
+  for (StepIndex s = 0; s <= 100; ++s) EXPECT_TRUE(manager.enforce(b, s).empty());
+  const auto drops = manager.finish(b, 100);
+  ASSERT_EQ(drops.size(), 2u);
+  EXPECT_EQ(drops[0].id, 1);
+  EXPECT_EQ(drops[1].id, 2);
+  EXPECT_GE(b.clones, 1);
+  // Only the planned drops reached the real backend; the look-ahead removed all four candidates
+  // from its copy.
+  EXPECT_EQ(b.removed, (std::vector<LandmarkId>{1, 2}));
+}
+
 TEST(ActiveMinimization, WithoutAFaithfulLookAheadCopyItIsAConfigError) {
   // The fake's gains are not those of any joint covariance (it has none) and no scratch factory
   // is set.

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,12 @@ class Backend {
 
   /// Called once after the last step (the graph solves to the batch optimum here).
   virtual void finish() {}
+
+  /// A disposable deep copy for look-ahead (e.g. the whole greedy sequence of Choudhary et al.
+  /// Alg. 3 run before the real removals): it evolves independently of this backend and gives
+  /// the same estimates, covariances and information gains as this one would after the same
+  /// calls. Null when the backend cannot be copied (the BudgetManager then falls back).
+  virtual std::unique_ptr<Backend> clone() const { return nullptr; }
 };
 
 }  // namespace budget_slam

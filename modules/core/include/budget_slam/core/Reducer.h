@@ -32,7 +32,8 @@ struct ScheduleContext {
   StepIndex step;  ///< last step processed
   bool final;      ///< true only for the call after the last step (BudgetManager::finish)
   /// A disposable copy of `backend` for look-ahead (e.g. the whole greedy sequence of Choudhary
-  /// et al. Alg. 3 before deciding where to stop); empty when the application provides none.
+  /// et al. Alg. 3 before deciding where to stop): the application's factory, else
+  /// Backend::clone(). May be empty, or return null when the backend cannot be copied.
   std::function<std::unique_ptr<Backend>()> scratch;
 };
 

@@ -30,6 +30,9 @@ class EkfBackend : public Backend {
   Eigen::Matrix2d landmarkCovariance(LandmarkId id) const override;
   /// Only the latest pose (StepIndex of the last processed step) and landmarks.
   Eigen::MatrixXd jointCovariance(const std::vector<VariableKey>& vars) const override;
+  /// A copy of the filter (mean, covariance, id map, MRPT options), the sightings and the
+  /// trajectory. MRPT's filter copies by value; the sensory frames it keeps are shared read-only.
+  std::unique_ptr<Backend> clone() const override;
 
   /// false: keep only the latest pose in trajectory() (bounded memory on lifelong runs; the
   /// per-step poses are in the run's steps.csv anyway). Default: true.

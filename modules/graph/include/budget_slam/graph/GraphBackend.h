@@ -38,6 +38,10 @@ class GraphBackend : public Backend {
   Eigen::MatrixXd jointCovariance(const std::vector<VariableKey>& vars) const override;
   std::size_t marginalizePosesWithoutLandmarks(std::size_t keep_last) override;
   void finish() override;
+  /// Deep copy of the graph, the estimate and the bookkeeping (sightings, fresh-id counter,
+  /// incremental schedule, latest pose covariance). The CHOLMOD factorizations are not copied:
+  /// the copy rebuilds them lazily at its first query, with the same result.
+  std::unique_ptr<Backend> clone() const override;
 
   /// Solves to convergence now (what finish() does); returns the solver's report.
   SolveReport optimize();
@@ -48,6 +52,10 @@ class GraphBackend : public Backend {
   std::size_t updateCount() const { return updates_; }
 
  private:
+  /// clone(): everything but the factorization caches (CHOLMOD objects are never shared).
+  GraphBackend(const GraphBackend& other);
+  GraphBackend& operator=(const GraphBackend&) = delete;
+
   struct Track {  ///< sightings of one landmark (Hochdorfer & Schlegel Eq. 1-2)
     std::size_t n = 0;
     Eigen::Vector2d obs_mean = Eigen::Vector2d::Zero();
@@ -77,6 +85,9 @@ class GraphBackend : public Backend {
   std::uint64_t estimate_version_ = 1;
   mutable SparseCholesky query_chol_;
   mutable std::uint64_t query_version_ = 0;
+  /// Estimate version of which an exact factorization was computed, here or in the backend this
+  /// one was cloned from (robotPose() is exact then; the copy refactorizes lazily).
+  mutable std::uint64_t exact_version_ = 0;
   /// Latest pose covariance between factorizations (GraphSlamOptions::exact_pose_covariance).
   mutable std::optional<Eigen::Matrix3d> pose_cov_;
   /// Landmark marginals at landmark_cov_version_.

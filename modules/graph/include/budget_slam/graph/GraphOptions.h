@@ -46,6 +46,10 @@ struct GraphSlamOptions : public mrpt::config::CLoadableOptions {
   /// Readings without landmark ID: nearest neighbour within this Mahalanobis gate (chi2, 2 dof;
   /// 9.21 = 99 %), otherwise a new landmark.
   double association_gate_chi2 = 9.21;
+  /// informationGain(): marginal = DESIGN.md's IG (L marginalized out of the "with" term; a
+  /// landmark seen once gives 0); conditional = Choudhary et al. Alg. 2 as printed (r given L,
+  /// conditionalInformationGain). docs/GRAPH.md "Information gain".
+  std::string information_gain = "marginal";
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
                           const std::string& section) override;

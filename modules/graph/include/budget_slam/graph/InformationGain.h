@@ -27,6 +27,16 @@ namespace budget_slam::graph {
 std::vector<double> informationGain(const FactorGraph& graph, const SparseCholesky& chol,
                                     const std::vector<LandmarkId>& ids);
 
+/// Choudhary et al. Alg. 2 as printed: the "with" term is |Sigma_{r|L}|, r conditioned on L
+/// (line 2: eliminate r with L in the graph), not marginalized over it:
+///   IG_c(L) = 1/2 log2( |Sigma_r without L's factors| / |Sigma_{r|L} with them| )
+///           = -1/2 log2 det(I - A_B Sigma_{B|L} A_B^T),
+/// A_B the whitened pose Jacobians of L's k factors (2k rows), Sigma_{B|L} = Sigma_BB -
+/// Sigma_BL Sigma_LL^-1 Sigma_LB from the full graph (one forward substitution with 2k + 2
+/// right-hand sides). A landmark seen once has IG_c > 0: its factor fixes the pose to a known L.
+std::vector<double> conditionalInformationGain(const FactorGraph& graph, const SparseCholesky& chol,
+                                               const std::vector<LandmarkId>& ids);
+
 /// The sqrt-information rows W of U for landmark `id` and the poses B they act on (exposed for
 /// tests: U = W^T W equals H_BB - H_BL H_LL^-1 H_LB built from the dense information).
 void landmarkInformationOnPoses(const FactorGraph& graph, LandmarkId id, std::vector<StepIndex>* B,

@@ -1,11 +1,21 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 namespace budget_slam::graph {
+
+/// One column of a sparse right-hand side: values on up to 3 scalar indices of H, all of one
+/// variable (a pose's x, y, yaw or a landmark's x, y; such indices lie on one elimination-tree
+/// path).
+struct SparseColumn {
+  int n = 0;
+  std::array<int, 3> idx{};
+  std::array<double, 3> val{};
+};
 
 /// Sparse Cholesky factorization P H P^T = L L^T of a symmetric positive definite H, by CHOLMOD
 /// through Eigen's CholmodSupport (CHOLMOD picks a fill-reducing ordering, AMD or METIS, and a
@@ -39,6 +49,17 @@ class SparseCholesky {
   /// W (H^-1)_{S,S} W^T for a dense W (r x |S|), from Y = L^-1 P E_S W^T: one forward
   /// substitution with r right-hand sides instead of |S| (information gain, low-rank U = W^T W).
   Eigen::MatrixXd inverseQuadraticForm(const std::vector<int>& S, const Eigen::MatrixXd& W) const;
+  /// R^T H^-1 R for a sparse R (n x r) given by its columns (one variable each), from
+  /// Y = L^-1 P R: column j of Y is non-zero only on the etree path of its variable, so with the
+  /// columns sorted by the postorder of their first node, row a of Y is non-zero only on the
+  /// contiguous range of columns whose node lies in a's subtree. The forward substitution and
+  /// the Gram product Y^T Y run on those ranges only (Choudhary et al.'s information gain:
+  /// R = A_B^T, the whitened pose Jacobians of a landmark's sightings).
+  /// Returns the LOWER triangle of the r x r result with its rows and columns in sorted order:
+  /// (*order)[p] = the caller's column at position p. A view of a workspace, valid until the
+  /// next call (not thread-safe, as every query here).
+  Eigen::Map<const Eigen::MatrixXd> inverseGram(const std::vector<SparseColumn>& cols,
+                                                std::vector<int>* order) const;
   /// The diagonal blocks (H^-1)_{S_g,S_g} of several index groups, sharing one forward
   /// substitution (for e.g. every landmark's 2x2 marginal at once).
   std::vector<Eigen::MatrixXd> inverseDiagonalBlocks(

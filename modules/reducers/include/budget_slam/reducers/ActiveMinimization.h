@@ -33,17 +33,20 @@ std::vector<double> objectiveValues(const std::vector<double>& gains, std::size_
 /// rho_k > rho_{k-1} (line 9, strict), or all of them.
 std::size_t objectiveStop(const std::vector<double>& rho);
 
-/// Alg. 3 on ctx.backend as a plan for the BudgetManager: the candidates are the landmarks not
-/// seen in the last `pose_lag` steps; the greedy sequence is computed on ctx.scratch() or, when
-/// the application gave none, on a GaussianStateBackend snapshot of the backend (exact for the
-/// EKF; checked against the backend's own gains, ConfigError naming `mode = <reason>` when they
-/// differ). The plan drops
-/// the prefix before the first increase of rho, then marginalizes the poses that see no kept
-/// landmark except the first and the last `pose_lag` (lines 15-16).
 /// Throws the ConfigError activeMinimization would throw on `ctx` for want of a faithful
 /// look-ahead copy (called at the first step with landmarks, so the run fails early).
 void checkLookAhead(const ScheduleContext& ctx, const std::string& mode);
 
+/// Alg. 3 on ctx.backend as a plan for the BudgetManager.
+/// - Candidates: the landmarks not seen in the last `pose_lag` steps (Sec. IV-C).
+/// - Look-ahead copy: ctx.scratch() (the application's factory or Backend::clone()); when there
+///   is none, a GaussianStateBackend snapshot of the backend (exact for the EKF; checked against
+///   the backend's own gains, ConfigError naming `mode = <reason>` when they differ).
+/// - The copy is first brought to its optimum Theta* (Backend::finish(); Alg. 5 line 5), then
+///   the greedy sequence runs to exhaustion on it at that linearization point (Alg. 3 line 6:
+///   Theta_r* = Theta_s* without L_o, no re-optimization in between).
+/// - The plan drops the prefix before the first increase of rho, then marginalizes the poses
+///   that see no kept landmark except the first and the last `pose_lag` (lines 15-16).
 ScheduledDrops activeMinimization(const ScheduleContext& ctx, double lambda, std::size_t pose_lag,
                                   const std::string& reason);
 

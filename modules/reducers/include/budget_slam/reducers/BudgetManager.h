@@ -53,6 +53,7 @@ class BudgetManager {
   std::vector<Eviction> finish(Backend& backend, StepIndex last_step);
 
   /// Gives reducers a disposable copy of the backend for look-ahead (ScheduleContext::scratch).
+  /// Without one, ScheduleContext::scratch is Backend::clone().
   using ScratchFactory = std::function<std::unique_ptr<Backend>(const Backend&)>;
   void setScratchFactory(ScratchFactory f) { scratch_factory_ = std::move(f); }
 
