@@ -44,6 +44,11 @@ std::size_t objectiveStop(const std::vector<double>& rho) {
   return rho.empty() ? 0 : rho.size() - 1;
 }
 
+std::size_t objectiveMinimum(const std::vector<double>& rho) {
+  if (rho.empty()) return 0;
+  return static_cast<std::size_t>(std::min_element(rho.begin(), rho.end()) - rho.begin());
+}
+
 namespace {
 
 bool sameGains(const std::vector<double>& a, const std::vector<double>& b) {
@@ -86,7 +91,7 @@ void checkLookAhead(const ScheduleContext& ctx, const std::string& mode) {
 }
 
 ScheduledDrops activeMinimization(const ScheduleContext& ctx, double lambda, std::size_t pose_lag,
-                                  const std::string& reason) {
+                                  const std::string& reason, bool global_minimum) {
   ScheduledDrops plan;
   plan.reason = reason;
   plan.marginalize_poses = true;
@@ -108,7 +113,8 @@ ScheduledDrops activeMinimization(const ScheduleContext& ctx, double lambda, std
   const auto sequence = greedySequence(*scratch, candidates);
   std::vector<double> gains;
   for (const auto& s : sequence) gains.push_back(s.gain);
-  const std::size_t k = objectiveStop(objectiveValues(gains, landmarks.size(), lambda));
+  const std::vector<double> rho = objectiveValues(gains, landmarks.size(), lambda);
+  const std::size_t k = global_minimum ? objectiveMinimum(rho) : objectiveStop(rho);
   for (std::size_t i = 0; i < k; ++i) plan.drops.push_back({sequence[i].id, sequence[i].gain});
   return plan;
 }

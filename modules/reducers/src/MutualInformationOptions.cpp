@@ -16,6 +16,10 @@ void MutualInformationOptions::loadFromConfigFile(const mrpt::config::CConfigFil
   lambda = s.readDouble("lambda", lambda, 0.0, 1.0);
   psi = static_cast<std::size_t>(s.readInt("psi", static_cast<long long>(psi), 1));
   pose_lag = static_cast<std::size_t>(s.readInt("pose_lag", static_cast<long long>(pose_lag), 0));
+  const std::string st =
+      s.readChoice("stop", stop == Stop::FirstIncrease ? "first_increase" : "global_minimum",
+                   {"first_increase", "global_minimum"});
+  stop = st == "first_increase" ? Stop::FirstIncrease : Stop::GlobalMinimum;
 }
 
 void MutualInformationOptions::dumpToTextStream(std::ostream& out) const {
@@ -24,10 +28,13 @@ void MutualInformationOptions::dumpToTextStream(std::ostream& out) const {
   out << "lambda                   = " << lambda << "\n";
   out << "psi                      = " << psi << "  // [steps]\n";
   out << "pose_lag                 = " << pose_lag << "  // [steps]\n";
+  out << "stop                     = "
+      << (stop == Stop::FirstIncrease ? "first_increase" : "global_minimum")
+      << "  // first_increase | global_minimum\n";
 }
 
 std::vector<std::string> MutualInformationOptions::keys() {
-  return {"mode", "lambda", "psi", "pose_lag"};
+  return {"mode", "lambda", "psi", "pose_lag", "stop"};
 }
 
 std::string MutualInformationOptions::modeName(Mode m) {

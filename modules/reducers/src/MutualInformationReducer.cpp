@@ -32,13 +32,15 @@ ScheduledDrops MutualInformationReducer::scheduled(const ScheduleContext& ctx) {
       return {};
     case Mode::Objective:
       if (!ctx.final) return {};
-      return activeMinimization(ctx, options_.lambda, options_.pose_lag, "objective");
+      return activeMinimization(ctx, options_.lambda, options_.pose_lag, "objective",
+                                options_.stop == MutualInformationOptions::Stop::GlobalMinimum);
     case Mode::Incremental:
       if (ctx.final) return {};
       // Alg. 5 line 6, one pose a step: minimize once psi poses were added since the last time.
       if (++steps_since_minimization_ < options_.psi) return {};
       steps_since_minimization_ = 0;
-      return activeMinimization(ctx, options_.lambda, options_.pose_lag, "incremental");
+      return activeMinimization(ctx, options_.lambda, options_.pose_lag, "incremental",
+                                options_.stop == MutualInformationOptions::Stop::GlobalMinimum);
   }
   return {};
 }

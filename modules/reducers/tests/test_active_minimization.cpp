@@ -3,6 +3,7 @@
 #include <map>
 #include <set>
 
+#include <mrpt/config/CConfigFileMemory.h>
 #include "FakeBackend.h"
 #include "TestStates.h"
 #include "budget_slam/core/Error.h"
@@ -90,6 +91,38 @@ TEST(ActiveMinimization, ObjectiveValuesAndStopByHand) {
   EXPECT_EQ(objectiveStop(objectiveValues({0.1, 0.2}, 5, 0.0)), 0u);
   // lambda = 1: only memory counts, everything goes.
   EXPECT_EQ(objectiveStop(objectiveValues({0.1, 5.0, 0.2}, 5, 1.0)), 3u);
+}
+
+TEST(ActiveMinimization, GlobalMinimumLooksPastTheFirstIncrease) {
+  // rho rises after the first drop, then falls below its start: first_increase keeps all,
+  // global_minimum drops two.
+  const std::vector<double> rho = {0.4, 0.5, 0.3, 0.35};
+  EXPECT_EQ(objectiveStop(rho), 0u);
+  EXPECT_EQ(objectiveMinimum(rho), 2u);
+  EXPECT_EQ(objectiveMinimum({0.4, 0.3, 0.3}), 1u);  // the first of equal minima
+  EXPECT_EQ(objectiveMinimum({0.4}), 0u);
+  // Never fewer drops than the first-increase rule.
+  const auto r = objectiveValues({0.1, 0.2, 0.3, 2.0}, 10, 0.4);
+  EXPECT_EQ(objectiveMinimum(r), objectiveStop(r));
+}
+
+TEST(ActiveMinimization, StopOptionLoadsAndNamesBadValues) {
+  mrpt::config::CConfigFileMemory ini;
+  MutualInformationOptions o;
+  o.loadFromConfigFile(ini, "MutualInformationReducer");
+  EXPECT_EQ(o.stop, MutualInformationOptions::Stop::FirstIncrease);
+  ini.write("MutualInformationReducer", "stop", "global_minimum");
+  o.loadFromConfigFile(ini, "MutualInformationReducer");
+  EXPECT_EQ(o.stop, MutualInformationOptions::Stop::GlobalMinimum);
+  ini.write("MutualInformationReducer", "stop", "lowest");
+  try {
+    o.loadFromConfigFile(ini, "MutualInformationReducer");
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_STREQ(e.what(),
+                 "[MutualInformationReducer] stop = 'lowest': must be one of first_increase, "
+                 "global_minimum");
+  }
 }
 
 TEST(ActiveMinimization, HandMadeCaseDropsExactlyWhatTheObjectiveSays) {

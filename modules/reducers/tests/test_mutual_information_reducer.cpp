@@ -88,7 +88,7 @@ TEST(MutualInformationReducer, TiesGoToTheLowestId) {
 TEST(MutualInformationReducer, RegisteredWithItsSectionAndKeys) {
   const auto& e = builtinReducers().entry("mi");
   EXPECT_EQ(e.section, "MutualInformationReducer");
-  EXPECT_EQ(e.keys, (std::vector<std::string>{"mode", "lambda", "psi", "pose_lag"}));
+  EXPECT_EQ(e.keys, (std::vector<std::string>{"mode", "lambda", "psi", "pose_lag", "stop"}));
   mrpt::config::CConfigFileMemory ini;
   ini.write("MutualInformationReducer", "mode", "incremental");
   ini.write("MutualInformationReducer", "psi", "30");

@@ -33,6 +33,11 @@ std::vector<double> objectiveValues(const std::vector<double>& gains, std::size_
 /// rho_k > rho_{k-1} (line 9, strict), or all of them.
 std::size_t objectiveStop(const std::vector<double>& rho);
 
+/// The alternative reading of Sec. IV-C ("until the objective function has reached its minimum
+/// value", Fig. 3): the k of the smallest rho_k over the whole sequence (the first of equal
+/// minima). Never fewer drops than objectiveStop(). [MutualInformationReducer] stop.
+std::size_t objectiveMinimum(const std::vector<double>& rho);
+
 /// Throws the ConfigError activeMinimization would throw on `ctx` for want of a faithful
 /// look-ahead copy (called at the first step with landmarks, so the run fails early).
 void checkLookAhead(const ScheduleContext& ctx, const std::string& mode);
@@ -47,7 +52,8 @@ void checkLookAhead(const ScheduleContext& ctx, const std::string& mode);
 ///   Theta_r* = Theta_s* without L_o, no re-optimization in between).
 /// - The plan drops the prefix before the first increase of rho, then marginalizes the poses
 ///   that see no kept landmark except the first and the last `pose_lag` (lines 15-16).
+/// `global_minimum`: stop at objectiveMinimum() instead of objectiveStop().
 ScheduledDrops activeMinimization(const ScheduleContext& ctx, double lambda, std::size_t pose_lag,
-                                  const std::string& reason);
+                                  const std::string& reason, bool global_minimum = false);
 
 }  // namespace budget_slam::reducers

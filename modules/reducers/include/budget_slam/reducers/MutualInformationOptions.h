@@ -22,6 +22,11 @@ struct MutualInformationOptions : public mrpt::config::CLoadableOptions {
   std::size_t psi = 500;  ///< Psi: steps between two minimizations in incremental mode, >= 1
   std::size_t pose_lag = 5;  ///< P: landmarks seen in the last P steps are no Alg. 3 candidates,
                              ///< and the last P poses are never marginalized [steps]
+  /// Where Alg. 3 stops along the greedy sequence:
+  ///  first_increase: at the first rho_k > rho_{k-1} (Alg. 3 line 9, as printed; default).
+  ///  global_minimum: at the smallest rho over the whole sequence (Sec. IV-C, Fig. 3).
+  enum class Stop { FirstIncrease, GlobalMinimum };
+  Stop stop = Stop::FirstIncrease;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
                           const std::string& section) override;
