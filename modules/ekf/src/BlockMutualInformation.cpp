@@ -1,25 +1,13 @@
 #include "budget_slam/ekf/BlockMutualInformation.h"
 
+#include "budget_slam/core/EraseRowsCols.h"
+
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <cmath>
 #include <stdexcept>
 
 namespace budget_slam::ekf {
-namespace {
-
-/// Deletes rows and columns [r, r+k) of a square matrix.
-void eraseRowsCols(Eigen::MatrixXd& M, Eigen::Index r, Eigen::Index k) {
-  const Eigen::Index n = M.rows(), tail = n - r - k;
-  Eigen::MatrixXd out(n - k, n - k);
-  out.topLeftCorner(r, r) = M.topLeftCorner(r, r);
-  out.topRightCorner(r, tail) = M.topRightCorner(r, tail);
-  out.bottomLeftCorner(tail, r) = M.bottomLeftCorner(tail, r);
-  out.bottomRightCorner(tail, tail) = M.bottomRightCorner(tail, tail);
-  M = std::move(out);
-}
-
-}  // namespace
 
 BlockMutualInformation::BlockMutualInformation(const Eigen::MatrixXd& P) : P_(P) {
   const Eigen::Index n = P.rows();

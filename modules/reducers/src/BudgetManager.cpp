@@ -57,6 +57,25 @@ std::vector<std::pair<std::string, ReducerChoice>> BudgetManager::askShadows(
   return out;
 }
 
+Eviction BudgetManager::dropLandmark(Backend& backend, const DropContext& ctx,
+                                     const ReducerChoice& victim, std::string reason) {
+  Eviction e;
+  e.step = ctx.step;
+  e.id = victim.id;
+  e.reducer = active_->name();
+  e.score = victim.score;
+  e.n_before = ctx.landmarks.size();
+  e.mean = std::find_if(ctx.landmarks.begin(), ctx.landmarks.end(), [&](const LandmarkView& l) {
+             return l.id == victim.id;
+           })->mean;
+  e.reason = std::move(reason);
+  e.shadow = askShadows(ctx, victim);
+  backend.removeLandmark(victim.id);
+  e.n_after = backend.landmarkCount();
+  if (!options_.readmit_evicted) evicted_.insert(victim.id);  // only needed to filter
+  return e;
+}
+
 std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex step, bool final) {
   std::vector<Eviction> out;
   ScheduleContext sctx{backend, step, final, {}};
@@ -76,25 +95,12 @@ std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex st
                      [&](const LandmarkView& l) { return l.id == victim.id; }))
       throw std::logic_error("reducer '" + active_->name() + "' scheduled landmark " +
                              std::to_string(victim.id) + ", not in the map");
-    Eviction e;
-    e.step = step;
-    e.id = victim.id;
-    e.reducer = active_->name();
-    e.score = victim.score;
-    e.n_before = landmarks.size();
-    e.mean = std::find_if(landmarks.begin(), landmarks.end(), [&](const LandmarkView& l) {
-               return l.id == victim.id;
-             })->mean;
-    e.reason = plan.reason;
     // The shadows see the same map and the candidates of a cap decision.
     bool all_protected = false;
     const auto candidates =
         dropCandidates(landmarks, step, options_.protect_recent_steps, &all_protected);
-    e.shadow = askShadows({backend, landmarks, candidates, step}, victim);
-    backend.removeLandmark(victim.id);
-    e.n_after = backend.landmarkCount();
-    if (!options_.readmit_evicted) evicted_.insert(victim.id);  // only needed to filter
-    out.push_back(std::move(e));
+    out.push_back(
+        dropLandmark(backend, {backend, landmarks, candidates, step}, victim, plan.reason));
   }
   if (plan.marginalize_poses)
     poses_marginalized_ += backend.marginalizePosesWithoutLandmarks(plan.keep_last_poses);
@@ -122,21 +128,8 @@ std::vector<Eviction> BudgetManager::enforce(Backend& backend, StepIndex step) {
       throw std::logic_error("reducer '" + active_->name() + "' chose landmark " +
                              std::to_string(victim.id) + ", not a candidate");
 
-    Eviction e;
-    e.step = step;
-    e.id = victim.id;
-    e.reducer = active_->name();
-    e.score = victim.score;
-    e.n_before = landmarks.size();
-    e.mean = std::find_if(landmarks.begin(), landmarks.end(), [&](const LandmarkView& l) {
-               return l.id == victim.id;
-             })->mean;
-    e.shadow = askShadows(ctx, victim);
-    backend.removeLandmark(victim.id);
-    e.n_after = backend.landmarkCount();
-    e.reason = all_protected ? "over_cap_all_protected" : "over_cap";
-    if (!options_.readmit_evicted) evicted_.insert(victim.id);  // only needed to filter
-    out.push_back(std::move(e));
+    out.push_back(
+        dropLandmark(backend, ctx, victim, all_protected ? "over_cap_all_protected" : "over_cap"));
   }
   return out;
 }

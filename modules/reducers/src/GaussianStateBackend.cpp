@@ -1,22 +1,11 @@
 #include "budget_slam/reducers/GaussianStateBackend.h"
 
+#include "budget_slam/core/EraseRowsCols.h"
+
 #include <stdexcept>
 #include <string>
 
 namespace budget_slam::reducers {
-namespace {
-
-void eraseRowsCols(Eigen::MatrixXd& M, Eigen::Index r, Eigen::Index k) {
-  const Eigen::Index n = M.rows(), tail = n - r - k;
-  Eigen::MatrixXd out(n - k, n - k);
-  out.topLeftCorner(r, r) = M.topLeftCorner(r, r);
-  out.topRightCorner(r, tail) = M.topRightCorner(r, tail);
-  out.bottomLeftCorner(tail, r) = M.bottomLeftCorner(tail, r);
-  out.bottomRightCorner(tail, tail) = M.bottomRightCorner(tail, tail);
-  M = std::move(out);
-}
-
-}  // namespace
 
 GaussianStateBackend::GaussianStateBackend(std::vector<LandmarkView> landmarks, Eigen::MatrixXd P,
                                            StepIndex step)

@@ -92,6 +92,10 @@ class BudgetManager {
 
   std::vector<Eviction> runScheduled(Backend& backend, StepIndex step, bool final);
   /// Asks the shadows about the current map and counts agreement with the active choice.
+  /// Drops `victim` (a landmark of ctx.landmarks) from the backend: asks the shadows, removes
+  /// it, remembers it when readmission is off, and returns its log record.
+  Eviction dropLandmark(Backend& backend, const DropContext& ctx, const ReducerChoice& victim,
+                        std::string reason);
   std::vector<std::pair<std::string, ReducerChoice>> askShadows(const DropContext& ctx,
                                                                 const ReducerChoice& active);
 };
