@@ -104,7 +104,9 @@ std::vector<double> informationGain(const FactorGraph& graph, const SparseCholes
   std::vector<SparseColumn> AB;
   Eigen::MatrixXd AL, ALs;
   std::vector<int> order;
-  std::vector<double> buf, spare;
+  // Dense scratch of up to (2k)^2 doubles (a megabyte for the most seen landmark), kept per thread
+  // between calls: fresh buffers of that size are page-faulted in on every call.
+  thread_local std::vector<double> buf, spare;
   for (LandmarkId id : ids) {
     const LandmarkNode& l = graph.landmark(id);
     if (l.obs.size() <= 1) {  // seen once: L's factor is absorbed by L

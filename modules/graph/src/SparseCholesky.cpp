@@ -25,53 +25,58 @@ struct SparseCholesky::Impl {
   std::uint64_t version = 0;
   int n = 0;
 
-  // Simplicial LL^T copy of the factor for the partial inverses, built on first use after each
-  // factorization: CSC columns (diagonal first, rows ascending), permutation and etree.
+  // The factor as simplicial LL^T CSC columns for the partial inverses, set up on first use after
+  // each factorization: column k at Li/Lx[Lp[k] .. Lp[k] + Lnz[k] - 1], diagonal first. They point
+  // into CHOLMOD's own simplicial LL^T factor (no copy), or into a copy (Lp_s ...) when CHOLMOD
+  // kept a supernodal factor. Plus the permutation and the elimination tree.
   mutable bool have_L = false;
-  mutable std::vector<int> Lp, Lnz, Li, perm, iperm, parent;
-  mutable std::vector<double> Lx;
+  mutable const int *Lp = nullptr, *Lnz = nullptr, *Li = nullptr;
+  mutable const double* Lx = nullptr;
+  mutable std::size_t nnz = 0;
+  mutable std::vector<int> Lp_s, Lnz_s, Li_s, perm, iperm, parent;
+  mutable std::vector<double> Lx_s;
 
   void extractL() const {
     if (have_L) return;
-    const cholmod_factor* S = chol.factor();
-    if (S->is_super && S->is_ll && S->xtype == CHOLMOD_REAL) {
-      extractSupernodal(*S);
-      return;
+    cholmod_factor* F = chol.factor();
+    if (F->is_super && F->is_ll && F->xtype == CHOLMOD_REAL) {
+      extractSupernodal(*F);
+    } else {
+      // A simplicial LDL^T (CHOLMOD's usual choice on these sparse graphs): converted to LL^T in
+      // place, O(nnz), then read directly. Done here, on the first partial inverse, rather than
+      // in factorize(): callers that only solve or take log-determinants (the naive reference)
+      // never pay for it. solve() and logDet() handle either form.
+      if (!F->is_ll || !F->is_monotonic || F->xtype != CHOLMOD_REAL) {
+        cholmod_common& c = const_cast<Cholmod&>(chol).cholmod();
+        if (!cholmod_change_factor(CHOLMOD_REAL, /*to_ll=*/1, /*to_super=*/0, /*to_packed=*/1,
+                                   /*to_monotonic=*/1, F, &c))
+          throw std::runtime_error("CHOLMOD: cannot convert the factor");
+      }
+      viewSimplicial(*F);
     }
-    cholmod_common& c = const_cast<Cholmod&>(chol).cholmod();
-    cholmod_factor* F = cholmod_copy_factor(chol.factor(), &c);
-    if (!F || !cholmod_change_factor(CHOLMOD_REAL, /*to_ll=*/1, /*to_super=*/0, /*to_packed=*/1,
-                                     /*to_monotonic=*/1, F, &c)) {
-      if (F) cholmod_free_factor(&F, &c);
-      throw std::runtime_error("CHOLMOD: cannot convert the factor");
-    }
-    const int* p = static_cast<const int*>(F->p);
-    const int* nz = static_cast<const int*>(F->nz);
-    const int* i = static_cast<const int*>(F->i);
-    const double* x = static_cast<const double*>(F->x);
-    const int* P = static_cast<const int*>(F->Perm);
-    Lp.assign(n + 1, 0);
-    Lnz.assign(n, 0);
-    for (int k = 0; k < n; ++k) {
-      Lnz[k] = nz[k];
-      Lp[k + 1] = Lp[k] + nz[k];
-    }
-    Li.resize(Lp[n]);
-    Lx.resize(Lp[n]);
+    iperm.resize(n);
+    for (int k = 0; k < n; ++k) iperm[perm[k]] = k;
+    have_L = true;
+  }
+
+  /// CHOLMOD's simplicial LL^T factor read in place: its p, nz, i, x arrays are already CSC
+  /// columns with the diagonal first (possibly with slack between columns, hence nz).
+  void viewSimplicial(const cholmod_factor& F) const {
+    Lp = static_cast<const int*>(F.p);
+    Lnz = static_cast<const int*>(F.nz);
+    Li = static_cast<const int*>(F.i);
+    Lx = static_cast<const double*>(F.x);
+    const int* P = static_cast<const int*>(F.Perm);
+    nnz = 0;
     parent.assign(n, -1);
     perm.resize(n);
-    iperm.resize(n);
     for (int k = 0; k < n; ++k) {
-      std::copy(i + p[k], i + p[k] + nz[k], Li.begin() + Lp[k]);
-      std::copy(x + p[k], x + p[k] + nz[k], Lx.begin() + Lp[k]);
-      // The diagonal comes first; the etree parent is the smallest row below it.
-      for (int q = p[k] + 1; q < p[k] + nz[k]; ++q)
-        if (parent[k] == -1 || i[q] < parent[k]) parent[k] = i[q];
+      nnz += Lnz[k];
+      // The etree parent is the smallest row below the diagonal.
+      for (int q = Lp[k] + 1; q < Lp[k] + Lnz[k]; ++q)
+        if (parent[k] == -1 || Li[q] < parent[k]) parent[k] = Li[q];
       perm[k] = P ? P[k] : k;
     }
-    for (int k = 0; k < n; ++k) iperm[perm[k]] = k;
-    cholmod_free_factor(&F, &c);
-    have_L = true;
   }
 
   /// The CSC columns straight from a supernodal LL^T factor: supernode s holds columns
@@ -85,15 +90,15 @@ struct SparseCholesky::Impl {
     const int* srows = static_cast<const int*>(F.s);
     const double* x = static_cast<const double*>(F.x);
     const int* P = static_cast<const int*>(F.Perm);
-    Lp.assign(n + 1, 0);
-    Lnz.assign(n, 0);
+    Lp_s.assign(n + 1, 0);
+    Lnz_s.assign(n, 0);
     for (std::size_t sn = 0; sn < F.nsuper; ++sn) {
       const int k1 = super[sn], k2 = super[sn + 1], nrows = pi[sn + 1] - pi[sn];
-      for (int k = k1; k < k2; ++k) Lnz[k] = nrows - (k - k1);
+      for (int k = k1; k < k2; ++k) Lnz_s[k] = nrows - (k - k1);
     }
-    for (int k = 0; k < n; ++k) Lp[k + 1] = Lp[k] + Lnz[k];
-    Li.resize(Lp[n]);
-    Lx.resize(Lp[n]);
+    for (int k = 0; k < n; ++k) Lp_s[k + 1] = Lp_s[k] + Lnz_s[k];
+    Li_s.resize(Lp_s[n]);
+    Lx_s.resize(Lp_s[n]);
     parent.assign(n, -1);
     for (std::size_t sn = 0; sn < F.nsuper; ++sn) {
       const int k1 = super[sn], k2 = super[sn + 1], nrows = pi[sn + 1] - pi[sn];
@@ -101,17 +106,19 @@ struct SparseCholesky::Impl {
       const double* blk = x + px[sn];
       for (int k = k1; k < k2; ++k) {
         const int c = k - k1;
-        std::copy(rows + c, rows + nrows, Li.begin() + Lp[k]);
+        std::copy(rows + c, rows + nrows, Li_s.begin() + Lp_s[k]);
         std::copy(blk + static_cast<std::size_t>(c) * nrows + c,
-                  blk + static_cast<std::size_t>(c + 1) * nrows, Lx.begin() + Lp[k]);
+                  blk + static_cast<std::size_t>(c + 1) * nrows, Lx_s.begin() + Lp_s[k]);
         if (c + 1 < nrows) parent[k] = rows[c + 1];  // rows ascending: the first below diagonal
       }
     }
     perm.resize(n);
-    iperm.resize(n);
     for (int k = 0; k < n; ++k) perm[k] = P ? P[k] : k;
-    for (int k = 0; k < n; ++k) iperm[perm[k]] = k;
-    have_L = true;
+    Lp = Lp_s.data();
+    Lnz = Lnz_s.data();
+    Li = Li_s.data();
+    Lx = Lx_s.data();
+    nnz = Lp_s[n];
   }
 
   // Postorder of the elimination tree (children before parents, each subtree a contiguous
@@ -154,29 +161,56 @@ struct SparseCholesky::Impl {
       const int k = by_post[p];
       if (parent[k] != -1) first[parent[k]] = std::min(first[parent[k]], first[k]);
     }
+    findDenseTail();
     have_post = true;
   }
 
-  // Workspaces reused between calls: fresh multi-megabyte buffers per landmark cost more in
-  // page faults than the arithmetic (not thread-safe; one backend per thread).
-  mutable std::vector<char> seen_ws;
-  mutable std::vector<int> local_ws;
+  // The dense tail of the factor: the last t columns of L when they form a full lower triangle
+  // (the root separator, which the fill-reducing ordering leaves for the end; t = 104 of 21206
+  // on the full Victoria Park graph). Every etree path of a connected graph ends in it, so the
+  // partial inverses spend most of their flops there (about 70% for the information gain on
+  // Victoria Park); it is kept as a dense t x t block so those parts run as dense blocked
+  // kernels (triangular solve and rank-t update) instead of row-by-row sparse updates.
+  static constexpr int kMinDenseTail = 16;  ///< below this the sparse kernels are as good
+  mutable int tail = 0;
+  mutable Eigen::MatrixXd Ltail;  ///< L_TT, lower triangle, column-major
+
+  void findDenseTail() const {
+    int t = 0;
+    while (t < n && Lnz[n - 1 - t] == t + 1) ++t;  // column k has all rows k .. n-1
+    tail = t >= kMinDenseTail ? t : 0;
+    Ltail.setZero(tail, tail);
+    const int k0 = n - tail;
+    for (int k = k0; k < n; ++k)
+      for (int q = Lp[k]; q < Lp[k] + Lnz[k]; ++q) Ltail(Li[q] - k0, k - k0) = Lx[q];
+  }
+
   using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  mutable std::vector<double> x_ws;
-  // inverseGram's workspaces (kept: fresh multi-megabyte buffers per landmark page-fault).
-  mutable std::vector<int> start_ws, order_ws, pos_ws, post_ws, nodes_ws, lo_ws, hi_ws, range_ws;
-  mutable std::vector<const double*> ptr_ws;
-  mutable std::vector<char> mark_ws;  ///< all zero between calls
-  mutable std::vector<double> g_ws;
+  // Workspaces of the partial inverses, reused between calls and between factorizations: fresh
+  // multi-megabyte buffers cost more in page faults than the arithmetic, and callers build a new
+  // SparseCholesky per query (factorizeAtEstimate). One per thread, so queries on different
+  // threads do not share them; a returned view is valid until the thread's next query.
+  struct Workspace {
+    std::vector<char> seen;
+    std::vector<int> local, start, pos, post, nodes, lo, hi, range;
+    std::vector<const double*> ptr;
+    std::vector<char> mark;  ///< all zero between calls
+    std::vector<double> x, g;
+  };
+  static Workspace& workspace() {
+    thread_local Workspace w;
+    return w;
+  }
 
   /// Forward substitution L X = P E_S R restricted to the union of etree paths of S, R being
   /// |S| x r (identity when null). Returns X (rows: the path nodes, ascending), a view of a
   /// workspace valid until the next call.
   Eigen::Map<RowMat> forward(const std::vector<int>& S, const Eigen::MatrixXd* R = nullptr) const {
     extractL();
+    Workspace& w = workspace();
     std::vector<int> nodes;
-    seen_ws.assign(n, 0);
-    std::vector<char>& seen = seen_ws;
+    w.seen.assign(n, 0);
+    std::vector<char>& seen = w.seen;
     for (int c : S) {
       if (c < 0 || c >= n) throw std::out_of_range("SparseCholesky: index out of range");
       for (int k = iperm[c]; k != -1 && !seen[k]; k = parent[k]) {
@@ -185,14 +219,14 @@ struct SparseCholesky::Impl {
       }
     }
     std::sort(nodes.begin(), nodes.end());
-    local_ws.resize(n);
-    std::vector<int>& local = local_ws;
+    w.local.resize(n);
+    std::vector<int>& local = w.local;
     for (std::size_t a = 0; a < nodes.size(); ++a) local[nodes[a]] = static_cast<int>(a);
     const Eigen::Index cols = R ? R->cols() : static_cast<Eigen::Index>(S.size());
     const std::size_t size = nodes.size() * static_cast<std::size_t>(cols);
-    if (x_ws.size() < size) x_ws.resize(size);
-    std::fill(x_ws.begin(), x_ws.begin() + size, 0.0);
-    Eigen::Map<RowMat> X(x_ws.data(), nodes.size(), cols);
+    if (w.x.size() < size) w.x.resize(size);
+    std::fill(w.x.begin(), w.x.begin() + size, 0.0);
+    Eigen::Map<RowMat> X(w.x.data(), nodes.size(), cols);
     for (std::size_t j = 0; j < S.size(); ++j) {
       if (R)
         X.row(local[iperm[S[j]]]) += R->row(j);
@@ -258,7 +292,7 @@ double SparseCholesky::logDet() const {
 
 std::size_t SparseCholesky::factorNonZeros() const {
   impl_->extractL();
-  return impl_->Lp.back();
+  return impl_->nnz;
 }
 
 Eigen::MatrixXd SparseCholesky::inverseBlock(const std::vector<int>& S) const {
@@ -288,11 +322,12 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
   if (!impl_->ok) throw std::logic_error("SparseCholesky: no factorization");
   const Impl& m = *impl_;
   m.postorder();
+  Impl::Workspace& w = Impl::workspace();
   const int r = static_cast<int>(cols.size());
   order->resize(r);
   if (r == 0) return Eigen::Map<const Eigen::MatrixXd>(nullptr, 0, 0);
   // First node of each column (the first eliminated of its indices; the others are ancestors).
-  std::vector<int>& start_node = m.start_ws;
+  std::vector<int>& start_node = w.start;
   start_node.resize(r);
   for (int j = 0; j < r; ++j) {
     const SparseColumn& c = cols[j];
@@ -309,7 +344,7 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
   for (int j = 0; j < r; ++j) (*order)[j] = j;
   std::stable_sort(order->begin(), order->end(),
                    [&](int a, int b) { return m.post[start_node[a]] < m.post[start_node[b]]; });
-  std::vector<int>&pos = m.pos_ws, &sorted_post = m.post_ws;
+  std::vector<int>&pos = w.pos, &sorted_post = w.post;
   pos.resize(r);
   sorted_post.resize(r);
   for (int p = 0; p < r; ++p) {
@@ -317,20 +352,27 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
     sorted_post[p] = m.post[start_node[(*order)[p]]];
   }
   // The union of the etree paths, ascending, and each node's range of columns.
-  std::vector<int>& nodes = m.nodes_ws;
+  std::vector<int>& nodes = w.nodes;
   nodes.clear();
-  m.mark_ws.resize(m.n, 0);
+  w.mark.resize(m.n, 0);
   for (int j = 0; j < r; ++j)
-    for (int k = start_node[j]; k != -1 && !m.mark_ws[k]; k = m.parent[k]) {
-      m.mark_ws[k] = 1;
+    for (int k = start_node[j]; k != -1 && !w.mark[k]; k = m.parent[k]) {
+      w.mark[k] = 1;
       nodes.push_back(k);
     }
-  for (const int k : nodes) m.mark_ws[k] = 0;  // clean for the next call
+  // The tail's nodes are always rows of X (zero rows where no path passes: Y = L^-1 P R is exact
+  // on any superset of the paths), so that the dense kernels see the whole tail.
+  for (int k = m.n - m.tail; k < m.n; ++k)
+    if (!w.mark[k]) {
+      w.mark[k] = 1;
+      nodes.push_back(k);
+    }
+  for (const int k : nodes) w.mark[k] = 0;  // clean for the next call
   std::sort(nodes.begin(), nodes.end());
-  m.local_ws.resize(m.n);
-  for (std::size_t a = 0; a < nodes.size(); ++a) m.local_ws[nodes[a]] = static_cast<int>(a);
+  w.local.resize(m.n);
+  for (std::size_t a = 0; a < nodes.size(); ++a) w.local[nodes[a]] = static_cast<int>(a);
   const std::size_t mm = nodes.size();
-  std::vector<int>&lo = m.lo_ws, &hi = m.hi_ws;
+  std::vector<int>&lo = w.lo, &hi = w.hi;
   lo.resize(mm);
   hi.resize(mm);
   for (std::size_t a = 0; a < mm; ++a) {
@@ -340,38 +382,62 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
     hi[a] = static_cast<int>(std::upper_bound(sorted_post.begin(), sorted_post.end(), m.post[k]) -
                              sorted_post.begin());
   }
+  // The dense tail's rows (the last m.tail rows of X) are left to the dense kernels below; the
+  // sparse substitution only pushes its updates into them, leaving Z_T = (P R)_T - L_TD Y_D
+  // there (D: the other path rows). The dense kernels work on the tail rows' full width (a tail
+  // node below a column's first node holds zeros in that column), so those rows are zeroed in
+  // full.
+  const std::size_t tail = static_cast<std::size_t>(m.tail);
+  const std::size_t ms = mm - tail;  // rows done by the sparse kernels
+  for (std::size_t a = ms; a < mm; ++a) {
+    lo[a] = 0;
+    hi[a] = r;
+  }
   // X = P R on the path rows (zero outside each row's range is never read), then L^-1.
   const std::size_t ld = static_cast<std::size_t>(r);
-  if (m.x_ws.size() < mm * ld) m.x_ws.resize(mm * ld);
-  double* X = m.x_ws.data();
+  if (w.x.size() < mm * ld) w.x.resize(mm * ld);
+  double* X = w.x.data();
   for (std::size_t a = 0; a < mm; ++a) std::fill(X + a * ld + lo[a], X + a * ld + hi[a], 0.0);
   for (int j = 0; j < r; ++j)
     for (int t = 0; t < cols[j].n; ++t)
-      X[static_cast<std::size_t>(m.local_ws[m.iperm[cols[j].idx[t]]]) * ld + pos[j]] +=
-          cols[j].val[t];
-  detail::forwardSubstitutePath(X, ld, nodes.data(), mm, m.Lp.data(), m.Lnz.data(), m.Li.data(),
-                                m.Lx.data(), m.local_ws.data(), lo.data(), hi.data());
-  // Y^T Y (lower triangle): rows grouped by range, one blocked Gram product per group.
-  std::vector<int>& by_range = m.range_ws;
-  by_range.resize(mm);
-  for (std::size_t a = 0; a < mm; ++a) by_range[a] = static_cast<int>(a);
+      X[static_cast<std::size_t>(w.local[m.iperm[cols[j].idx[t]]]) * ld + pos[j]] += cols[j].val[t];
+  detail::forwardSubstitutePath(X, ld, nodes.data(), ms, m.Lp, m.Lnz, m.Li, m.Lx, w.local.data(),
+                                lo.data(), hi.data());
+  // Y^T Y (lower triangle). The full-width rows just before the tail (ancestors of every column,
+  // often the chain below the root separator) join the tail's dense rank update; the other rows
+  // are grouped by range, one blocked Gram product per group.
+  std::size_t mg = ms;
+  while (tail > 0 && mg > 0 && lo[mg - 1] == 0 && hi[mg - 1] == r) --mg;
+  std::vector<int>& by_range = w.range;
+  by_range.resize(mg);
+  for (std::size_t a = 0; a < mg; ++a) by_range[a] = static_cast<int>(a);
   std::sort(by_range.begin(), by_range.end(),
             [&](int a, int b) { return lo[a] != lo[b] ? lo[a] < lo[b] : hi[a] < hi[b]; });
-  if (m.g_ws.size() < ld * ld) m.g_ws.resize(ld * ld);
-  std::fill(m.g_ws.begin(), m.g_ws.begin() + ld * ld, 0.0);
-  for (std::size_t g = 0; g < mm;) {
+  if (w.g.size() < ld * ld) w.g.resize(ld * ld);
+  std::fill(w.g.begin(), w.g.begin() + ld * ld, 0.0);
+  for (std::size_t g = 0; g < mg;) {
     const int a0 = by_range[g];
-    m.ptr_ws.clear();
+    w.ptr.clear();
     std::size_t e = g;
-    for (; e < mm && lo[by_range[e]] == lo[a0] && hi[by_range[e]] == hi[a0]; ++e)
-      m.ptr_ws.push_back(X + static_cast<std::size_t>(by_range[e]) * ld + lo[a0]);
+    for (; e < mg && lo[by_range[e]] == lo[a0] && hi[by_range[e]] == hi[a0]; ++e)
+      w.ptr.push_back(X + static_cast<std::size_t>(by_range[e]) * ld + lo[a0]);
     if (hi[a0] > lo[a0])
-      detail::gramLowerRows(m.ptr_ws.data(), m.ptr_ws.size(),
-                            static_cast<std::size_t>(hi[a0] - lo[a0]), m.g_ws.data(), ld,
-                            static_cast<std::size_t>(lo[a0]));
+      detail::gramLowerRows(w.ptr.data(), w.ptr.size(), static_cast<std::size_t>(hi[a0] - lo[a0]),
+                            w.g.data(), ld, static_cast<std::size_t>(lo[a0]));
     g = e;
   }
-  return Eigen::Map<const Eigen::MatrixXd>(m.g_ws.data(), r, r);
+  if (tail > 0) {
+    // The tail rows: Y_T = L_TT^-1 Z_T (dense triangular solve), then G += Yg^T Yg over them and
+    // the full-width rows before them (one dense symmetric rank update). Same arithmetic as the
+    // sparse kernels, in Eigen's blocked ones.
+    using RowBlock = Eigen::Map<Impl::RowMat, 0, Eigen::OuterStride<>>;
+    RowBlock Y(X + ms * ld, static_cast<Eigen::Index>(tail), r, Eigen::OuterStride<>(ld));
+    m.Ltail.triangularView<Eigen::Lower>().solveInPlace(Y);
+    const RowBlock Yg(X + mg * ld, static_cast<Eigen::Index>(mm - mg), r, Eigen::OuterStride<>(ld));
+    Eigen::Map<Eigen::MatrixXd> G(w.g.data(), r, r);
+    G.selfadjointView<Eigen::Lower>().rankUpdate(Yg.transpose());
+  }
+  return Eigen::Map<const Eigen::MatrixXd>(w.g.data(), r, r);
 }
 
 std::vector<Eigen::MatrixXd> SparseCholesky::inverseDiagonalBlocks(

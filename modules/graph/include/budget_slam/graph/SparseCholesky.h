@@ -54,10 +54,13 @@ class SparseCholesky {
   /// columns sorted by the postorder of their first node, row a of Y is non-zero only on the
   /// contiguous range of columns whose node lies in a's subtree. The forward substitution and
   /// the Gram product Y^T Y run on those ranges only (Choudhary et al.'s information gain:
-  /// R = A_B^T, the whitened pose Jacobians of a landmark's sightings).
+  /// R = A_B^T, the whitened pose Jacobians of a landmark's sightings). The rows of the dense
+  /// root separator at the end of every path (the factor's last columns when they form a full
+  /// triangle) are done by dense kernels instead: Y_T = L_TT^-1 Z_T and Y_T^T Y_T.
   /// Returns the LOWER triangle of the r x r result with its rows and columns in sorted order:
-  /// (*order)[p] = the caller's column at position p. A view of a workspace, valid until the
-  /// next call (not thread-safe, as every query here).
+  /// (*order)[p] = the caller's column at position p. A view of a per-thread workspace, valid
+  /// until the thread's next query on any SparseCholesky (a SparseCholesky itself is not
+  /// thread-safe).
   Eigen::Map<const Eigen::MatrixXd> inverseGram(const std::vector<SparseColumn>& cols,
                                                 std::vector<int>* order) const;
   /// The diagonal blocks (H^-1)_{S_g,S_g} of several index groups, sharing one forward
