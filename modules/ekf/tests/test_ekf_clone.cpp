@@ -1,7 +1,9 @@
 // EkfBackend::clone(): a copy of MRPT's filter that gives the same state and gains as the
 // original and evolves on its own (the look-ahead copy of Choudhary et al. Alg. 3).
 #include <gtest/gtest.h>
+
 #include <mrpt/config/CConfigFile.h>
+#include "BackendExpectations.h"
 
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/ekf/EkfBackend.h"
@@ -10,28 +12,6 @@ using namespace budget_slam;
 
 namespace {
 const std::string kRoot = BUDGET_SLAM_SOURCE_DIR;
-
-std::vector<LandmarkId> idsOf(const Backend& b) {
-  std::vector<LandmarkId> ids;
-  for (const LandmarkView& v : b.landmarks()) ids.push_back(v.id);
-  return ids;
-}
-
-void expectSame(const Backend& a, const Backend& b) {
-  const auto la = a.landmarks(), lb = b.landmarks();
-  ASSERT_EQ(la.size(), lb.size());
-  for (std::size_t k = 0; k < la.size(); ++k) {
-    EXPECT_EQ(la[k].id, lb[k].id);
-    EXPECT_EQ(la[k].mean, lb[k].mean);
-    EXPECT_EQ(la[k].cov, lb[k].cov);
-    EXPECT_EQ(la[k].obs_mean, lb[k].obs_mean);
-  }
-  EXPECT_EQ(a.robotPose().mean, b.robotPose().mean);
-  EXPECT_EQ(a.robotPose().cov, b.robotPose().cov);
-  EXPECT_EQ(a.trajectory().size(), b.trajectory().size());
-  const auto ids = idsOf(a);
-  EXPECT_EQ(a.informationGain(ids), b.informationGain(ids));
-}
 }  // namespace
 
 TEST(EkfClone, GivesTheSameStateAndEvolvesIndependently) {
@@ -46,11 +26,11 @@ TEST(EkfClone, GivesTheSameStateAndEvolvesIndependently) {
 
   std::unique_ptr<Backend> copy = b.clone();
   ASSERT_NE(copy, nullptr);
-  expectSame(b, *copy);
+  budget_slam::testing::expectSameBackend(b, *copy);
   std::unique_ptr<Backend> twin = b.clone();
 
   // Removals and steps on the copy leave the original alone.
-  const auto ids = idsOf(b);
+  const auto ids = budget_slam::testing::idsOf(b);
   const auto gains = b.informationGain(ids);
   copy->removeLandmark(ids[0]);
   copy->removeLandmark(ids[3]);
@@ -65,5 +45,5 @@ TEST(EkfClone, GivesTheSameStateAndEvolvesIndependently) {
     b.process(steps[k]);
     twin->process(steps[k]);
   }
-  expectSame(b, *twin);
+  budget_slam::testing::expectSameBackend(b, *twin);
 }

@@ -2,6 +2,8 @@
 // the same estimates, covariances and information gains as the original and evolves on its own.
 #include <gtest/gtest.h>
 
+#include "BackendExpectations.h"
+
 #include "TestGraphs.h"
 #include "budget_slam/graph/GraphBackend.h"
 
@@ -16,36 +18,6 @@ RangeBearingNoise noiseOf() {
   return n;
 }
 
-std::vector<LandmarkId> idsOf(const Backend& b) {
-  std::vector<LandmarkId> ids;
-  for (const LandmarkView& v : b.landmarks()) ids.push_back(v.id);
-  return ids;
-}
-
-/// Same poses, landmarks, covariances and gains, bit for bit.
-void expectSame(const Backend& a, const Backend& b) {
-  const auto ta = a.trajectory(), tb = b.trajectory();
-  ASSERT_EQ(ta.size(), tb.size());
-  for (std::size_t k = 0; k < ta.size(); ++k) {
-    EXPECT_EQ(ta[k].step, tb[k].step);
-    EXPECT_EQ(ta[k].pose.x, tb[k].pose.x);
-    EXPECT_EQ(ta[k].pose.y, tb[k].pose.y);
-    EXPECT_EQ(ta[k].pose.phi, tb[k].pose.phi);
-  }
-  const auto la = a.landmarks(), lb = b.landmarks();
-  ASSERT_EQ(la.size(), lb.size());
-  for (std::size_t k = 0; k < la.size(); ++k) {
-    EXPECT_EQ(la[k].id, lb[k].id);
-    EXPECT_EQ(la[k].mean, lb[k].mean);
-    EXPECT_EQ(la[k].cov, lb[k].cov);
-    EXPECT_EQ(la[k].n_obs, lb[k].n_obs);
-    EXPECT_EQ(la[k].obs_mean, lb[k].obs_mean);
-    EXPECT_EQ(la[k].last_step, lb[k].last_step);
-  }
-  EXPECT_EQ(a.robotPose().cov, b.robotPose().cov);
-  const auto ids = idsOf(a);
-  EXPECT_EQ(a.informationGain(ids), b.informationGain(ids));
-}
 }  // namespace
 
 TEST(GraphClone, GivesTheSameAnswersAndEvolvesIndependently) {
@@ -59,13 +31,13 @@ TEST(GraphClone, GivesTheSameAnswersAndEvolvesIndependently) {
   std::unique_ptr<Backend> copy = b.clone();
   ASSERT_NE(copy, nullptr);
   EXPECT_EQ(copy->name(), "graph");
-  expectSame(b, *copy);
+  budget_slam::testing::expectSameBackend(b, *copy);
   // A copy taken after queries (the original holds a factorization; the copy rebuilds its own).
   std::unique_ptr<Backend> twin = b.clone();
-  expectSame(b, *twin);
+  budget_slam::testing::expectSameBackend(b, *twin);
 
   // The copy loses landmarks and poses; the original does not notice.
-  const auto ids = idsOf(*copy);
+  const auto ids = budget_slam::testing::idsOf(*copy);
   const std::vector<double> gains_before = b.informationGain(ids);
   std::size_t removed = 0;
   for (const LandmarkView& v : copy->landmarks())
@@ -83,8 +55,8 @@ TEST(GraphClone, GivesTheSameAnswersAndEvolvesIndependently) {
     b.process(run.steps[k]);
     twin->process(run.steps[k]);
   }
-  expectSame(b, *twin);
+  budget_slam::testing::expectSameBackend(b, *twin);
   b.finish();
   twin->finish();
-  expectSame(b, *twin);
+  budget_slam::testing::expectSameBackend(b, *twin);
 }

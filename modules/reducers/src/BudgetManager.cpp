@@ -89,10 +89,15 @@ std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex st
   if (plan.drops.empty() && !plan.marginalize_poses) return out;
 
   if (!plan.drops.empty() && before_drop_event_) before_drop_event_(backend, step);
+  // The map as the shadows must see it before each drop. Removing a landmark leaves the others'
+  // means alone in both backends, so without shadows (which also read covariances, and on the
+  // graph each fresh landmarks() refactorizes) one view of the map serves the whole event.
+  std::vector<LandmarkView> landmarks = backend.landmarks();
   for (const ReducerChoice& victim : plan.drops) {
-    const auto landmarks = backend.landmarks();
-    if (std::none_of(landmarks.begin(), landmarks.end(),
-                     [&](const LandmarkView& l) { return l.id == victim.id; }))
+    if (!shadows_.empty() && !out.empty()) landmarks = backend.landmarks();
+    const auto it = std::find_if(landmarks.begin(), landmarks.end(),
+                                 [&](const LandmarkView& l) { return l.id == victim.id; });
+    if (it == landmarks.end())
       throw std::logic_error("reducer '" + active_->name() + "' scheduled landmark " +
                              std::to_string(victim.id) + ", not in the map");
     // The shadows see the same map and the candidates of a cap decision.
@@ -101,6 +106,7 @@ std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex st
         dropCandidates(landmarks, step, options_.protect_recent_steps, &all_protected);
     out.push_back(
         dropLandmark(backend, {backend, landmarks, candidates, step}, victim, plan.reason));
+    if (shadows_.empty()) landmarks.erase(it);
   }
   if (plan.marginalize_poses)
     poses_marginalized_ += backend.marginalizePosesWithoutLandmarks(plan.keep_last_poses);

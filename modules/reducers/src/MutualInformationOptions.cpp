@@ -16,10 +16,9 @@ void MutualInformationOptions::loadFromConfigFile(const mrpt::config::CConfigFil
   lambda = s.readDouble("lambda", lambda, 0.0, 1.0);
   psi = static_cast<std::size_t>(s.readInt("psi", static_cast<long long>(psi), 1));
   pose_lag = static_cast<std::size_t>(s.readInt("pose_lag", static_cast<long long>(pose_lag), 0));
-  const std::string st =
-      s.readChoice("stop", stop == Stop::FirstIncrease ? "first_increase" : "global_minimum",
-                   {"first_increase", "global_minimum"});
-  stop = st == "first_increase" ? Stop::FirstIncrease : Stop::GlobalMinimum;
+  const std::string st = s.readChoice(
+      "stop", stopName(stop), {stopName(Stop::FirstIncrease), stopName(Stop::GlobalMinimum)});
+  stop = st == stopName(Stop::FirstIncrease) ? Stop::FirstIncrease : Stop::GlobalMinimum;
 }
 
 void MutualInformationOptions::dumpToTextStream(std::ostream& out) const {
@@ -28,13 +27,16 @@ void MutualInformationOptions::dumpToTextStream(std::ostream& out) const {
   out << "lambda                   = " << lambda << "\n";
   out << "psi                      = " << psi << "  // [steps]\n";
   out << "pose_lag                 = " << pose_lag << "  // [steps]\n";
-  out << "stop                     = "
-      << (stop == Stop::FirstIncrease ? "first_increase" : "global_minimum")
+  out << "stop                     = " << stopName(stop)
       << "  // first_increase | global_minimum\n";
 }
 
 std::vector<std::string> MutualInformationOptions::keys() {
   return {"mode", "lambda", "psi", "pose_lag", "stop"};
+}
+
+std::string MutualInformationOptions::stopName(Stop s) {
+  return s == Stop::FirstIncrease ? "first_increase" : "global_minimum";
 }
 
 std::string MutualInformationOptions::modeName(Mode m) {

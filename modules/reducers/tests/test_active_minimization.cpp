@@ -3,7 +3,6 @@
 #include <map>
 #include <set>
 
-#include <mrpt/config/CConfigFileMemory.h>
 #include "FakeBackend.h"
 #include "TestStates.h"
 #include "budget_slam/core/Error.h"
@@ -104,25 +103,6 @@ TEST(ActiveMinimization, GlobalMinimumLooksPastTheFirstIncrease) {
   // Never fewer drops than the first-increase rule.
   const auto r = objectiveValues({0.1, 0.2, 0.3, 2.0}, 10, 0.4);
   EXPECT_EQ(objectiveMinimum(r), objectiveStop(r));
-}
-
-TEST(ActiveMinimization, StopOptionLoadsAndNamesBadValues) {
-  mrpt::config::CConfigFileMemory ini;
-  MutualInformationOptions o;
-  o.loadFromConfigFile(ini, "MutualInformationReducer");
-  EXPECT_EQ(o.stop, MutualInformationOptions::Stop::FirstIncrease);
-  ini.write("MutualInformationReducer", "stop", "global_minimum");
-  o.loadFromConfigFile(ini, "MutualInformationReducer");
-  EXPECT_EQ(o.stop, MutualInformationOptions::Stop::GlobalMinimum);
-  ini.write("MutualInformationReducer", "stop", "lowest");
-  try {
-    o.loadFromConfigFile(ini, "MutualInformationReducer");
-    FAIL() << "no error";
-  } catch (const std::exception& e) {
-    EXPECT_STREQ(e.what(),
-                 "[MutualInformationReducer] stop = 'lowest': must be one of first_increase, "
-                 "global_minimum");
-  }
 }
 
 TEST(ActiveMinimization, HandMadeCaseDropsExactlyWhatTheObjectiveSays) {

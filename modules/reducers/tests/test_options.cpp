@@ -63,6 +63,20 @@ TEST(MutualInformationOptions, BadValuesNameTheKey) {
   EXPECT_EQ(o.mode, MutualInformationOptions::Mode::Objective);
 }
 
+TEST(MutualInformationOptions, StopLoadsAndNamesBadValues) {
+  mrpt::config::CConfigFileMemory ini;
+  MutualInformationOptions o;
+  o.loadFromConfigFile(ini, "MutualInformationReducer");
+  EXPECT_EQ(o.stop, MutualInformationOptions::Stop::FirstIncrease);
+  ini.write("MutualInformationReducer", "stop", "global_minimum");
+  o.loadFromConfigFile(ini, "MutualInformationReducer");
+  EXPECT_EQ(o.stop, MutualInformationOptions::Stop::GlobalMinimum);
+  ini.write("MutualInformationReducer", "stop", "lowest");
+  EXPECT_EQ(errorOf([&] { o.loadFromConfigFile(ini, "MutualInformationReducer"); }),
+            "[MutualInformationReducer] stop = 'lowest': must be one of first_increase, "
+            "global_minimum");
+}
+
 TEST(CoverageOptions, DefaultsAndBadValues) {
   mrpt::config::CConfigFileMemory ini;
   CoverageOptions o;

@@ -35,6 +35,7 @@ struct MutualInformationOptions : public mrpt::config::CLoadableOptions {
   /// Keys of the section, for unknown-key checks.
   static std::vector<std::string> keys();
   static std::string modeName(Mode m);
+  static std::string stopName(Stop s);
 };
 
 }  // namespace budget_slam::reducers
