@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Rebuilds the shipped rawlogs (rawlog + ground truth + sidecar ini) from the project's gzipped
-# copies of the public datasets in data/datasets (see data/README.md) and the scenario simulator.
+# copies of the public datasets in data/datasets (see data/README.md) and the scenario simulator;
+# the sidecars of the rawlogs named in data/minimization get those settings appended.
 #   tools/make_rawlogs.sh [OUT_DIR]      default OUT_DIR: rawlogs/
 # Binaries are taken from $BUDGET_SLAM_BIN (default: build/bin). The kf-slam demo files in
 # rawlogs/ are copies of MRPT's and are not rebuilt here.
@@ -25,3 +26,9 @@ data=data/datasets
 "$bin/budget-simulate" --scenario rooms --seed 1 -o "$out/rooms.rawlog"
 "$bin/budget-simulate" --scenario paper-synthetic --seed 1 -o "$out/paper_synthetic.rawlog"
 "$bin/budget-simulate" --scenario park --seed 1 -o "$out/park.rawlog"
+
+# Per-rawlog reduced-landmark SLAM settings (the paper's psi; lambda / stop calibrated to its
+# reductions, docs/ALGORITHMS.md "Calibration") go after the sensor noise in the sidecar.
+for settings in data/minimization/*.ini; do
+  cat "$settings" >> "$out/$(basename "$settings")"
+done

@@ -2,6 +2,7 @@
 
 #include <Eigen/CholmodSupport>
 #include <algorithm>
+#include <cstdint>
 #include <stdexcept>
 
 #include "GramKernel.h"
@@ -192,9 +193,9 @@ struct SparseCholesky::Impl {
   // threads do not share them; a returned view is valid until the thread's next query.
   struct Workspace {
     std::vector<char> seen;
-    std::vector<int> local, start, pos, post, nodes, lo, hi, range;
+    std::vector<int> local, start, pos, nodes, lo, hi, range;
     std::vector<const double*> ptr;
-    std::vector<char> mark;  ///< all zero between calls
+    std::vector<std::uint64_t> bits;  ///< all zero between calls
     std::vector<double> x, g;
   };
   static Workspace& workspace() {
@@ -344,43 +345,56 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
   for (int j = 0; j < r; ++j) (*order)[j] = j;
   std::stable_sort(order->begin(), order->end(),
                    [&](int a, int b) { return m.post[start_node[a]] < m.post[start_node[b]]; });
-  std::vector<int>&pos = w.pos, &sorted_post = w.post;
+  std::vector<int>& pos = w.pos;
   pos.resize(r);
-  sorted_post.resize(r);
-  for (int p = 0; p < r; ++p) {
-    pos[(*order)[p]] = p;
-    sorted_post[p] = m.post[start_node[(*order)[p]]];
-  }
-  // The union of the etree paths, ascending, and each node's range of columns.
+  for (int p = 0; p < r; ++p) pos[(*order)[p]] = p;
+  // The union of the etree paths, ascending: marked in a bitset (clean between calls) and read
+  // back word by word, which sorts them for free (a path climbs to ever larger nodes).
   std::vector<int>& nodes = w.nodes;
   nodes.clear();
-  w.mark.resize(m.n, 0);
-  for (int j = 0; j < r; ++j)
-    for (int k = start_node[j]; k != -1 && !w.mark[k]; k = m.parent[k]) {
-      w.mark[k] = 1;
-      nodes.push_back(k);
-    }
+  std::vector<std::uint64_t>& bits = w.bits;
+  bits.resize((static_cast<std::size_t>(m.n) + 63) / 64, 0);
+  const auto marked = [&](int k) { return (bits[k >> 6] >> (k & 63)) & 1u; };
+  const auto mark = [&](int k) { bits[k >> 6] |= std::uint64_t{1} << (k & 63); };
+  int lowest = m.n;
+  for (int j = 0; j < r; ++j) {
+    lowest = std::min(lowest, start_node[j]);
+    for (int k = start_node[j]; k != -1 && !marked(k); k = m.parent[k]) mark(k);
+  }
   // The tail's nodes are always rows of X (zero rows where no path passes: Y = L^-1 P R is exact
   // on any superset of the paths), so that the dense kernels see the whole tail.
-  for (int k = m.n - m.tail; k < m.n; ++k)
-    if (!w.mark[k]) {
-      w.mark[k] = 1;
-      nodes.push_back(k);
-    }
-  for (const int k : nodes) w.mark[k] = 0;  // clean for the next call
-  std::sort(nodes.begin(), nodes.end());
+  for (int k = m.n - m.tail; k < m.n; ++k) {
+    mark(k);
+    lowest = std::min(lowest, k);
+  }
+  for (std::size_t word = static_cast<std::size_t>(lowest) >> 6; word < bits.size(); ++word) {
+    for (std::uint64_t b = bits[word]; b != 0; b &= b - 1)
+      nodes.push_back(static_cast<int>(word * 64) + __builtin_ctzll(b));
+    bits[word] = 0;
+  }
   w.local.resize(m.n);
   for (std::size_t a = 0; a < nodes.size(); ++a) w.local[nodes[a]] = static_cast<int>(a);
   const std::size_t mm = nodes.size();
+  // Each node's columns: those whose first node lies in its subtree, contiguous in `order` (by
+  // postorder). Pushed up the paths, children before parents (the etree parent of k is > k).
   std::vector<int>&lo = w.lo, &hi = w.hi;
-  lo.resize(mm);
-  hi.resize(mm);
+  lo.assign(mm, r);
+  hi.assign(mm, 0);
+  for (int p = 0; p < r; ++p) {
+    const int a = w.local[start_node[(*order)[p]]];
+    lo[a] = std::min(lo[a], p);
+    hi[a] = std::max(hi[a], p + 1);
+  }
   for (std::size_t a = 0; a < mm; ++a) {
-    const int k = nodes[a];
-    lo[a] = static_cast<int>(std::lower_bound(sorted_post.begin(), sorted_post.end(), m.first[k]) -
-                             sorted_post.begin());
-    hi[a] = static_cast<int>(std::upper_bound(sorted_post.begin(), sorted_post.end(), m.post[k]) -
-                             sorted_post.begin());
+    if (lo[a] >= hi[a]) {  // a tail node no path passes through: no columns
+      lo[a] = hi[a] = 0;
+      continue;
+    }
+    const int up = m.parent[nodes[a]];
+    if (up == -1) continue;
+    const int b = w.local[up];
+    lo[b] = std::min(lo[b], lo[a]);
+    hi[b] = std::max(hi[b], hi[a]);
   }
   // The dense tail's rows (the last m.tail rows of X) are left to the dense kernels below; the
   // sparse substitution only pushes its updates into them, leaving Z_T = (P R)_T - L_TD Y_D
