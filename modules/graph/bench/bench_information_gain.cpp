@@ -30,6 +30,14 @@ const GraphBackend* graphOf(std::size_t n) {
   return cache.emplace(n, std::move(b)).first->second.get();
 }
 
+/// The optimized graph of the prefix the benchmark's argument names, or null after marking the
+/// benchmark skipped when the rawlog is missing.
+const FactorGraph* graphOrSkip(benchmark::State& state) {
+  const GraphBackend* b = graphOf(state.range(0));
+  if (!b) state.SkipWithError("rawlogs/victoria_park.rawlog not found");
+  return b ? &b->graph() : nullptr;
+}
+
 std::vector<LandmarkId> idsOf(const FactorGraph& g) {
   std::vector<LandmarkId> ids;
   for (const auto& [id, l] : g.landmarks()) ids.push_back(id);
@@ -43,12 +51,9 @@ void setCounters(benchmark::State& state, const FactorGraph& g) {
 
 /// Factorization of H at the estimate plus the gains of all landmarks.
 void BM_FastAll(benchmark::State& state) {
-  const GraphBackend* b = graphOf(state.range(0));
-  if (!b) {
-    state.SkipWithError("rawlogs/victoria_park.rawlog not found");
-    return;
-  }
-  const FactorGraph& g = b->graph();
+  const FactorGraph* graph = graphOrSkip(state);
+  if (!graph) return;
+  const FactorGraph& g = *graph;
   const std::vector<LandmarkId> ids = idsOf(g);
   for (auto _ : state) {
     SparseCholesky chol;
@@ -63,12 +68,9 @@ void BM_FastAll(benchmark::State& state) {
 /// step share it): what the mi reducer pays per call in a run. Choudhary et al.'s own setting
 /// ("SAM maintains the square root information matrix R", Sec. IV-A).
 void BM_FastGivenFactor(benchmark::State& state) {
-  const GraphBackend* b = graphOf(state.range(0));
-  if (!b) {
-    state.SkipWithError("rawlogs/victoria_park.rawlog not found");
-    return;
-  }
-  const FactorGraph& g = b->graph();
+  const FactorGraph* graph = graphOrSkip(state);
+  if (!graph) return;
+  const FactorGraph& g = *graph;
   const std::vector<LandmarkId> ids = idsOf(g);
   SparseCholesky chol;
   factorizeAtEstimate(g, &chol);
@@ -78,12 +80,9 @@ void BM_FastGivenFactor(benchmark::State& state) {
 
 /// Linearization and factorization of H at the estimate alone (symbolic analysis included).
 void BM_FactorizeOnly(benchmark::State& state) {
-  const GraphBackend* b = graphOf(state.range(0));
-  if (!b) {
-    state.SkipWithError("rawlogs/victoria_park.rawlog not found");
-    return;
-  }
-  const FactorGraph& g = b->graph();
+  const FactorGraph* graph = graphOrSkip(state);
+  if (!graph) return;
+  const FactorGraph& g = *graph;
   for (auto _ : state) {
     SparseCholesky chol;
     factorizeAtEstimate(g, &chol);
@@ -94,12 +93,9 @@ void BM_FactorizeOnly(benchmark::State& state) {
 
 /// Alg. 2 per landmark: relinearize and factorize with and without the landmark's factors.
 void BM_NaiveAll(benchmark::State& state) {
-  const GraphBackend* b = graphOf(state.range(0));
-  if (!b) {
-    state.SkipWithError("rawlogs/victoria_park.rawlog not found");
-    return;
-  }
-  const FactorGraph& g = b->graph();
+  const FactorGraph* graph = graphOrSkip(state);
+  if (!graph) return;
+  const FactorGraph& g = *graph;
   const std::vector<LandmarkId> ids = idsOf(g);
   for (auto _ : state)
     for (LandmarkId id : ids) benchmark::DoNotOptimize(naiveInformationGain(g, id));
