@@ -7,34 +7,6 @@ namespace budget_slam::graph::detail {
 // Plain loops on fixed-size tiles, so that the compiler vectorizes them for each clone; no
 // Eigen here (its kernels are chosen at compile time and must not differ between translation
 // units).
-__attribute__((target_clones("arch=haswell", "default"))) void gramLower(const double* Z,
-                                                                         std::size_t m,
-                                                                         std::size_t r, double* G) {
-  const std::size_t r8 = r / 8 * 8;
-  for (std::size_t a0 = 0; a0 < r; a0 += 4) {
-    const std::size_t na = std::min<std::size_t>(4, r - a0);
-    for (std::size_t b0 = 0; b0 <= a0 && b0 < r8; b0 += 8) {  // full 4 x 8 tiles
-      double acc[4][8] = {};
-      for (std::size_t i = 0; i < m; ++i) {
-        const double* z = Z + i * r;
-        double za[4];
-        for (std::size_t a = 0; a < 4; ++a) za[a] = a < na ? z[a0 + a] : 0.0;
-        for (int a = 0; a < 4; ++a)
-          for (int b = 0; b < 8; ++b) acc[a][b] += za[a] * z[b0 + b];
-      }
-      for (std::size_t a = 0; a < na; ++a)
-        for (std::size_t b = 0; b < 8; ++b) G[(b0 + b) * r + (a0 + a)] += acc[a][b];
-    }
-    for (std::size_t b = r8; b <= a0 + na - 1 && b < r; ++b)  // the columns past the last tile
-      for (std::size_t a = 0; a < na; ++a) {
-        if (b > a0 + a) continue;
-        double acc = 0;
-        for (std::size_t i = 0; i < m; ++i) acc += Z[i * r + a0 + a] * Z[i * r + b];
-        G[b * r + (a0 + a)] += acc;
-      }
-  }
-}
-
 __attribute__((target_clones("arch=haswell", "default"))) void forwardSubstitute(
     double* X, std::size_t m, std::size_t r, const int* start, const int* rows,
     const double* vals) {

@@ -3,20 +3,18 @@
 
 namespace budget_slam::graph::detail {
 
-/// G += Zᵀ Z on (at least) the lower triangle of G, r x r column-major; Z is m x r row-major.
-/// The dense core of the information gain (SparseCholesky::inverseQuadraticForm):
-/// register-blocked 4 x 8 tiles, built twice (AVX2 + FMA and baseline) and chosen at run time.
-void gramLower(const double* Z, std::size_t m, std::size_t r, double* G);
+// Each kernel is built twice (AVX2 + FMA and baseline) and chosen at run time.
 
 /// Forward substitution L X = B in place on a dense row-major X (m x r), L given column by column
 /// on local row numbers: column a has its diagonal at vals[start[a]] and its off-diagonal entries
-/// at start[a] + 1 .. start[a + 1] - 1, rows rows[q] > a. Same dispatch as gramLower.
+/// at start[a] + 1 .. start[a + 1] - 1, rows rows[q] > a.
 void forwardSubstitute(double* X, std::size_t m, std::size_t r, const int* start, const int* rows,
                        const double* vals);
 
 /// G[lo + b, lo + a] += sum_i rows[i][a] rows[i][b] for a >= b in [0, w): the lower triangle of
 /// the Gram matrix of m rows of width w given by pointers (rows of one range, see
-/// SparseCholesky::inverseGram); G column-major with leading dimension ldg. Same dispatch.
+/// SparseCholesky::inverseGram); G column-major with leading dimension ldg. Register-blocked
+/// 4 x 8 tiles.
 void gramLowerRows(const double* const* rows, std::size_t m, std::size_t w, double* G,
                    std::size_t ldg, std::size_t lo);
 
@@ -24,7 +22,7 @@ void gramLowerRows(const double* const* rows, std::size_t m, std::size_t w, doub
 /// factor in CSC form (column k: Lp[k] .. Lp[k] + Lnz[k] - 1, diagonal first), in place on the
 /// row-major X (row a = node nodes[a], leading dimension ld); local[] maps a node to its row.
 /// Row a is non-zero only in columns [lo[a], hi[a]), and an ancestor's range holds its
-/// descendants' (SparseCholesky::inverseGram). Same dispatch as gramLower.
+/// descendants' (SparseCholesky::inverseGram).
 void forwardSubstitutePath(double* X, std::size_t ld, const int* nodes, std::size_t m,
                            const int* Lp, const int* Lnz, const int* Li, const double* Lx,
                            const int* local, const int* lo, const int* hi);

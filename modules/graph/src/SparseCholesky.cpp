@@ -314,7 +314,10 @@ Eigen::MatrixXd SparseCholesky::inverseQuadraticForm(const std::vector<int>& S,
   const auto X = impl_->forward(S, &R);
   // Y^T Y: lower triangle by the blocked kernel, then mirrored.
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(r, r);
-  detail::gramLower(X.data(), X.rows(), r, G.data());
+  std::vector<const double*> rows(static_cast<std::size_t>(X.rows()));
+  for (Eigen::Index a = 0; a < X.rows(); ++a) rows[a] = X.data() + a * r;
+  detail::gramLowerRows(rows.data(), rows.size(), static_cast<std::size_t>(r), G.data(),
+                        static_cast<std::size_t>(r), 0);
   return G.selfadjointView<Eigen::Lower>();
 }
 

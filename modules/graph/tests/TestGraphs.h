@@ -15,6 +15,7 @@
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/graph/FactorGraph.h"
 #include "budget_slam/graph/GraphOptions.h"
+#include "budget_slam/graph/Solver.h"
 
 namespace budget_slam::graph::testgraphs {
 
@@ -158,6 +159,23 @@ inline Eigen::VectorXd denseBatchSolve(FactorGraph g) {
     if (dx.lpNorm<Eigen::Infinity>() < 1e-14) break;
   }
   return g.values();
+}
+
+/// randomGraph() solved to its batch optimum, with `chol` holding H factorized there.
+inline FactorGraph solvedRandomGraph(int n_poses, int n_landmarks, unsigned seed,
+                                     SparseCholesky* chol) {
+  FactorGraph g = randomGraph(n_poses, n_landmarks, seed);
+  optimize(g, SolverSettings{}, chol);
+  factorizeAtEstimate(g, chol);
+  return g;
+}
+
+/// Range-bearing sensor noise for a GraphBackend: 1-sigma range [m] and bearing [deg].
+inline RangeBearingNoise sensorNoise(double std_range_m, double std_yaw_deg) {
+  RangeBearingNoise n;
+  n.std_sensor_range = std_range_m;
+  n.std_sensor_yaw_deg = std_yaw_deg;
+  return n;
 }
 
 /// Full symmetric dense H at the graph's estimate.

@@ -12,12 +12,7 @@ using namespace budget_slam;
 using namespace budget_slam::graph;
 
 namespace {
-RangeBearingNoise noiseOf() {
-  RangeBearingNoise n;
-  n.std_sensor_range = 0.05;
-  n.std_sensor_yaw_deg = 0.01 * 180 / M_PI;
-  return n;
-}
+RangeBearingNoise noiseOf() { return testgraphs::sensorNoise(0.05, 0.01 * 180 / M_PI); }
 
 double maxDiff(const FactorGraph& g, const Eigen::VectorXd& ref) {
   Eigen::VectorXd d = g.values() - ref;

@@ -11,12 +11,7 @@ using namespace budget_slam;
 using namespace budget_slam::graph;
 
 namespace {
-RangeBearingNoise noiseOf() {
-  RangeBearingNoise n;
-  n.std_sensor_range = 0.05;
-  n.std_sensor_yaw_deg = 0.5;
-  return n;
-}
+RangeBearingNoise noiseOf() { return testgraphs::sensorNoise(0.05, 0.5); }
 
 }  // namespace
 

@@ -75,10 +75,8 @@ TEST(InformationGain, LowRankFactorIsTheSchurComplementOfTheLandmarksFactors) {
 
 TEST(InformationGain, FastEqualsNaiveAndDenseOnRandomGraphs) {
   for (unsigned seed : {1u, 2u, 3u, 4u}) {
-    FactorGraph g = testgraphs::randomGraph(40, 15, seed);
     SparseCholesky chol;
-    optimize(g, SolverSettings{}, &chol);
-    factorizeAtEstimate(g, &chol);
+    FactorGraph g = testgraphs::solvedRandomGraph(40, 15, seed, &chol);
     const std::vector<LandmarkId> L = ids(g);
     const std::vector<double> fast = informationGain(g, chol, L);
     int positive = 0;
@@ -98,10 +96,8 @@ TEST(InformationGain, ConditionalEqualsDenseLogDeterminants) {
   // Alg. 2 as printed: IG_c(L) = 1/2 log2( |Sigma_r without L| / |Sigma_{r|L}| )
   //                            = 1/2 log2( det(H_rr) / det(H of the graph without L) ).
   for (unsigned seed : {5u, 6u}) {
-    FactorGraph g = testgraphs::randomGraph(40, 15, seed);
     SparseCholesky chol;
-    optimize(g, SolverSettings{}, &chol);
-    factorizeAtEstimate(g, &chol);
+    FactorGraph g = testgraphs::solvedRandomGraph(40, 15, seed, &chol);
     const std::vector<LandmarkId> L = ids(g);
     const std::vector<double> fast = conditionalInformationGain(g, chol, L);
     const Eigen::MatrixXd H = testgraphs::denseInformation(g);
@@ -129,10 +125,8 @@ TEST(InformationGain, ConditionalEqualsDenseLogDeterminants) {
 }
 
 TEST(InformationGain, LandmarkSeenOnceGivesZero) {
-  FactorGraph g = testgraphs::randomGraph(40, 15, 8);
   SparseCholesky chol;
-  optimize(g, SolverSettings{}, &chol);
-  factorizeAtEstimate(g, &chol);
+  FactorGraph g = testgraphs::solvedRandomGraph(40, 15, 8, &chol);
   ASSERT_EQ(g.landmark(1000).obs.size(), 1u);
   EXPECT_EQ(informationGain(g, chol, {1000})[0], 0.0);
   // The reference agrees numerically: one factor only fixes the landmark itself.
@@ -146,10 +140,8 @@ TEST(InformationGain, LandmarkSeenOnceGivesZero) {
 
 TEST(InformationGain, MoreSightingsMoreInformation) {
   // Same graph, one landmark with its later sightings dropped: its gain decreases.
-  FactorGraph g = testgraphs::randomGraph(40, 15, 12);
   SparseCholesky chol;
-  optimize(g, SolverSettings{}, &chol);
-  factorizeAtEstimate(g, &chol);
+  FactorGraph g = testgraphs::solvedRandomGraph(40, 15, 12, &chol);
   LandmarkId best = -1;
   for (const auto& [id, l] : g.landmarks())
     if (best < 0 || l.obs.size() > g.landmark(best).obs.size()) best = id;

@@ -18,10 +18,8 @@ Eigen::MatrixXd denseBlock(const Eigen::MatrixXd& M, const std::vector<int>& idx
 }  // namespace
 
 TEST(Marginals, JointMarginalEqualsDenseInverse) {
-  FactorGraph g = testgraphs::randomGraph(50, 20, 3);
   SparseCholesky chol;
-  optimize(g, SolverSettings{}, &chol);
-  factorizeAtEstimate(g, &chol);
+  FactorGraph g = testgraphs::solvedRandomGraph(50, 20, 3, &chol);
   const Eigen::MatrixXd Sigma = testgraphs::denseInformation(g).inverse();
   const std::vector<VariableKey> vars{VariableKey::pose(49), VariableKey::landmark(3),
                                       VariableKey::pose(0), VariableKey::pose(17),
@@ -33,10 +31,8 @@ TEST(Marginals, JointMarginalEqualsDenseInverse) {
 }
 
 TEST(Marginals, EachVariableMarginal) {
-  FactorGraph g = testgraphs::randomGraph(40, 12, 9);
   SparseCholesky chol;
-  optimize(g, SolverSettings{}, &chol);
-  factorizeAtEstimate(g, &chol);
+  FactorGraph g = testgraphs::solvedRandomGraph(40, 12, 9, &chol);
   const Eigen::MatrixXd Sigma = testgraphs::denseInformation(g).inverse();
   std::vector<VariableKey> vars;
   for (const auto& [id, l] : g.landmarks()) vars.push_back(VariableKey::landmark(id));

@@ -18,9 +18,10 @@ namespace budget_slam::graph {
 ///   IG(L) = -1/2 log2 det(I - Sigma_BB U),  Sigma_BB the joint marginal of B in the full graph.
 /// U is formed in square-root form: QR-eliminating L from the whitened Jacobian [A_B A_L] of its
 /// k factors leaves 2k-2 rows W with U = W^T W, and det(I - Sigma_BB U) = det(I - W Sigma_BB W^T),
-/// a small SPD determinant; W Sigma_BB W^T comes from one forward substitution with 2k-2
-/// right-hand sides (SparseCholesky::inverseQuadraticForm). A landmark seen once has k = 1, no
-/// row left, and IG = 0 exactly.
+/// a small SPD determinant. W Sigma_BB W^T is A_B Sigma_BB A_B^T (one forward substitution with
+/// the 2k sparse rows of A_B as right-hand sides, SparseCholesky::inverseGram) reflected from both
+/// sides by the two Householder reflectors that eliminate L, minus their two rows and columns.
+/// A landmark seen once has k = 1, no row left, and IG = 0 exactly.
 ///
 /// `chol` must hold the factorization of the graph's H at its current estimate
 /// (factorizeAtEstimate). Throws std::out_of_range for an unknown id.
