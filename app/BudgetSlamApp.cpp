@@ -96,6 +96,18 @@ std::string fixed(double v, int digits) {
   return o.str();
 }
 
+/// The values of run's and compare's flags (TCLAP checked their types).
+void checkFlagValues(const CommandLine& cli) {
+  if (cli.cap) checkCapFlag(*cli.cap);
+  if (!cli.backend.empty()) {
+    const auto& b = MappingOptions::backends();
+    if (std::find(b.begin(), b.end(), cli.backend) == b.end())
+      throw UsageError("--backend " + cli.backend + ": must be one of ekf, graph");
+  }
+  checkReducerFlags(cli.reducer, cli.reducers);
+  for (const auto& set : cli.sets) checkSet(set);
+}
+
 }  // namespace
 
 void BudgetSlamApp::initialize(int argc, const char* const* argv) {
@@ -184,18 +196,11 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
   // Flag values are part of the command line: a bad one exits 2 before anything is written.
-  if (cli_.cap) checkCapFlag(*cli_.cap);
-  if (!cli_.backend.empty()) {
-    const auto& b = MappingOptions::backends();
-    if (std::find(b.begin(), b.end(), cli_.backend) == b.end())
-      throw UsageError("--backend " + cli_.backend + ": must be one of ekf, graph");
+  try {
+    checkFlagValues(cli_);
+  } catch (const ConfigError& e) {
+    throw UsageError(e.what() + std::string("; see budget-slam ") + cli_.command + " --help");
   }
-  checkReducerFlags(cli_.reducer, cli_.reducers);
-  for (const auto& set : cli_.sets) try {
-      checkSet(set);
-    } catch (const ConfigError& e) {
-      throw UsageError(e.what());
-    }
 
   if (!cli_.config.empty() || params.getContent().empty()) {
     const std::string path = cli_.config.empty() ? "config.ini" : cli_.config;

@@ -110,8 +110,9 @@ TEST(BadInput, UnknownReducerListsRegistered) {
   for (const auto& n : reducers::builtinReducers().names()) list += (list.empty() ? "" : ", ") + n;
   // On the command line: a bad command line. In the ini: a failed run.
   const auto flag = freshDir("unknown_reducer_flag");
-  expectBadCommandLine(runOn(kDemo, flag, {"--reducer", "bogus"}), flag,
-                       "--reducer: unknown reducer 'bogus' (registered: " + list + ")");
+  expectBadCommandLine(
+      runOn(kDemo, flag, {"--reducer", "bogus"}), flag,
+      "--reducer: unknown reducer 'bogus' (registered: " + list + "); see budget-slam run --help");
   const auto out = freshDir("unknown_reducer");
   expectFailed(runOn(kDemo, out, {"--set", "LandmarkBudget.reducer=bogus"}), out,
                "unknown reducer 'bogus' (registered: " + list + ")");
@@ -120,9 +121,11 @@ TEST(BadInput, UnknownReducerListsRegistered) {
 TEST(BadInput, CapBelowOne) {
   const auto out = freshDir("cap0");
   expectBadCommandLine(runOn(kDemo, out, {"--reducer", "oldest", "--cap", "0"}), out,
-                       "--cap 0: must be at least 1 (or none for no cap)");
+                       "--cap 0: must be at least 1 (or none for no cap); see budget-slam run "
+                       "--help");
   expectBadCommandLine(runOn(kDemo, out, {"--cap", "lots"}), out,
-                       "--cap 'lots': not a number of landmarks, nor none");
+                       "--cap 'lots': not a number of landmarks, nor none; see budget-slam run "
+                       "--help");
   const auto out2 = freshDir("cap0_ini");
   expectFailed(runOn(kDemo, out2, {"--set", "LandmarkBudget.max_landmarks=-3"}), out2,
                kMrptIni +
@@ -209,7 +212,7 @@ TEST(BadInput, MissingConfigFileAndBadSetSyntax) {
             "readable\n");
   const auto out = freshDir("bad_set");
   expectBadCommandLine(runOn(kDemo, out, {"--set", "nodot=3"}), out,
-                       "--set 'nodot=3': expected Section.key=value");
+                       "--set 'nodot=3': expected Section.key=value; see budget-slam run --help");
 }
 
 TEST(BadInput, SigtermEndsLikeCtrlC) {

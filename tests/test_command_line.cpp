@@ -80,15 +80,17 @@ TEST(CommandLine, ABadCommandLineIsOneLineNamingTheFlagAndExitTwo) {
        "budget-slam: Missing a value for this argument! (Argument: (--cap)); see budget-slam run "
        "--help"},
       {"budget-slam' run -i " + demo + " -o out --cap 0",
-       "budget-slam: --cap 0: must be at least 1 (or none for no cap)"},
+       "budget-slam: --cap 0: must be at least 1 (or none for no cap); see budget-slam run --help"},
       {"budget-slam' run -i " + demo + " -o out --backend gtsam",
-       "budget-slam: --backend gtsam: must be one of ekf, graph"},
+       "budget-slam: --backend gtsam: must be one of ekf, graph; see budget-slam run --help"},
       {"budget-slam' compare -i " + demo + " -o out --reducers mi,mi",
-       "budget-slam: --reducers: a reducer is listed twice"},
+       "budget-slam: --reducers: a reducer is listed twice; see budget-slam compare --help"},
       {"budget-slam' compare -i " + demo + " -o out --reducers none",
-       "budget-slam: --reducers: 'none' is the reference run, always included"},
+       "budget-slam: --reducers: 'none' is the reference run, always included; see budget-slam "
+       "compare --help"},
       {"budget-slam' run -i " + demo + " -o out --set LandmarkBudget",
-       "budget-slam: --set 'LandmarkBudget': expected Section.key=value"},
+       "budget-slam: --set 'LandmarkBudget': expected Section.key=value; see budget-slam run "
+       "--help"},
       {"budget-convert' --format utias --robot 6 mrclam -o out.rawlog",
        "budget-convert: Value '6' does not meet constraint: 1|2|3|4|5 (Argument: -r (--robot)); "
        "see budget-convert --help"},
