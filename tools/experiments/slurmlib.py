@@ -20,6 +20,11 @@ TERMINAL = {"BOOT_FAIL", "CANCELLED", "COMPLETED", "DEADLINE", "FAILED", "NODE_F
             "OUT_OF_MEMORY", "PREEMPTED", "REVOKED", "SPECIAL_EXIT", "TIMEOUT"}
 
 
+# Pending reasons that no amount of waiting resolves (squeue(1) "JOB REASON CODES").
+NEVER_RUNS = {"PartitionConfig", "BadConstraints", "PartitionNodeLimit", "PartitionTimeLimit",
+              "InvalidAccount", "InvalidQOS", "DependencyNeverSatisfied", "JobHeldAdmin", "JobHeldUser"}
+
+
 class SlurmError(Exception):
     pass
 
@@ -62,10 +67,11 @@ def sbatch_command(jobs_txt, logdir, indices, partition=None, throttle=None, cpu
     return cmd + [ARRAY_SCRIPT, jobs_txt]
 
 
-def task_states(job_id):
+def task_states(job_id, reasons=None):
     """{task label: state} of a job array as squeue knows it ('12_3': 'RUNNING', '12_[4-9]':
-    'PENDING'); {} once SLURM has forgotten the job (MinJobAge after its end)."""
-    p = subprocess.run([_tool("squeue"), "-h", "-t", "all", "-j", str(job_id), "-o", "%i|%T"],
+    'PENDING'); {} once SLURM has forgotten the job (MinJobAge after its end). `reasons`, a dict,
+    receives each label's pending reason."""
+    p = subprocess.run([_tool("squeue"), "-h", "-t", "all", "-j", str(job_id), "-o", "%i|%T|%r"],
                        capture_output=True, text=True)
     if p.returncode != 0:
         if "Invalid job id" in p.stderr:
@@ -73,9 +79,11 @@ def task_states(job_id):
         raise SlurmError(f"squeue -j {job_id}: {p.stderr.strip() or 'exit ' + str(p.returncode)}")
     out = {}
     for line in p.stdout.splitlines():
-        if "|" in line:
-            label, state = line.strip().split("|", 1)
-            out[label] = state.split()[0]
+        parts = line.strip().split("|")
+        if len(parts) >= 2:
+            out[parts[0]] = parts[1].split()[0]
+            if reasons is not None and len(parts) >= 3:
+                reasons[parts[0]] = parts[2].strip()
     return out
 
 
@@ -126,7 +134,13 @@ def wait(job_id, log=print, poll_s=1.0):
     """Blocks until no task of the array is pending or running. Returns {task: final state}."""
     last, start, final = None, time.time(), {}
     while True:
-        states = task_states(job_id)
+        reasons = {}
+        states = task_states(job_id, reasons)
+        stuck = sorted({reasons.get(k) for k, v in states.items() if v == "PENDING"} & NEVER_RUNS)
+        if stuck:
+            subprocess.run([_tool("scancel"), str(job_id)], capture_output=True)
+            raise SlurmError(f"job array {job_id} cannot run (squeue reason {', '.join(stuck)}: it asks for "
+                             "more than the partition gives, e.g. --cpus-per-task or --time); cancelled it")
         # Pending tasks show up folded ('12_[3-9%2]'); keep only the labels of single tasks.
         final = {k: v for k, v in final.items() if "[" not in k}
         final.update(states)

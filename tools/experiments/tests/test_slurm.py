@@ -142,6 +142,17 @@ class SweepOnSlurm(unittest.TestCase):
         self.assertIn("2 already done, 0 to submit", p.stderr)
         self.assertSameResults(out)
 
+    def test_a_task_that_can_never_run_is_cancelled_with_one_line(self):
+        # More CPUs a task than the node has: SLURM keeps it pending (PartitionConfig) for ever.
+        out = os.path.join(self.tmp.name, "too-big")
+        p = self.sweep(out, "--slurm", "--wait", "--cpus-per-task", "4096")
+        self.assertEqual(p.returncode, 1, p.stderr)
+        last = p.stderr.strip().splitlines()[-1]
+        self.assertRegex(last, r"^sweep: job array \d+ cannot run \(squeue reason PartitionConfig: .*cancelled it$")
+        job_id = last.split()[3]
+        q = subprocess.run(["squeue", "-h", "-j", job_id, "-o", "%T"], env=self.env, capture_output=True, text=True)
+        self.assertNotIn("PENDING", q.stdout)
+
     def test_sbatch_refusal_is_one_line(self):
         # A partition the cluster does not have: sbatch refuses, the sweep says so and exits 1.
         out = os.path.join(self.tmp.name, "refused")
