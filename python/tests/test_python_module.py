@@ -11,9 +11,11 @@ import csv
 import json
 import math
 import os
+import signal
 import subprocess
 import sys
 import tempfile
+import time
 import unittest
 
 import numpy as np
@@ -239,6 +241,37 @@ class ReducerScoresMatchTheLoggedScores(unittest.TestCase):
                 got = budget_slam.reducer_scores(r, mean, cov, ids, obs_mean=mean[3:].reshape(-1, 2))
                 self.assertIn(got["choice"], list(ids))
                 self.assertEqual(len(got["scores"]), len(ids))
+
+
+class CtrlC(unittest.TestCase):
+    def test_sigint_ends_the_run_cleanly_and_raises_keyboard_interrupt(self):
+        # A long run (Victoria Park, EKF) in a child Python; SIGINT once steps are being written.
+        with tempfile.TemporaryDirectory(prefix="test_python_sigint_") as tmp:
+            out = os.path.join(tmp, "out")
+            code = ("import budget_slam, sys\n"
+                    "try:\n"
+                    f"    budget_slam.run({CONFIG!r}, {os.path.join(ROOT, 'rawlogs', 'victoria_park.rawlog')!r},"
+                    f" outdir={out!r}, reducer='info-content', cap=30)\n"
+                    "except KeyboardInterrupt as e:\n"
+                    "    print('KeyboardInterrupt:', e); sys.exit(130)\n")
+            proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                    text=True, env=dict(os.environ))
+            steps = os.path.join(out, "steps.csv")
+            deadline = time.time() + 120
+            while time.time() < deadline and proc.poll() is None:
+                if os.path.isfile(steps) and os.path.getsize(steps) > 2000:
+                    break
+                time.sleep(0.05)
+            self.assertIsNone(proc.poll(), "the run ended before it could be interrupted")
+            proc.send_signal(signal.SIGINT)
+            stdout, stderr = proc.communicate(timeout=120)
+            self.assertEqual(proc.returncode, 130, stderr)
+            self.assertRegex(stdout, r"^KeyboardInterrupt: interrupted by Ctrl-C after step \d+\n$")
+            with open(os.path.join(out, "summary.json")) as f:
+                summary = json.load(f)
+            self.assertEqual(summary["status"], "interrupted")
+            self.assertEqual(summary["counts"]["steps"], len(csv_rows(steps)))
+            self.assertTrue(os.path.isfile(os.path.join(out, "landmarks.csv")))
 
 
 class BadArgumentsRaiseTheCliMessage(unittest.TestCase):
