@@ -270,7 +270,9 @@ class CtrlC(unittest.TestCase):
             with open(os.path.join(out, "summary.json")) as f:
                 summary = json.load(f)
             self.assertEqual(summary["status"], "interrupted")
-            self.assertEqual(summary["counts"]["steps"], len(csv_rows(steps)))
+            last = int(stdout.split()[-1])
+            self.assertEqual(summary["counts"]["steps"], last + 1)
+            self.assertEqual(len(csv_rows(steps)), last + 1)
             self.assertTrue(os.path.isfile(os.path.join(out, "landmarks.csv")))
 
 
