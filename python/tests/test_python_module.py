@@ -327,8 +327,8 @@ class BadArgumentsRaiseTheCliMessage(unittest.TestCase):
         mean, cov, ids = np.zeros(7), np.eye(7), [4, 9]
         with self.assertRaises(budget_slam.ConfigError) as ctx:
             budget_slam.reducer_scores("nosuch", mean, cov, ids)
-        p = cli("run", "-c", CONFIG, "-i", DEMO, "-o", tempfile.mkdtemp(prefix="test_python_errors_"),
-                "--reducer", "nosuch", "--quiet")
+        with tempfile.TemporaryDirectory(prefix="test_python_errors_") as tmp:
+            p = cli("run", "-c", CONFIG, "-i", DEMO, "-o", tmp, "--reducer", "nosuch", "--quiet")
         self.assertIn(str(ctx.exception), p.stderr)  # the registry's own message
         self.assertTrue(str(ctx.exception).startswith("unknown reducer 'nosuch' (registered: "))
         cases = [(("none", mean, cov, ids), "reducer 'none' scores nothing: it is the unreduced run"),
