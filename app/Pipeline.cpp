@@ -8,11 +8,13 @@
 #include <fstream>
 #include <iomanip>
 
+#include "MappingOptions.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/StepFilter.h"
 #include "budget_slam/ekf/EkfBackend.h"
 #include "budget_slam/graph/GraphBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/report/MapScene.h"
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFiles.h"
 
@@ -124,6 +126,10 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
   // map.png colours the kept landmarks by the coverage clusters ([CoverageReducer], run's seed).
   coverage_.seed = budget.seed;
   coverage_.loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
+  MappingOptions mapping;
+  mapping.loadFromConfigFile(ini, MappingOptions::kSection);
+  save_3d_scene_ = mapping.save_3d_scene;
+  scene_every_steps_ = mapping.scene_every_steps;
   if (budget.dump_states)
     manager_->setBeforeDropEvent([this](const Backend& b, StepIndex step) { dumpState(b, step); });
 }
@@ -186,6 +192,12 @@ void Pipeline::process(const Step& raw) {
   steps_csv_.endRow();
 
   logEvictions(drops);
+  if (scene_every_steps_ && raw.index % scene_every_steps_ == 0) {
+    char name[48];
+    std::snprintf(name, sizeof name, "kf_state_%05llu.3Dscene",
+                  static_cast<unsigned long long>(raw.index));
+    writeScene(name, backend_->trajectory(), backend_->landmarks());
+  }
 }
 
 void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
@@ -205,8 +217,8 @@ void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
   }
 }
 
-void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
-                        const std::vector<LandmarkView>& landmarks) const {
+report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& trajectory,
+                                        const std::vector<LandmarkView>& landmarks) const {
   report::MapContent map;
   const auto& budget = manager_->options();
   map.title = backend_->name() + ", reducer " + budget.reducer +
@@ -226,7 +238,18 @@ void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
     map.ground_truth_path = gt.path;
     for (const auto& [id, l] : gt.landmarks) map.ground_truth_landmarks.push_back(l);
   }
-  report::writeMapPng(folder_.file("map.png"), map);
+  return map;
+}
+
+void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
+                        const std::vector<LandmarkView>& landmarks) const {
+  report::writeMapPng(folder_.file("map.png"), mapContent(trajectory, landmarks));
+}
+
+void Pipeline::writeScene(const std::string& name, const std::vector<TrajectoryPoint>& trajectory,
+                          const std::vector<LandmarkView>& landmarks) const {
+  report::writeMapScene(folder_.file(name), mapContent(trajectory, landmarks),
+                        backend_->robotPose().mean);
 }
 
 void Pipeline::writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
@@ -288,6 +311,7 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory);
   report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks);
   writeMap(trajectory, landmarks);
+  if (save_3d_scene_) writeScene("map.3Dscene", trajectory, landmarks);
   if (truth_ && !truth_->path.empty()) writeGroundTruthTum(trajectory, steps_in_rawlog);
 
   const auto& budget = manager_->options();
