@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "BuiltinBackends.h"
 #include "Interrupt.h"
 #include "Pipeline.h"
 #include "ProgressBar.h"
@@ -30,7 +31,9 @@ std::string topLevelHelp() {
       "budget-slam: landmark SLAM on an MRPT rawlog under a landmark budget\n\n"
       "USAGE:\n\n"
       "   budget-slam run     -c config.ini [-i in.rawlog] [-o outdir] [--reducer NAME]\n"
-      "                       [--cap N|none] [--backend ekf|graph] [--set Section.key=value]...\n"
+      "                       [--cap N|none] [--backend " +
+      builtinBackends().joinedNames("|") +
+      "] [--set Section.key=value]...\n"
       "   budget-slam compare -c config.ini [-i in.rawlog] [-o outdir] [--reducers a,b,c]\n"
       "                       [--cap N|none] [--threads N] [...]\n"
       "   budget-slam <command> --help    every option of a command\n"
@@ -102,7 +105,8 @@ void checkFlagValues(const CommandLine& cli) {
   if (!cli.backend.empty()) {
     const auto& b = MappingOptions::backends();
     if (std::find(b.begin(), b.end(), cli.backend) == b.end())
-      throw UsageError("--backend " + cli.backend + ": must be one of ekf, graph");
+      throw UsageError("--backend " + cli.backend + ": must be one of " +
+                       builtinBackends().joinedNames(", "));
   }
   checkReducerFlags(cli.reducer, cli.reducers);
   for (const auto& set : cli.sets) checkSet(set);
@@ -163,10 +167,10 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
                                    "objective or incremental mode); overrides [LandmarkBudget] "
                                    "max_landmarks",
                                    false, "", "N|none", cmd);
-  TCLAP::ValueArg<std::string> backend("", "backend",
-                                       "ekf or graph; overrides "
-                                       "[MappingApplication] backend",
-                                       false, "", "ekf|graph", cmd);
+  TCLAP::ValueArg<std::string> backend(
+      "", "backend",
+      builtinBackends().joinedNames(" or ") + "; overrides [MappingApplication] backend", false, "",
+      builtinBackends().joinedNames("|"), cmd);
   TCLAP::MultiArg<std::string> sets("", "set", "overrides any ini key", false, "Section.key=value",
                                     cmd);
   TCLAP::SwitchArg quiet("", "quiet", "no progress bar and no summary on stdout", cmd);

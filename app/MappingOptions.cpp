@@ -1,5 +1,7 @@
 #include "MappingOptions.h"
 
+#include "BuiltinBackends.h"
+
 #include <ostream>
 
 #include "budget_slam/core/Error.h"
@@ -8,7 +10,7 @@
 namespace budget_slam::app {
 
 const std::vector<std::string>& MappingOptions::backends() {
-  static const std::vector<std::string> b = {"ekf", "graph"};
+  static const std::vector<std::string> b = builtinBackends().names();
   return b;
 }
 

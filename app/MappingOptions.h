@@ -13,7 +13,7 @@ struct MappingOptions : public mrpt::config::CLoadableOptions {
 
   std::string rawlog_file;              ///< input rawlog; -i overrides (relative: to the CWD,
                                         ///< else to the ini file's folder)
-  std::string backend = "ekf";          ///< ekf | graph; --backend overrides
+  std::string backend = "ekf";          ///< a name of builtinBackends(); --backend overrides
   std::string ground_truth_file;        ///< landmarks ground truth ("" = next to the rawlog)
   std::string ground_truth_file_robot;  ///< robot path ground truth ("" = next to the rawlog)
   std::string logOutput_dir = "OUT_budget-slam";  ///< output folder; -o overrides
@@ -33,7 +33,7 @@ struct MappingOptions : public mrpt::config::CLoadableOptions {
 
   /// budget-slam's own keys of the section (MRPT's come from ekf::mrptKfSlamIniKeys()).
   static std::vector<std::string> keys();
-  static const std::vector<std::string>& backends();
+  static const std::vector<std::string>& backends();  ///< builtinBackends().names()
 };
 
 }  // namespace budget_slam::app

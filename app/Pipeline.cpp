@@ -8,11 +8,10 @@
 #include <fstream>
 #include <iomanip>
 
+#include "BuiltinBackends.h"
 #include "MappingOptions.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/StepFilter.h"
-#include "budget_slam/ekf/EkfBackend.h"
-#include "budget_slam/graph/GraphBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/MapScene.h"
 #include "budget_slam/report/Pictures.h"
@@ -88,13 +87,6 @@ std::string shadowFailureLine(const reducers::ShadowFailures& f) {
          " (first: " + f.first_error + "); the active reducer's drops stand";
 }
 
-std::unique_ptr<Backend> makeBackend(const std::string& name,
-                                     const mrpt::config::CConfigFileBase& ini) {
-  if (name == "ekf") return std::make_unique<ekf::EkfBackend>(ini);
-  if (name == "graph") return std::make_unique<graph::GraphBackend>(ini);
-  throw ConfigError("unknown backend '" + name + "' (available: ekf, graph)");
-}
-
 std::size_t peakResidentBytes() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
@@ -112,7 +104,7 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
                    const reducers::BudgetOptions& budget, report::OutputFolder folder,
                    std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history)
     : folder_(std::move(folder)),
-      backend_(makeBackend(backend, ini)),
+      backend_(builtinBackends().create(backend, ini, BackendSettings{keep_history})),
       manager_(std::make_unique<reducers::BudgetManager>(
           budget, reducers::builtinReducers().create(budget.reducer, ini, budget.seed),
           makeShadows(ini, budget))),
@@ -121,8 +113,6 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
       evictions_csv_(folder_.file("evictions.csv"), report::evictionsCsvColumns()),
       keep_history_(keep_history) {
   if (truth_ && !truth_->path.empty()) truth_frame_ = metrics::toEstimateFrame(*truth_);
-  if (!keep_history_)
-    if (auto* ekf = dynamic_cast<ekf::EkfBackend*>(backend_.get())) ekf->setKeepTrajectory(false);
   // map.png colours the kept landmarks by the coverage clusters ([CoverageReducer], run's seed).
   coverage_.seed = budget.seed;
   coverage_.loadFromConfigFile(ini, reducers::CoverageOptions::kSection);

@@ -17,11 +17,6 @@
 
 namespace budget_slam::app {
 
-/// Creates the backend named in [MappingApplication] backend. Throws ConfigError for an unknown
-/// name.
-std::unique_ptr<Backend> makeBackend(const std::string& name,
-                                     const mrpt::config::CConfigFileBase& ini);
-
 /// One SLAM run under a budget: backend + budget manager + the run's output folder
 /// (DESIGN.md "Data flow" and "Outputs"). Steps go in one at a time; steps.csv and evictions.csv
 /// are written as they happen, the rest by finish().

@@ -5,10 +5,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "BuiltinBackends.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSchema.h"
-#include "budget_slam/ekf/MrptIniKeys.h"
-#include "budget_slam/graph/GraphOptions.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
@@ -20,11 +19,12 @@ namespace {
 
 IniSchema knownKeys() {
   IniSchema schema;
-  for (const auto& [section, keys] : ekf::mrptKfSlamIniKeys()) schema.addSection(section, keys);
+  // The backends' sections first: MRPT's kf-slam keys lead [MappingApplication]'s list.
+  for (const auto* e : builtinBackends().entries())
+    for (const auto& [section, keys] : e->sections) schema.addSection(section, keys);
   schema.addSection(MappingOptions::kSection, MappingOptions::keys());
   schema.addSection(reducers::BudgetOptions::kSection, reducers::BudgetOptions::keys());
   schema.addSection(metrics::MetricsOptions::kSection, metrics::MetricsOptions::keys());
-  schema.addSection(graph::GraphSlamOptions::kSection, graph::GraphSlamOptions::keys());
   for (const auto* e : reducers::builtinReducers().entries())
     if (!e->section.empty()) schema.addSection(e->section, e->keys);
   return schema;
@@ -113,7 +113,8 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
     if (!cli.backend.empty()) {
       const auto& b = MappingOptions::backends();
       if (std::find(b.begin(), b.end(), cli.backend) == b.end())
-        throw ConfigError("--backend " + cli.backend + ": must be one of ekf, graph");
+        throw ConfigError("--backend " + cli.backend + ": must be one of " +
+                          builtinBackends().joinedNames(", "));
       rc.ini.write(MappingOptions::kSection, "backend", cli.backend);
     }
     if (!cli.rawlog.empty()) rc.ini.write(MappingOptions::kSection, "rawlog_file", cli.rawlog);

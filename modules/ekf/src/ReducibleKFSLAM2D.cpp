@@ -4,6 +4,8 @@
 
 #include <stdexcept>
 
+#include "budget_slam/core/EraseRowsCols.h"
+
 namespace budget_slam::ekf {
 
 void ReducibleKFSLAM2D::processStep(const Step& step) {
@@ -64,21 +66,14 @@ void ReducibleKFSLAM2D::removeLandmark(LandmarkId id) {
   const std::size_t idx = indexOf(id);
   const std::size_t V = get_vehicle_size(), F = get_feature_size();
   const std::size_t n = static_cast<std::size_t>(m_xkk.size());
-  const std::size_t start = V + F * idx, keep_after = n - start - F;
+  const auto start = static_cast<Eigen::Index>(V + F * idx), k = static_cast<Eigen::Index>(F);
 
-  // Mean: delete the landmark's F entries.
+  // Mean and covariance: delete the landmark's F entries, rows and columns (exact
+  // marginalization of a Gaussian), as the Gaussian evaluators do (core/EraseRowsCols.h).
   KFVector x(n - F);
-  for (std::size_t i = 0; i < start; ++i) x[i] = m_xkk[i];
-  for (std::size_t i = 0; i < keep_after; ++i) x[start + i] = m_xkk[start + F + i];
-
-  // Covariance: delete its F rows and columns (exact marginalization of a Gaussian).
+  copyWithoutEntries(m_xkk.asEigen(), start, k, x.asEigen());
   KFMatrix P(n - F, n - F);
-  const auto& Pe = m_pkk.asEigen();
-  auto Po = P.asEigen();
-  Po.topLeftCorner(start, start) = Pe.topLeftCorner(start, start);
-  Po.topRightCorner(start, keep_after) = Pe.topRightCorner(start, keep_after);
-  Po.bottomLeftCorner(keep_after, start) = Pe.bottomLeftCorner(keep_after, start);
-  Po.bottomRightCorner(keep_after, keep_after) = Pe.bottomRightCorner(keep_after, keep_after);
+  copyWithoutRowsCols(m_pkk.asEigen(), start, k, P.asEigen());
   m_xkk = std::move(x);
   m_pkk = std::move(P);
 

@@ -2,43 +2,39 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <functional>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "budget_slam/core/NameKeyedRegistry.h"
 #include "budget_slam/core/Reducer.h"
 
 namespace budget_slam {
 
-/// Name-keyed factory of reducers (MOLA modules, g2o's type registry).
-class ReducerRegistry {
- public:
+/// One registered reducer: how it is named, documented, configured and built.
+struct ReducerEntry {
   /// Builds a reducer from the ini (its own section) and the run's seed.
   using Factory = std::function<std::unique_ptr<Reducer>(const mrpt::config::CConfigFileBase& ini,
                                                          std::uint64_t seed)>;
-  struct Entry {
-    std::string name;               ///< as written in the ini and on the command line
-    std::string summary;            ///< one line for --help and docs
-    std::string section;            ///< its ini section, empty when it has no options
-    std::vector<std::string> keys;  ///< the keys of that section (for unknown-key checks)
-    Factory factory;
-  };
+  std::string name;               ///< as written in the ini and on the command line
+  std::string summary;            ///< one line for --help and docs
+  std::string section;            ///< its ini section, empty when it has no options
+  std::vector<std::string> keys;  ///< the keys of that section (for unknown-key checks)
+  Factory factory;
+};
 
-  /// Throws std::logic_error on a duplicate name (a programming error).
-  void add(Entry entry);
+/// Name-keyed factory of reducers (MOLA modules, g2o's type registry).
+class ReducerRegistry : public NameKeyedRegistry<ReducerEntry> {
+ public:
+  using Factory = ReducerEntry::Factory;
 
-  bool has(const std::string& name) const;
-  const Entry& entry(const std::string& name) const;  ///< throws ConfigError if unknown
-  std::vector<std::string> names() const;             ///< sorted
-  std::vector<const Entry*> entries() const;          ///< sorted by name
+  ReducerRegistry() : NameKeyedRegistry("reducer") {}
 
   /// Throws ConfigError "unknown reducer 'x' (registered: a, b, c)".
   std::unique_ptr<Reducer> create(const std::string& name, const mrpt::config::CConfigFileBase& ini,
-                                  std::uint64_t seed) const;
-
- private:
-  std::map<std::string, Entry> entries_;
+                                  std::uint64_t seed) const {
+    return entry(name).factory(ini, seed);
+  }
 };
 
 }  // namespace budget_slam

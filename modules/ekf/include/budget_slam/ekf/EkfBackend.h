@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "budget_slam/core/Backend.h"
+#include "budget_slam/core/BackendRegistry.h"
 #include "budget_slam/ekf/BlockMutualInformation.h"
 #include "budget_slam/ekf/ReducibleKFSLAM2D.h"
 
@@ -14,9 +15,14 @@ namespace budget_slam::ekf {
 /// sections [RangeBearingKFSLAM] and [RangeBearingKFSLAM_KalmanFilter], as kf-slam loads them.
 class EkfBackend : public Backend {
  public:
+  static constexpr const char* kName = "ekf";
+
   explicit EkfBackend(const mrpt::config::CConfigFileBase& ini);
 
-  std::string name() const override { return "ekf"; }
+  /// Its registry entry: name, summary, MRPT's kf-slam sections, factory.
+  static BackendEntry entry();
+
+  std::string name() const override { return kName; }
   void process(const Step& step) override;
   std::vector<LandmarkView> landmarks() const override;
   std::size_t landmarkCount() const override { return kf_.landmarkCount(); }

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "budget_slam/core/Backend.h"
+#include "budget_slam/core/BackendRegistry.h"
 #include "budget_slam/graph/FactorGraph.h"
 #include "budget_slam/graph/GraphOptions.h"
 #include "budget_slam/graph/Solver.h"
@@ -22,7 +23,12 @@ class GraphBackend : public Backend {
   explicit GraphBackend(const mrpt::config::CConfigFileBase& ini);
   GraphBackend(const GraphSlamOptions& options, const RangeBearingNoise& noise);
 
-  std::string name() const override { return "graph"; }
+  static constexpr const char* kName = "graph";
+
+  /// Its registry entry: name, summary, [GraphSLAM] and the noise keys, factory.
+  static BackendEntry entry();
+
+  std::string name() const override { return kName; }
   /// Adds the step's pose (odometry factor from the previous pose; the first step's pose gets the
   /// prior at the origin composed with its odometry), its range-bearing factors and new
   /// landmarks, then runs the incremental schedule (GraphSlamOptions).
