@@ -13,7 +13,7 @@
 
 namespace budget_slam::app {
 
-/// What the command line asked for (DESIGN.md "Command line").
+/// What the command line asked for (docs/ARCHITECTURE.md "Command line").
 struct CommandLine {
   std::string command;  ///< run | compare
   std::string config;   ///< -c; "" = keep params as set by the caller, or ./config.ini

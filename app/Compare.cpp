@@ -1,6 +1,6 @@
 // budget-slam compare: the rawlog parsed once, the unreduced reference and one run per reducer in
 // parallel threads, then every run measured against the reference and the ground truth
-// (DESIGN.md "Data flow", "Outputs").
+// (docs/ARCHITECTURE.md "Data flow", docs/OUTPUTS.md).
 #include <algorithm>
 #include <atomic>
 #include <fstream>

@@ -18,8 +18,8 @@
 namespace budget_slam::app {
 
 /// One SLAM run under a budget: backend + budget manager + the run's output folder
-/// (DESIGN.md "Data flow" and "Outputs"). Steps go in one at a time; steps.csv and evictions.csv
-/// are written as they happen, the rest by finish().
+/// (docs/ARCHITECTURE.md "Data flow", docs/OUTPUTS.md). Steps go in one at a time; steps.csv and
+/// evictions.csv are written as they happen, the rest by finish().
 class Pipeline {
  public:
   /// `keep_history` = false keeps no per-step records in memory (no online poses, no landmark

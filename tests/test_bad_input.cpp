@@ -1,5 +1,5 @@
-// DESIGN.md "Bad input": a one-line error naming the file, step or key, a non-zero exit, no
-// crash, and summary.json saying why wherever the output folder could be made.
+// docs/ARCHITECTURE.md "Bad input": a one-line error naming the file, step or key, a non-zero exit,
+// no crash, and summary.json saying why wherever the output folder could be made.
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>

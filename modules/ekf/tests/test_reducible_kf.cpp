@@ -37,7 +37,8 @@ Step withoutIds(const Step& s) {
 }
 }  // namespace
 
-// DESIGN.md: with no reducer, a run gives the same final state as MRPT's own filter.
+// docs/ARCHITECTURE.md "EKF backend": with no reducer, a run gives the same final state as MRPT's
+// own filter.
 TEST(EkfBackend, WithoutRemovalsEqualsMrptsOwnFilter) {
   mrpt::config::CConfigFile ini(kIni);
 

@@ -121,7 +121,7 @@ TEST(KMeans, KClampsToThePointCount) {
   EXPECT_EQ(KMeans::cluster({{0, 0}, {1, 1}}, o).centres.size(), 1u);
   EXPECT_TRUE(KMeans::cluster({}, o).label.empty());
 
-  // k = max(1, round(0.25 N)), DESIGN.md "coverage".
+  // k = max(1, round(0.25 N)), docs/ALGORITHMS.md "coverage".
   CoverageOptions c;
   EXPECT_EQ(c.kmeans(0).k, 1u);
   EXPECT_EQ(c.kmeans(1).k, 1u);

@@ -9,7 +9,7 @@
 
 namespace budget_slam {
 
-/// A landmark SLAM estimator the budget manager can shrink (DESIGN.md "Interfaces").
+/// A landmark SLAM estimator the budget manager can shrink (docs/ARCHITECTURE.md "Interfaces").
 /// Implemented by the EKF (modules/ekf) and the landmark graph (modules/graph).
 class Backend {
  public:
@@ -37,7 +37,7 @@ class Backend {
   /// Drops landmark `id` by exact marginalization; throws std::out_of_range if unknown.
   virtual void removeLandmark(LandmarkId id) = 0;
 
-  /// Information gain of each landmark in bits (DESIGN.md "Reducers", mi).
+  /// Information gain of each landmark in bits (docs/ALGORITHMS.md "mi").
   virtual std::vector<double> informationGain(const std::vector<LandmarkId>& ids) const = 0;
 
   /// Marginal covariance of one landmark [m^2].

@@ -5,7 +5,7 @@
 namespace budget_slam {
 
 /// A user-facing failure: its what() is one line that names the file, step or key at fault
-/// (DESIGN.md "Bad input"). Anything else escaping a run is a bug.
+/// (docs/ARCHITECTURE.md "Bad input"). Anything else escaping a run is a bug.
 class Error : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

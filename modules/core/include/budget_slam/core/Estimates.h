@@ -8,7 +8,7 @@
 
 namespace budget_slam {
 
-/// What a reducer may know of a landmark (DESIGN.md "Data flow").
+/// What a reducer may know of a landmark (docs/ARCHITECTURE.md "Data flow").
 struct LandmarkView {
   LandmarkId id = kNoLandmarkId;
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();  ///< [m]

@@ -7,9 +7,9 @@
 
 namespace budget_slam {
 
-/// The sections and keys a run understands, to reject typos (DESIGN.md "Bad input": "unknown
-/// key — say which and suggest the closest"). Sections outside the schema are left alone unless
-/// their name is a near miss of a known one (MRPT ini files hold other apps' sections too).
+/// The sections and keys a run understands, to reject typos (docs/ARCHITECTURE.md "Bad input": an
+/// unknown key is named with the closest known one). Sections outside the schema are left alone
+/// unless their name is a near miss of a known one (MRPT ini files hold other apps' sections too).
 class IniSchema {
  public:
   void addSection(const std::string& section, const std::vector<std::string>& keys);

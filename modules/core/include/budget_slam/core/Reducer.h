@@ -46,7 +46,7 @@ struct ScheduledDrops {
   std::size_t keep_last_poses = 0;
 };
 
-/// A rule that picks the landmark to drop (DESIGN.md "Reducers"). Registered by name in a
+/// A rule that picks the landmark to drop (docs/ALGORITHMS.md). Registered by name in a
 /// ReducerRegistry; adding one is one file plus one line in reducers/BuiltinReducers.cpp.
 class Reducer {
  public:

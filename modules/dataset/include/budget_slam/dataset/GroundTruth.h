@@ -11,7 +11,7 @@
 
 namespace budget_slam::dataset {
 
-/// Ground truth in MRPT's simul-landmarks formats (DESIGN.md "Command line"):
+/// Ground truth in MRPT's simul-landmarks formats (docs/ARCHITECTURE.md "Outputs"):
 ///  - `<rawlog>_ground_truth.txt`: one landmark a row, x y z in columns 0-2, id in column 6;
 ///  - `<rawlog>_ground_truth_robot_path.txt`: one row a step, `x y z yaw pitch roll`.
 struct GroundTruth {

@@ -7,7 +7,8 @@ namespace budget_slam::ekf {
 
 /// Mutual information between one 2-D block L of a Gaussian state and all the rest, in bits:
 ///   I(L; rest) = 1/2 log2( |P_LL| * |Lambda_LL| ),  Lambda = P^-1
-/// (Choudhary et al. Eq. 6 with |Sigma_L|rest| = |Lambda_LL|^-1; DESIGN.md "mi", EKF case).
+/// (Choudhary et al. Eq. 6 with |Sigma_L|rest| = |Lambda_LL|^-1; docs/ALGORITHMS.md "mi", EKF
+/// case).
 ///
 /// One Cholesky factorization serves every block; removing a block updates Lambda by the Schur
 /// complement  Lambda' = Lambda_rr - Lambda_rL Lambda_LL^-1 Lambda_Lr  (O(n^2), no new inverse),

@@ -11,8 +11,8 @@
 
 namespace budget_slam::ekf {
 
-/// The Backend over MRPT's EKF (DESIGN.md "EKF backend"). Options come from MRPT's own ini
-/// sections [RangeBearingKFSLAM] and [RangeBearingKFSLAM_KalmanFilter], as kf-slam loads them.
+/// The Backend over MRPT's EKF (docs/ARCHITECTURE.md "EKF backend"). Options come from MRPT's own
+/// ini sections [RangeBearingKFSLAM] and [RangeBearingKFSLAM_KalmanFilter], as kf-slam loads them.
 class EkfBackend : public Backend {
  public:
   static constexpr const char* kName = "ekf";

@@ -8,7 +8,7 @@
 namespace budget_slam::ekf {
 
 /// MRPT's 2D range-bearing EKF-SLAM (filter, motion and sensor models, data association and ini
-/// sections unchanged) that can also drop a landmark (DESIGN.md "EKF backend").
+/// sections unchanged) that can also drop a landmark (docs/ARCHITECTURE.md "EKF backend").
 class ReducibleKFSLAM2D : public mrpt::slam::CRangeBearingKFSLAM2D {
  public:
   /// One MRPT Kalman iteration on the step's own action and frame. A frame with no

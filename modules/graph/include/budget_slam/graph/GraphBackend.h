@@ -13,10 +13,9 @@
 
 namespace budget_slam::graph {
 
-/// Landmark graph SLAM behind the Backend interface (`--backend graph`; DESIGN.md "Graph
-/// backend", docs/GRAPH.md). Full smoothing over every kept pose; covariances and information
-/// gains are evaluated at the current estimate from one cached CHOLMOD factorization, rebuilt
-/// lazily after any change.
+/// Landmark graph SLAM behind the Backend interface (`--backend graph`; docs/GRAPH.md). Full
+/// smoothing over every kept pose; covariances and information gains are evaluated at the current
+/// estimate from one cached CHOLMOD factorization, rebuilt lazily after any change.
 class GraphBackend : public Backend {
  public:
   /// Reads [GraphSLAM] and the sensor noise keys of [RangeBearingKFSLAM].

@@ -8,7 +8,7 @@
 
 namespace budget_slam::graph {
 
-/// [GraphSLAM]: the landmark graph backend (DESIGN.md "Graph backend"), MRPT's CLoadableOptions
+/// [GraphSLAM]: the landmark graph backend (docs/GRAPH.md), MRPT's CLoadableOptions
 /// pattern. Read with budget_slam::IniSection: a bad value is a ConfigError naming the key.
 struct GraphSlamOptions : public mrpt::config::CLoadableOptions {
   static constexpr const char* kSection = "GraphSLAM";
@@ -46,7 +46,7 @@ struct GraphSlamOptions : public mrpt::config::CLoadableOptions {
   /// Readings without landmark ID: nearest neighbour within this Mahalanobis gate (chi2, 2 dof;
   /// 9.21 = 99 %), otherwise a new landmark.
   double association_gate_chi2 = 9.21;
-  /// informationGain(): marginal = DESIGN.md's IG (L marginalized out of the "with" term; a
+  /// informationGain(): marginal = docs/GRAPH.md's IG (L marginalized out of the "with" term; a
   /// landmark seen once gives 0); conditional = Choudhary et al. Alg. 2 as printed (r given L,
   /// conditionalInformationGain). docs/GRAPH.md "Information gain".
   std::string information_gain = "marginal";

@@ -7,7 +7,8 @@
 
 namespace budget_slam::graph {
 
-/// Information gain of landmark L in bits (Choudhary et al. Eq. 6, Alg. 2; DESIGN.md "mi"):
+/// Information gain of landmark L in bits (Choudhary et al. Eq. 6, Alg. 2; docs/GRAPH.md
+/// "Information gain"):
 ///   IG(L) = 1/2 log2( |Sigma_r without L's factors| / |Sigma_r with them| ),  r = all but L.
 ///
 /// Fast form, from one factorization of the full H shared by every landmark. Let B be the poses

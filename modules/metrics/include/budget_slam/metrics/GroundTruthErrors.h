@@ -13,7 +13,8 @@ struct PoseRecord {
   PoseEstimate estimate;
 };
 
-/// Errors against ground truth (DESIGN.md "Metrics"), SI units; NaN when not computable.
+/// Errors against ground truth (docs/ARCHITECTURE.md "Where each formula lives"), SI units; NaN
+/// when not computable.
 struct GroundTruthErrors {
   std::size_t poses = 0;                                              ///< poses compared
   double trajectory_rmse = std::numeric_limits<double>::quiet_NaN();  ///< [m]

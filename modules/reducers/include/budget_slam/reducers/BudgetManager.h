@@ -53,7 +53,8 @@ struct Agreement {
 /// `active` null is reducer `none`.
 void checkCap(const BudgetOptions& options, const Reducer* active);
 
-/// Keeps the map within [LandmarkBudget] max_landmarks after every step (DESIGN.md "Reducers").
+/// Keeps the map within [LandmarkBudget] max_landmarks after every step (docs/ALGORITHMS.md "Common
+/// to every reducer").
 class BudgetManager {
  public:
   /// `active` may be null: reducer `none`, the unreduced reference run (nothing is dropped).

@@ -9,7 +9,7 @@
 namespace budget_slam::reducers {
 
 /// [LandmarkBudget]: how many landmarks the map may hold and who decides which one goes
-/// (DESIGN.md "Reducers").
+/// (docs/ALGORITHMS.md "Common to every reducer").
 struct BudgetOptions : public mrpt::config::CLoadableOptions {
   static constexpr const char* kSection = "LandmarkBudget";
 

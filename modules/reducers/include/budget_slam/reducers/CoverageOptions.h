@@ -10,7 +10,7 @@
 namespace budget_slam::reducers {
 
 /// [CoverageReducer]: the clustering of Hochdorfer & Schlegel Sec. III-C, shared by `coverage`
-/// and `coverage-mi` (DESIGN.md "coverage").
+/// and `coverage-mi` (docs/ALGORITHMS.md "coverage").
 struct CoverageOptions : public mrpt::config::CLoadableOptions {
   static constexpr const char* kSection = "CoverageReducer";
 

@@ -4,11 +4,11 @@
 
 namespace budget_slam::reducers {
 
-/// `coverage` (Hochdorfer & Schlegel; DESIGN.md "coverage"): cluster the landmarks by where they
-/// were seen from (coverageClusters), rate each by Dissanayake's information content
-/// I = 1/sigma_xx^2 + 1/sigma_yy^2 (their Eq. 4), take the cluster with the largest
-/// max I - min I over its members (Eq. 5) among those holding a candidate, and drop its lowest-I
-/// candidate. Score: that I [1/m^2].
+/// `coverage` (Hochdorfer & Schlegel; docs/ALGORITHMS.md "coverage"): cluster the landmarks by
+/// where they were seen from (coverageClusters), rate each by Dissanayake's information content I =
+/// 1/sigma_xx^2 + 1/sigma_yy^2 (their Eq. 4), take the cluster with the largest max I - min I over
+/// its members (Eq. 5) among those holding a candidate, and drop its lowest-I candidate. Score:
+/// that I [1/m^2].
 class CoverageReducer : public Reducer {
  public:
   explicit CoverageReducer(const CoverageOptions& options) : options_(options) {}

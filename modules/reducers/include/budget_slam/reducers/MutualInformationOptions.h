@@ -7,7 +7,8 @@
 
 namespace budget_slam::reducers {
 
-/// [MutualInformationReducer]: the `mi` reducer (Choudhary et al. ICRA 2015; DESIGN.md "mi").
+/// [MutualInformationReducer]: the `mi` reducer (Choudhary et al. ICRA 2015; docs/ALGORITHMS.md
+/// "mi").
 struct MutualInformationOptions : public mrpt::config::CLoadableOptions {
   static constexpr const char* kSection = "MutualInformationReducer";
 

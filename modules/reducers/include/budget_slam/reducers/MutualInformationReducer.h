@@ -4,10 +4,10 @@
 
 namespace budget_slam::reducers {
 
-/// `mi` (Choudhary et al. ICRA 2015, Alg. 2-5; DESIGN.md "mi"). At a cap decision: the candidate
-/// with the lowest information gain Backend::informationGain [bits] (Alg. 4), ties to the lowest
-/// id; score = that gain. Modes `objective` and `incremental` add the drop events of Alg. 3 and
-/// Alg. 5 through Reducer::scheduled (see MutualInformationOptions).
+/// `mi` (Choudhary et al. ICRA 2015, Alg. 2-5; docs/ALGORITHMS.md "mi"). At a cap decision: the
+/// candidate with the lowest information gain Backend::informationGain [bits] (Alg. 4), ties to the
+/// lowest id; score = that gain. Modes `objective` and `incremental` add the drop events of Alg. 3
+/// and Alg. 5 through Reducer::scheduled (see MutualInformationOptions).
 class MutualInformationReducer : public Reducer {
  public:
   explicit MutualInformationReducer(const MutualInformationOptions& options);

@@ -4,7 +4,7 @@
 
 namespace budget_slam::report {
 
-/// The folder a run writes into (DESIGN.md "Outputs"). It refuses a non-empty folder unless
+/// The folder a run writes into (docs/OUTPUTS.md). It refuses a non-empty folder unless
 /// `force` is set, and even then never deletes anything: it only (over)writes its own files.
 class OutputFolder {
  public:

@@ -11,7 +11,7 @@
 
 namespace budget_slam::report {
 
-/// What map.png shows (DESIGN.md "Outputs"): the trajectory (and ground truth), the kept landmarks
+/// What map.png shows (docs/OUTPUTS.md): the trajectory (and ground truth), the kept landmarks
 /// with their 2-sigma ellipses, the dropped landmarks, and the coverage clusters in colour.
 struct MapContent {
   std::string title;

@@ -19,7 +19,7 @@ void writeLandmarksCsv(const std::string& path, const std::vector<LandmarkView>&
 /// never sees half a file.
 void writeJson(const std::string& path, const nlohmann::json& j);
 
-/// Columns of steps.csv and evictions.csv (DESIGN.md "Outputs").
+/// Columns of steps.csv and evictions.csv (docs/OUTPUTS.md).
 const std::vector<std::string>& stepsCsvColumns();
 const std::vector<std::string>& evictionsCsvColumns();
 
