@@ -24,6 +24,8 @@ EXTERNAL_CONTRACT = "DESIGN" + ".md"
 DOCS_PATH = re.compile(r"docs/[A-Za-z0-9_./*-]*")
 MD_LINK = re.compile(r"\]\(([^)\s#]+)(?:#[^)]*)?\)")
 BARE_PAGE = re.compile(r"(?<![\w/.-])([A-Z][A-Z0-9_]*\.md)\b")
+# The checker's own test writes made-up trees full of bad references on purpose.
+SKIP_FILES = {"tools/tests/test_check_doc_references.py"}
 SKIP_DIRS = {".git", "build", "build-asan", "build-fuzz", "__pycache__"}
 TEXT_SUFFIXES = (".md", ".txt", ".h", ".hpp", ".cpp", ".py", ".sh", ".ini", ".cmake", ".yml",
                  ".yaml", ".json", ".in")
@@ -98,7 +100,7 @@ def main(argv):
                            os.path.join(os.path.dirname(__file__), ".."))
     bad = []
     for rel in tracked_files(root):
-        if is_text(rel) and os.path.isfile(os.path.join(root, rel)):
+        if rel not in SKIP_FILES and is_text(rel) and os.path.isfile(os.path.join(root, rel)):
             bad += problems(root, rel)
     for b in bad:
         print(b)
