@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+
+#include "budget_slam/core/Error.h"
 
 namespace budget_slam::reducers {
 
@@ -93,7 +96,9 @@ std::size_t refillEmpty(const std::vector<Eigen::Vector2d>& points,
       const double di = KMeans::distance(points[i], centres[label[i]], d);
       if (di > far_d) far = i, far_d = di;
     }
-    // k <= N guarantees a cluster with two or more points while one is empty.
+    // k <= N guarantees a cluster with two or more points while one is empty; only non-finite
+    // points (a diverged estimate) leave none farther than -1: leave the cluster empty then.
+    if (far == points.size()) break;
     --size[label[far]];
     label[far] = c;
     size[c] = 1;
@@ -108,6 +113,11 @@ KMeans::Result KMeans::cluster(const std::vector<Eigen::Vector2d>& points, const
   Result res;
   const std::size_t n = points.size();
   if (n == 0) return res;
+  // A NaN or infinite point has no distance to anything: refuse it rather than cluster garbage.
+  for (std::size_t i = 0; i < n; ++i)
+    if (!points[i].allFinite())
+      throw Error("k-means: point " + std::to_string(i) + " is not finite (" +
+                  std::to_string(points[i].x()) + ", " + std::to_string(points[i].y()) + ")");
   const std::size_t k = std::clamp<std::size_t>(options.k, 1, n);
   for (const auto i : seedIndices(points, k, options.distance, options.seed))
     res.centres.push_back(points[i]);
