@@ -4,11 +4,13 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 #include <functional>
 #include <iomanip>
 #include <sstream>
 
+#include "MappingOptions.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/StepFilter.h"
@@ -17,6 +19,7 @@
 #include "budget_slam/graph/GraphBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/FileWrite.h"
+#include "budget_slam/report/MapScene.h"
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFiles.h"
 
@@ -51,7 +54,44 @@ double nanIfEmpty(std::size_t n, double v) {
 /// JSON has no NaN: write null instead.
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
+bool finite(const LandmarkView& l) {
+  return l.mean.allFinite() && l.cov.allFinite() && l.obs_mean.allFinite();
+}
+
+/// A cell of evictions.csv's shadow_choices: `name:id:score` a shadow, `;`-separated; a shadow
+/// that failed at this drop has empty id and score (`name::`).
+std::string shadowChoices(const reducers::Eviction& e) {
+  std::string out;
+  for (const auto& [name, choice] : e.shadow) {
+    out += (out.empty() ? "" : ";") + name + ":";
+    if (choice.id != kNoLandmarkId)
+      out += std::to_string(choice.id) + ":" +
+             (std::isnan(choice.score) ? std::string() : report::formatDouble(choice.score));
+    else
+      out += ":";
+  }
+  return out;
+}
+
+/// A cell of evictions.csv's shadow_errors: `name: why` a failed shadow, `;`-separated (a `;`
+/// inside a message reads as `,`).
+std::string shadowErrors(const reducers::Eviction& e) {
+  std::string out;
+  for (auto [name, why] : e.shadow_errors) {
+    std::replace(why.begin(), why.end(), ';', ',');
+    out += (out.empty() ? "" : ";") + name + ": " + why;
+  }
+  return out;
+}
+
 }  // namespace
+
+std::string shadowFailureLine(const reducers::ShadowFailures& f) {
+  return "shadow reducer '" + f.shadow + "' failed at " + std::to_string(f.failures) +
+         " drop decision" + (f.failures == 1 ? "" : "s") + " from step " +
+         std::to_string(f.first_step) + " to " + std::to_string(f.last_step) +
+         " (first: " + f.first_error + "); the active reducer's drops stand";
+}
 
 std::unique_ptr<Backend> makeBackend(const std::string& name,
                                      const mrpt::config::CConfigFileBase& ini) {
@@ -91,6 +131,10 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
   // map.png colours the kept landmarks by the coverage clusters ([CoverageReducer], run's seed).
   coverage_.seed = budget.seed;
   coverage_.loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
+  MappingOptions mapping;
+  mapping.loadFromConfigFile(ini, MappingOptions::kSection);
+  save_3d_scene_ = mapping.save_3d_scene;
+  scene_every_steps_ = mapping.scene_every_steps;
   if (budget.dump_states)
     manager_->setBeforeDropEvent([this](const Backend& b, StepIndex step) { dumpState(b, step); });
 }
@@ -155,16 +199,18 @@ void Pipeline::process(const Step& raw) {
     }
 
   logEvictions(drops);
+  if (scene_every_steps_ && raw.index % scene_every_steps_ == 0) {
+    char name[48];
+    std::snprintf(name, sizeof name, "kf_state_%05llu.3Dscene",
+                  static_cast<unsigned long long>(raw.index));
+    writeScene(name, backend_->trajectory(), backend_->landmarks());
+  }
 }
 
 void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
   evictions_ += drops.size();
   for (const auto& e : drops) {
     if (dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
-    std::string shadow;
-    for (const auto& [name, choice] : e.shadow)
-      shadow += (shadow.empty() ? "" : ";") + name + ":" + std::to_string(choice.id) + ":" +
-                report::formatDouble(choice.score);
     evictions_csv_.cell(e.step)
         .cell(static_cast<long long>(e.id))
         .cell(e.reducer)
@@ -172,17 +218,18 @@ void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
         .cell(e.n_before)
         .cell(e.n_after)
         .cell(e.reason)
-        .cell(shadow);
+        .cell(shadowChoices(e))
+        .cell(shadowErrors(e));
     evictions_csv_.endRow();
   }
 }
 
-void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
-                        const std::vector<LandmarkView>& landmarks) const {
+report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& trajectory,
+                                        const std::vector<LandmarkView>& landmarks) const {
   report::MapContent map;
   const auto& budget = manager_->options();
   map.title = backend_->name() + ", reducer " + budget.reducer +
-              (manager_->capped() ? ", cap " + std::to_string(budget.max_landmarks) : "") + ": " +
+              (manager_->capped() ? ", cap " + std::to_string(*budget.max_landmarks) : "") + ": " +
               std::to_string(landmarks.size()) + " landmarks kept, " + std::to_string(evictions_) +
               " dropped";
   for (const auto& p : trajectory) map.trajectory.push_back(p.pose);
@@ -198,7 +245,18 @@ void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
     map.ground_truth_path = gt.path;
     for (const auto& [id, l] : gt.landmarks) map.ground_truth_landmarks.push_back(l);
   }
-  report::writeMapPng(folder_.file("map.png"), map);
+  return map;
+}
+
+void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
+                        const std::vector<LandmarkView>& landmarks) const {
+  report::writeMapPng(folder_.file("map.png"), mapContent(trajectory, landmarks));
+}
+
+void Pipeline::writeScene(const std::string& name, const std::vector<TrajectoryPoint>& trajectory,
+                          const std::vector<LandmarkView>& landmarks) const {
+  report::writeMapScene(folder_.file(name), mapContent(trajectory, landmarks),
+                        backend_->robotPose().mean);
 }
 
 void Pipeline::writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
@@ -257,14 +315,14 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   }
   // What the outputs may hold: the poses of the steps that completed, and finite estimates only
   // (a diverged filter's NaN reaches no picture, metric, k-means or file).
-  const auto finite = [](const mrpt::math::TPose2D& p) {
+  const auto finitePose = [](const mrpt::math::TPose2D& p) {
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
   };
   std::vector<TrajectoryPoint> trajectory;
   std::size_t poses_not_finite = 0;
   for (const auto& p : backend_->trajectory()) {
     if (steps_done_ == 0 || p.step > last_step_) continue;  // a step cut short
-    if (!finite(p.pose) || !std::isfinite(p.t))
+    if (!finitePose(p.pose) || !std::isfinite(p.t))
       ++poses_not_finite;
     else
       trajectory.push_back(p);
@@ -272,7 +330,7 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   std::vector<LandmarkView> landmarks;
   std::size_t landmarks_not_finite = 0;
   for (const auto& l : backend_->landmarks()) {
-    if (l.mean.allFinite() && l.cov.allFinite() && l.obs_mean.allFinite())
+    if (finite(l))
       landmarks.push_back(l);
     else
       ++landmarks_not_finite;
@@ -296,6 +354,8 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   attempt("landmarks.csv",
           [&] { report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks); });
   attempt("map.png", [&] { writeMap(trajectory, landmarks); });
+  if (save_3d_scene_)
+    attempt("map.3Dscene", [&] { writeScene("map.3Dscene", trajectory, landmarks); });
   if (truth_ && !truth_->path.empty())
     attempt("ground_truth.tum", [&] { writeGroundTruthTum(trajectory, steps_in_rawlog); });
 
@@ -315,7 +375,7 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   if (!not_written.empty()) j["files_not_written"] = not_written;
   j["backend"] = backend_->name();
   j["reducer"] = budget.reducer;
-  j["cap"] = manager_->capped() ? nlohmann::json(budget.max_landmarks) : nlohmann::json();
+  j["cap"] = manager_->capped() ? nlohmann::json(*budget.max_landmarks) : nlohmann::json();
   j["counts"] = {{"steps", steps_done_},
                  {"landmarks_final", landmarks.size()},
                  {"landmarks_not_finite", landmarks_not_finite},
@@ -339,6 +399,14 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
                          {"total", a.total},
                          {"rate", number(a.total ? a.rate() : NAN)}});
   j["agreement"] = agreement;
+  nlohmann::json shadow_failures = nlohmann::json::array();
+  for (const auto& f : manager_->shadowFailures())
+    shadow_failures.push_back({{"shadow", f.shadow},
+                               {"failures", f.failures},
+                               {"first_step", f.first_step},
+                               {"last_step", f.last_step},
+                               {"first_error", f.first_error}});
+  j["shadow_failures"] = shadow_failures;
 
   if (truth_ && !truth_->empty()) {
     metrics::GroundTruthErrors e;

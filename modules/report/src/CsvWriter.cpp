@@ -35,7 +35,9 @@ void CsvWriter::separator() {
 
 CsvWriter& CsvWriter::cell(double v) {
   separator();
-  row_ += formatDouble(v);
+  // NaN means "does not apply" (e.g. no ground truth): an empty field, which pandas and
+  // numpy.genfromtxt read as missing.
+  if (!std::isnan(v)) row_ += formatDouble(v);
   return *this;
 }
 
