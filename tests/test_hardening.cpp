@@ -58,7 +58,7 @@ fs::path writeFile(const fs::path& p, const std::string& bytes) {
 
 }  // namespace
 
-// Issue case 1 (the values that made the filter diverge) and every MRPT ekf key with a range.
+// The values that made the filter diverge, and every MRPT ekf key with a range.
 TEST(Hardening, SensorNoiseValuesAreCheckedWhereRead) {
   const std::string r = "[RangeBearingKFSLAM] ";
   const std::vector<BadValue> cases = {
@@ -117,7 +117,7 @@ TEST(Hardening, BadValuesInTheIniFileNameFileSectionKeyAndValue) {
   }
 }
 
-// Issue case 4: --set and ini errors.
+// --set and ini errors.
 TEST(Hardening, UnknownSectionsAreErrors) {
   const auto out = freshDir("unknown_section_set");
   expectFailed(runOn(kDemo, out, {"--set", "Foo.bar=1"}), out,
@@ -210,7 +210,7 @@ TEST(Hardening, VariableExpansionFailureIsOneLineNotAnAbort) {
                "a value given here");
 }
 
-// Issue case 3: an error text echoing bytes that are not UTF-8 still gives a valid summary.json.
+// An error text echoing bytes that are not UTF-8 still gives a valid summary.json.
 TEST(Hardening, SummaryIsWrittenWhateverBytesTheErrorEchoes) {
   const auto out = freshDir("bad_bytes");
   const std::string path = out.parent_path().string() + "/no\xff\xfe such.rawlog";
@@ -219,8 +219,8 @@ TEST(Hardening, SummaryIsWrittenWhateverBytesTheErrorEchoes) {
   expectFailed(r, out, "rawlog '" + shown + "': no such file");
 }
 
-// Issue case 1: a filter that diverges (MRPT's filter with a near-zero sensor noise and a reading
-// far off) stops the run cleanly: no NaN reaches k-means, the map or the metrics.
+// A filter that diverges (MRPT's filter with a near-zero sensor noise, the smallest the checks
+// allow) stops the run cleanly: no NaN reaches k-means, the map, the metrics or the files.
 TEST(Hardening, DivergedFilterStopsCleanlyWithoutNan) {
   const auto out = freshDir("diverged");
   const auto r = runOn(
@@ -239,7 +239,7 @@ TEST(Hardening, DivergedFilterStopsCleanlyWithoutNan) {
   EXPECT_TRUE(fs::exists(out / "map.png"));
 }
 
-// Issue case 7: a forced run never mixes its files with an earlier run's.
+// A forced run never mixes its files with an earlier run's.
 TEST(Hardening, AForcedRunMovesTheEarlierRunAsideAndSaysSo) {
   const auto out = freshDir("forced");
   const auto first =
@@ -272,7 +272,7 @@ TEST(Hardening, AForcedRunMovesTheEarlierRunAsideAndSaysSo) {
   EXPECT_EQ(readJson(out / earlier / "summary.json")["status"], "ok");
 }
 
-// Issue case 5: Ctrl-C in the end phase (active minimization, the graph's final solve).
+// Ctrl-C in the end phase (active minimization, the graph's final solve).
 TEST(Hardening, CtrlCInTheEndPhaseEndsTheRun) {
   const auto out = freshDir("end_phase");
   const auto r = runApp(
