@@ -20,6 +20,7 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: budget-slam run|compare -c config.ini [-i in.rawlog] [-o outdir] [options]\n"
+    "       budget-slam localize -c config.ini --map RUN_DIR -i other.rawlog [-o outdir] [options]\n"
     "       budget-slam <command> --help";
 
 std::vector<std::string> splitList(const std::string& s) {
@@ -51,9 +52,10 @@ void BudgetSlamApp::initialize(int argc, const char* const* argv) {
 }
 
 void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
+  if (args.size() >= 2 && args[1] == "localize") return initializeLocalize(args);
   if (args.size() < 2 || (args[1] != "run" && args[1] != "compare")) {
     if (args.size() >= 2 && (args[1] == "--help" || args[1] == "-h")) throw ConfigError(kUsage);
-    throw ConfigError(std::string("expected a command, run or compare\n") + kUsage);
+    throw ConfigError(std::string("expected a command, run, compare or localize\n") + kUsage);
   }
   cli_ = CommandLine();
   cli_.command = args[1];
@@ -80,7 +82,15 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
                                         false, "", "a,b,c");
   TCLAP::ValueArg<unsigned> threads(
       "", "threads", "runs at once (default: one a core, at most one a run)", false, 0, "N");
-  if (compare) cmd.add(reducers), cmd.add(threads);
+  TCLAP::ValueArg<std::string> relocalize(
+      "", "relocalize",
+      "comma-separated rawlogs: every run's final map localizes each one (budget-slam localize)",
+      false, "", "a.rawlog,b.rawlog");
+  TCLAP::ValueArg<std::string> reference_trajectory(
+      "", "reference-trajectory",
+      "with --relocalize: trajectory.tum to measure traversals without ground truth against",
+      false, "", "file.tum");
+  if (compare) cmd.add(reducers), cmd.add(threads), cmd.add(relocalize), cmd.add(reference_trajectory);
   TCLAP::ValueArg<long long> cap("", "cap",
                                  "landmark cap; overrides [LandmarkBudget] "
                                  "max_landmarks",
@@ -116,9 +126,14 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   if (cap.isSet()) cli_.cap = cap.getValue();
   cli_.sets = sets.getValue();
   if (compare) cli_.reducers = splitList(reducers.getValue()), cli_.threads = threads.getValue();
+  if (compare) cli_.relocalize = splitList(relocalize.getValue());
+  if (compare) cli_.reference_trajectory = reference_trajectory.getValue();
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
+  loadConfigFile();
+}
 
+void BudgetSlamApp::loadConfigFile() {
   if (!cli_.config.empty() || params.getContent().empty()) {
     const std::string path = cli_.config.empty() ? "config.ini" : cli_.config;
     std::ifstream in(path);
@@ -135,6 +150,7 @@ int BudgetSlamApp::run() {
   if (!err) err = &std::cerr;
   InterruptGuard guard;
   InterruptGuard::clear();
+  if (cli_.command == "localize") return runLocalize();
   return cli_.command == "compare" ? runCompare() : runRun();
 }
 

@@ -15,7 +15,7 @@ namespace budget_slam::app {
 
 /// What the command line asked for (DESIGN.md "Command line").
 struct CommandLine {
-  std::string command;  ///< run | compare
+  std::string command;  ///< run | compare | localize
   std::string config;   ///< -c; "" = keep params as set by the caller, or ./config.ini
   std::string rawlog, outdir, reducer, backend;
   std::optional<long long> cap;
@@ -23,6 +23,10 @@ struct CommandLine {
   std::vector<std::string> reducers;  ///< compare: --reducers a,b,c
   unsigned threads = 0;               ///< compare: --threads, 0 = one a core
   bool quiet = false, force = false;
+  std::string map_dir;                   ///< localize: --map RUN_DIR
+  std::string start_pose;                ///< localize: --start-pose x,y,yaw_deg ("" = derive)
+  std::string reference_trajectory;      ///< localize, compare: --reference-trajectory
+  std::vector<std::string> relocalize;   ///< compare: --relocalize a.rawlog,b.rawlog
 };
 
 /// The budget-slam application: a thin main() calls initialize() and run(); tests drive it with an
@@ -48,6 +52,11 @@ class BudgetSlamApp {
  private:
   int runRun();
   int runCompare();
+  int runLocalize();
+  /// localize's command line (Localize.cpp).
+  void initializeLocalize(const std::vector<std::string>& args);
+  /// Loads -c (or ./config.ini when params is empty) into `params`.
+  void loadConfigFile();
 
   CommandLine cli_;
   std::string config_label_ = "config";

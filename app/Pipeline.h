@@ -9,6 +9,8 @@
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
+#include "budget_slam/metrics/MapAlignment.h"
+#include "budget_slam/metrics/RelocalizationCoverage.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/CoverageOptions.h"
 #include "budget_slam/report/CsvWriter.h"
@@ -55,6 +57,23 @@ class Pipeline {
   const std::vector<std::size_t>& landmarkCounts() const { return counts_; }
   double totalStepSeconds() const { return total_step_s_; }
 
+  /// Relocalization coverage of the final map (docs/OUTPUTS.md): the coverage, the steps with
+  /// their counts against the final map, and where the observations came from.
+  struct FinalCoverage {
+    metrics::RelocalizationCoverage coverage;
+    std::vector<metrics::ObservedAtStep> steps;
+    std::string source;  ///< landmark_ids | own_association | reference_association | ...
+    nlohmann::json details = nlohmann::json::object();  ///< extra fields for summary.json
+  };
+  /// The tracker's steps against the backend's landmarks now (call after complete()).
+  FinalCoverage finalCoverage() const;
+  /// Replaces what finish() reports (compare on ID-less rawlogs: through the reference run).
+  void setFinalCoverage(FinalCoverage coverage) { final_coverage_ = std::move(coverage); }
+  /// Which landmarks each step observed, and the coverage so far.
+  const metrics::RelocalizationTracker& relocalization() const { return reloc_; }
+  /// Set by finish() when the rawlog has ground truth: the ground truth's frame in the map's.
+  const std::optional<metrics::MapAlignment>& mapAlignment() const { return alignment_; }
+
  private:
   void dumpState(const Backend& backend, StepIndex step) const;
   /// evictions.csv rows, counts and map marks of drops.
@@ -62,7 +81,12 @@ class Pipeline {
   void writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
                            std::size_t steps_in_rawlog) const;
   void writeMap(const std::vector<TrajectoryPoint>& trajectory,
-                const std::vector<LandmarkView>& landmarks) const;
+                const std::vector<LandmarkView>& landmarks, const FinalCoverage& coverage) const;
+  /// Gives the coverage tracker the landmarks the step observed (`assoc`: the backend's
+  /// association of `filtered`'s readings), after the step's map changes; returns how many
+  /// landmarks of the map held after the step it observed.
+  std::size_t trackCoverage(const Step& raw, const Step& filtered,
+                            const std::vector<LandmarkId>& assoc);
 
   report::OutputFolder folder_;
   reducers::CoverageOptions coverage_;  ///< how map.png clusters the kept landmarks
@@ -79,6 +103,10 @@ class Pipeline {
   std::size_t nees_n_[2] = {0, 0};
   std::vector<std::size_t> counts_;
   std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
+  metrics::RelocalizationTracker reloc_;
+  bool saw_ids_ = false, saw_idless_ = false;  ///< readings with / without sensor IDs
+  std::optional<FinalCoverage> final_coverage_;
+  std::optional<metrics::MapAlignment> alignment_;
   bool completed_ = false;
   StepIndex last_step_ = 0;
   std::size_t steps_done_ = 0, evictions_ = 0, peak_landmarks_ = 0, landmarks_added_ = 0;
