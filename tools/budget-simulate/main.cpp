@@ -32,6 +32,13 @@ int main(int argc, char** argv) {
                                       cmd);
     TCLAP::ValueArg<double> std_yaw("", "sensor-std-yaw-deg", "bearing noise [deg]", false, -1,
                                     "DEG", cmd);
+    std::vector<std::string> routes = {"default", "revisit"};
+    TCLAP::ValuesConstraint<std::string> route_values(routes);
+    TCLAP::ValueArg<std::string> route(
+        "", "route",
+        "revisit (rooms, park): the same world from another start along another route through "
+        "every room or region, other noise (default: default)",
+        false, "default", &route_values, cmd);
     TCLAP::SwitchArg zero_noise("", "zero-noise", "no odometry or sensor noise at all", cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "output rawlog (name ends in .rawlog)", true, "",
                                      "out.rawlog", cmd);
@@ -44,6 +51,7 @@ int main(int argc, char** argv) {
     o.with_ids = !no_ids.getValue();
     if (laps.getValue() < 0) throw ConfigError("--laps must be at least 1");
     o.laps = laps.getValue();
+    o.route = route.getValue();
     o.odo_std_xy = zero_noise.getValue() ? 0 : odo_xy.getValue();
     o.odo_std_yaw_deg = zero_noise.getValue() ? 0 : odo_yaw.getValue();
     o.sensor_std_range = zero_noise.getValue() ? 0 : std_range.getValue();

@@ -15,15 +15,15 @@ namespace budget_slam::ekf {
 ///    marginal 2x2 covariances, no cross-covariances: a saved map keeps only the marginals);
 ///  - no landmark ever enters: a reading of a landmark not in the map (an unknown sensor ID, or an
 ///    ID-less reading MRPT's data association leaves unpaired) is not used;
-///  - a paired reading whose innovation fails the chi-square gate `gate_chi2` (or whose landmark
-///    MRPT does not predict in view) is not used either: a robot that has lost its place must not
-///    be dragged by readings it cannot explain;
+///  - optionally (`gate_chi2` > 0), a paired reading whose innovation fails that chi-square gate
+///    (or whose landmark MRPT does not predict in view) is not used either. Off by default, as in
+///    MRPT: readings paired by sensor ID are known correspondences, and a gate rejects them as
+///    soon as the filter is overconfident after a stretch without landmarks (Victoria Park's
+///    stated odometry noise), which would measure the filter rather than the map;
 ///  - the robot pose is predicted from odometry even while no landmark is in view (MRPT's SLAM
 ///    filter skips prediction while its map is empty, which would freeze a robot in an empty map).
 class LocalizationKF2D : public mrpt::slam::CRangeBearingKFSLAM2D {
  public:
-  /// Chi-square value of 2 degrees of freedom at 99.9%: the default gate.
-  static constexpr double kDefaultGate = 13.8155;
 
   /// Sets the state: `start` (mean and 3x3 covariance) and `map`, whose ids become the filter's
   /// landmark IDs (ID-less readings are paired by MRPT's data association against them).
@@ -32,8 +32,9 @@ class LocalizationKF2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   /// One MRPT Kalman iteration on the step's own action and frame.
   void processStep(const Step& step);
 
-  /// Innovation gate on d^2 = v' S^-1 v of each paired reading; 0 = no gate.
-  double gate_chi2 = kDefaultGate;
+  /// Innovation gate on d^2 = v' S^-1 v of each paired reading (13.8: chi-square, 2 degrees of
+  /// freedom, 99.9%); 0 = no gate.
+  double gate_chi2 = 0;
 
   PoseEstimate robotPose() const;
   /// The landmarks as the filter now holds them (id, mean, marginal covariance).
