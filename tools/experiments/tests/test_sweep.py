@@ -32,7 +32,8 @@ CAPS = ["20", "50%"]
 METRICS_REFERENCE = [
     "status_ok", "landmarks", "landmarks_reduction_pct", "poses", "poses_reduction_pct", "evictions",
     "ate_m", "ale_m", "are_deg", "ud_pct", "eig_min", "eig_max", "gt_trajectory_rmse_m",
-    "gt_trajectory_max_m", "gt_landmark_rmse_m", "nees_mean", "time_s", "gt_trajectory_rmse_aligned_m",
+    "gt_trajectory_max_m", "gt_landmark_rmse_m", "nees_mean", "time_s", "reloc_coverage_pct",
+    "reloc_mean_landmarks", "gt_trajectory_rmse_aligned_m",
     "gt_landmark_rmse_aligned_m", "step_ms_mean", "step_ms_max", "peak_rss_bytes", "steps"]
 METRICS_REDUCED = METRICS_REFERENCE + ["cap_landmarks"]
 PLOTS = ["kf-slam_demo__ekf__error_vs_cap.png"] + [
@@ -68,7 +69,7 @@ class TinySweep(unittest.TestCase):
         expected = sorted(("kf-slam_demo", "ekf", r, c, "1", m)
                           for r in REDUCERS for c in CAPS
                           for m in (METRICS_REFERENCE if r == "none" else METRICS_REDUCED))
-        self.assertEqual(len(rows), 2 * (23 + 2 * 24))
+        self.assertEqual(len(rows), 2 * (25 + 2 * 26))
         self.assertEqual(sorted(tuple(r[:6]) for r in rows), expected)
         for r in rows:
             float(r[6])
