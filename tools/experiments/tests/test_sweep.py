@@ -162,7 +162,7 @@ class KilledSweepResumes(unittest.TestCase):
             self.assertEqual(os.stat(log_first).st_mtime_ns, log_stamp)
             self.assertFalse(os.path.exists(os.path.join(out, other + ".part")))
             with open(os.path.join(out, "results.csv")) as f:
-                self.assertEqual(sum(1 for _ in f), 1 + 2 * (23 + 2 * 24))
+                self.assertEqual(sum(1 for _ in f), 1 + 2 * (25 + 2 * 26))
 
 
 class ExperimentFile(unittest.TestCase):
