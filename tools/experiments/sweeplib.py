@@ -18,10 +18,12 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 
+from reportlib import write_atomic
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
 GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs"}
-GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config"}
+GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config", "relocalize"}
 BACKENDS = ("ekf", "graph")
 
 
@@ -110,10 +112,43 @@ class Rawlog:
     def simulated(self):
         return self.scenario is not None
 
-    def file_for_seed(self, outdir, seed):
+    def file_for_seed(self, outdir, seed, route=None):
+        """The rawlog file of a seed; with a route, the simulation of the same world along that
+        route (`budget-simulate --route`), which only a simulated rawlog has."""
         if not self.simulated:
             return self.path
-        return os.path.join(outdir, "rawlogs", f"{self.name}-seed{seed}.rawlog")
+        return os.path.join(outdir, "rawlogs", f"{self.name}{'-' + route if route else ''}-seed{seed}.rawlog")
+
+
+class Traversal:
+    """One entry of a group's `relocalize` key: a rawlog file that every run's final map
+    localizes, or `route:<name>`, the group's simulated rawlog simulated again with the job's seed
+    along another route (`budget-simulate --route <name>`: same world, another path)."""
+
+    def __init__(self, spec, base_dirs, where):
+        self.spec = spec
+        m = re.fullmatch(r"route:([A-Za-z0-9_-]+)", spec)
+        if m:
+            self.route, self.path = m.group(1), None
+        elif spec.startswith("route:"):
+            raise ExperimentError(f"{where} relocalize: '{spec}' is not route:<name> (letters, digits, _ -)")
+        else:
+            self.route = None
+            self.path = resolve_path(spec, base_dirs)
+            if not os.path.isfile(self.path):
+                raise ExperimentError(f"{where} relocalize: '{spec}' not found (looked for {self.path})")
+            if "," in self.path:
+                raise ExperimentError(f"{where} relocalize: '{self.path}' has a comma, which "
+                                      "--relocalize takes as a separator")
+
+    def label(self, rawlog):
+        """Name of the traversal in the results: the file's stem, or sim:<scenario>[:laps]:<route>."""
+        if self.route:
+            return f"{rawlog.label}:{self.route}"
+        return re.sub(r"\.rawlog$", "", os.path.basename(self.path))
+
+    def file(self, rawlog, outdir, seed):
+        return rawlog.file_for_seed(outdir, seed, self.route) if self.route else self.path
 
 
 class Job:
@@ -123,6 +158,8 @@ class Job:
         self.group, self.rawlog, self.backend, self.reducers = group, rawlog, backend, reducers
         self.cap, self.seed, self.sets, self.config = cap, seed, sets, config
         self.rawlog_file = rawlog.file_for_seed(outdir, seed)
+        # [(label, rawlog file)] that every final map of the job localizes (compare --relocalize)
+        self.traversals = [(t.label(rawlog), t.file(rawlog, outdir, seed)) for t in group.get("relocalize", [])]
         self.rel = os.path.join("runs", group["name"], rawlog.name, backend, "cap" + cap_label(cap), f"seed{seed}")
         self.folder = os.path.join(outdir, self.rel)
         self.cap_landmarks = None  # resolved before the job runs
@@ -197,6 +234,12 @@ class Experiment:
             for s in g["set"]:
                 if not re.fullmatch(r"[A-Za-z_][\w]*\.[\w]+=.*", s):
                     raise ExperimentError(f"{path}: [{sec}] set '{s}' is not Section.key=value")
+            g["relocalize"] = [Traversal(s, base_dirs, f"{path}: [{sec}]") for s in split_list(g.get("relocalize", ""))]
+            for t in g["relocalize"]:
+                for raw in g["rawlogs"] if t.route else []:
+                    if not raw.simulated:
+                        raise ExperimentError(f"{path}: [{sec}] relocalize '{t.spec}' needs sim: rawlogs, "
+                                              f"and '{raw.spec}' is a file (give its traversals as files)")
             g["config"] = resolve_path(g.get("config", "config.ini"), base_dirs)
             if not os.path.isfile(g["config"]):
                 raise ExperimentError(f"{path}: config '{g['config']}' not found")
@@ -204,7 +247,7 @@ class Experiment:
         self._expand()
 
     def _expand(self):
-        self.simulations = {}  # rawlog file -> (Rawlog, seed)
+        self.simulations = {}  # rawlog file -> (Rawlog, seed, route or None)
         self.baselines = {}
         self.jobs = []
         seen = set()
@@ -221,7 +264,10 @@ class Experiment:
                                     "give one of them a label")
                             seen.add(key)
                             if raw.simulated:
-                                self.simulations[job.rawlog_file] = (raw, seed)
+                                self.simulations[job.rawlog_file] = (raw, seed, None)
+                                for t in g["relocalize"]:
+                                    if t.route:
+                                        self.simulations[t.file(raw, self.outdir, seed)] = (raw, seed, t.route)
                             if cap.endswith("%"):
                                 bkey = (g["name"], job.rawlog_file, backend)
                                 if bkey not in self.baselines:
@@ -236,18 +282,12 @@ class Experiment:
     # ---- command lines (the same lines are run here and written to prepare.txt / jobs.txt) ----
 
     def simulation_command(self, rawlog_file):
-        raw, seed = self.simulations[rawlog_file]
-        tmp = os.path.join(os.path.dirname(rawlog_file), ".tmp-" + os.path.basename(rawlog_file)[:-len(".rawlog")])
-        stem = os.path.basename(rawlog_file)[:-len(".rawlog")]
-        cmd = [self.budget_simulate, "--scenario", raw.scenario, "--seed", str(seed)]
-        if raw.laps:
-            cmd += ["--laps", str(raw.laps)]
-        cmd += ["-o", os.path.join(tmp, stem + ".rawlog")]
-        q = shlex.quote
-        # Move the rawlog last: its presence means the simulation is complete.
-        return (f"rm -rf {q(tmp)} && mkdir -p {q(tmp)} && {shlex.join(cmd)} >/dev/null && "
-                f"for f in {q(tmp)}/*; do case \"$f\" in *.rawlog) ;; *) mv -f \"$f\" {q(os.path.dirname(rawlog_file))}/ ;; esac; done && "
-                f"mv -f {q(os.path.join(tmp, stem + '.rawlog'))} {q(rawlog_file)} && rmdir {q(tmp)}")
+        raw, seed, route = self.simulations[rawlog_file]
+        return simulation_line(self.budget_simulate, raw.scenario, seed, raw.laps, rawlog_file, route)
+
+    @property
+    def relocalizes(self):
+        return any(j.traversals for j in self.jobs)
 
     def baseline_command(self, b):
         cmd = [self.budget_slam, "run", "-c", b.config, "-i", b.rawlog_file, "-o", b.folder + ".part",
@@ -260,6 +300,8 @@ class Experiment:
         cmd = [self.budget_slam, "compare", "-c", job.config, "-i", job.rawlog_file, "-o", job.folder + ".part",
                "--reducers", ",".join(job.reducers), "--cap", str(job.cap_landmarks), "--backend", job.backend,
                "--set", f"LandmarkBudget.seed={job.seed}"]
+        if job.traversals:
+            cmd += ["--relocalize", ",".join(f for _, f in job.traversals)]
         for s in job.sets:
             cmd += ["--set", s]
         cmd += ["--quiet", "--force"]
@@ -288,6 +330,46 @@ class Experiment:
         return all(n in runs and runs[n]["status"] in ("ok", "failed") for n in needed)
 
 
+def simulation_line(budget_simulate, scenario, seed, laps, rawlog_file, route=None):
+    """Shell line: `budget-simulate` into a temporary folder beside rawlog_file, then its files
+    (ground truth, sidecar) moved beside rawlog_file, the rawlog last: its presence means the
+    simulation is complete."""
+    tmp = os.path.join(os.path.dirname(rawlog_file), ".tmp-" + os.path.basename(rawlog_file)[:-len(".rawlog")])
+    stem = os.path.basename(rawlog_file)[:-len(".rawlog")]
+    cmd = [budget_simulate, "--scenario", scenario, "--seed", str(seed)]
+    if laps:
+        cmd += ["--laps", str(laps)]
+    if route:
+        cmd += ["--route", route]
+    cmd += ["-o", os.path.join(tmp, stem + ".rawlog")]
+    q = shlex.quote
+    return (f"rm -rf {q(tmp)} && mkdir -p {q(tmp)} && {shlex.join(cmd)} >/dev/null && "
+            f"for f in {q(tmp)}/*; do case \"$f\" in *.rawlog) ;; *) mv -f \"$f\" {q(os.path.dirname(rawlog_file))}/ ;; esac; done && "
+            f"mv -f {q(os.path.join(tmp, stem + '.rawlog'))} {q(rawlog_file)} && rmdir {q(tmp)}")
+
+
+def help_mentions(binary, args, option):
+    """Whether `binary args --help` lists the option (an older build lacks newer options)."""
+    try:
+        p = subprocess.run([binary] + args + ["--help"], capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return option in p.stdout + p.stderr
+
+
+def check_relocalization_support(exp):
+    """One clear line when the experiment relocalizes and the binaries cannot."""
+    if not exp.relocalizes:
+        return
+    if not help_mentions(exp.budget_slam, ["compare"], "--relocalize"):
+        raise ExperimentError(f"{exp.budget_slam}: this budget-slam has no 'compare --relocalize', which the "
+                              "experiment's relocalize key needs (build a budget-slam with relocalization)")
+    if any(route for _, _, route in exp.simulations.values()) and \
+            not help_mentions(exp.budget_simulate, [], "--route"):
+        raise ExperimentError(f"{exp.budget_simulate}: this budget-simulate has no '--route', which a "
+                              "relocalize route:<name> needs (build a budget-simulate with routes)")
+
+
 def wrap_atomic(cmd, folder, marker):
     """Shell line: run cmd into <folder>.part, rename to <folder> when <marker> was written and the
     run was not interrupted (exit status 0 = ok, 1 = a run failed; 130 = Ctrl-C, 2 = bad command)."""
@@ -312,13 +394,6 @@ def read_json(path):
             return json.load(f)
     except (OSError, ValueError):
         return {}
-
-
-def write_atomic(path, text):
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
 
 
 def fmt_duration(s):
@@ -378,6 +453,7 @@ class Runner:
 
 def prepare(exp, runner, log=print):
     """Simulations, then the unreduced baselines that resolve percentage caps. Writes prepare.txt."""
+    check_relocalization_support(exp)
     os.makedirs(exp.outdir, exist_ok=True)
     sims = [(os.path.basename(f), exp.simulation_command(f), f) for f in exp.simulations]
     bases = [(os.path.relpath(b.folder, exp.outdir), exp.baseline_command(b), b) for b in exp.baselines.values()]

@@ -5,32 +5,22 @@ runs nothing; rawlog cutting gives the asked number of steps and ground-truth ro
 
     test_paper_tables.py --budget-slam build/bin/budget-slam [unittest options]
 """
-import argparse
-import importlib.machinery
-import importlib.util
 import os
 import subprocess
 import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-EXP = os.path.dirname(HERE)
-ROOT = os.path.dirname(os.path.dirname(EXP))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import scripttest  # noqa: E402
+
+EXP, ROOT = scripttest.EXP, scripttest.ROOT
 SCRIPT = os.path.join(EXP, "paper_tables")
 BUDGET_SLAM = BUDGET_SIMULATE = None
 
 HAND_BEFORE = "# Results\n\nHand-written introduction.\n\n## Hochdorfer\n\n"
 HAND_AFTER = "\n\n## Closing note\n\nHand-written conclusions.\n"
 OLD_BLOCK = "<!-- paper_tables:b begin -->\nold table\n<!-- paper_tables:b end -->"
-
-
-def load_script():
-    loader = importlib.machinery.SourceFileLoader("paper_tables", SCRIPT)
-    spec = importlib.util.spec_from_loader("paper_tables", loader)
-    mod = importlib.util.module_from_spec(spec)
-    loader.exec_module(mod)
-    return mod
 
 
 class PartB(unittest.TestCase):
@@ -94,7 +84,7 @@ class PartB(unittest.TestCase):
 
 class CutRawlog(unittest.TestCase):
     def test_cut_paper_synthetic_after_32_steps(self):
-        pt = load_script()
+        pt = scripttest.load_script("paper_tables")
         with tempfile.TemporaryDirectory() as tmp:
             path = pt.cut_rawlog("paper_synthetic", 32, tmp)
             self.assertEqual(path, os.path.join(tmp, "paper_synthetic-32.rawlog"))
@@ -113,9 +103,5 @@ class CutRawlog(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--budget-slam", default=os.path.join(ROOT, "build", "bin", "budget-slam"))
-    ap.add_argument("--budget-simulate", default=os.path.join(ROOT, "build", "bin", "budget-simulate"))
-    args, rest = ap.parse_known_args()
-    BUDGET_SLAM, BUDGET_SIMULATE = os.path.abspath(args.budget_slam), os.path.abspath(args.budget_simulate)
-    unittest.main(argv=[sys.argv[0]] + rest)
+    BUDGET_SLAM, BUDGET_SIMULATE, argv = scripttest.parse_binaries(__doc__)
+    unittest.main(argv=argv)

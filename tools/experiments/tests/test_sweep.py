@@ -5,7 +5,6 @@ runs only the rest when started again.
 
     test_sweep.py --budget-slam build/bin/budget-slam [unittest options]
 """
-import argparse
 import csv
 import os
 import signal
@@ -16,12 +15,12 @@ import textwrap
 import time
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-EXP = os.path.dirname(HERE)
-ROOT = os.path.dirname(os.path.dirname(EXP))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import scripttest  # noqa: E402
+
+EXP, ROOT = scripttest.EXP, scripttest.ROOT
 SWEEP = os.path.join(EXP, "sweep")
 TINY = os.path.join(EXP, "experiments", "tiny.ini")
-sys.path.insert(0, EXP)
 import sweeplib  # noqa: E402
 
 BUDGET_SLAM = None
@@ -218,9 +217,5 @@ class ExperimentFile(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--budget-slam", default=os.path.join(ROOT, "build", "bin", "budget-slam"))
-    ap.add_argument("--budget-simulate", default=os.path.join(ROOT, "build", "bin", "budget-simulate"))
-    args, rest = ap.parse_known_args()
-    BUDGET_SLAM = os.path.abspath(args.budget_slam)
-    unittest.main(argv=[sys.argv[0]] + rest)
+    BUDGET_SLAM, _, argv = scripttest.parse_binaries(__doc__)
+    unittest.main(argv=argv)
