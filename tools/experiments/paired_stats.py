@@ -149,3 +149,10 @@ def fmt_p(p):
     if p < 1e-4:
         return "< 0.0001"
     return f"{p:.2g}" if p < 0.1 else f"{p:.2f}"
+
+
+def p_phrase(p):
+    """'p = 0.0095', 'p < 0.0001', or 'no test' for prose."""
+    if p is None:
+        return "no test"
+    return f"p {fmt_p(p)}" if p < 1e-4 else f"p = {fmt_p(p)}"

@@ -22,7 +22,7 @@ from reportlib import write_atomic
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
-GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs"}
+GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics"}
 GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config", "relocalize"}
 BACKENDS = ("ekf", "graph")
 
@@ -73,6 +73,15 @@ def parse_caps(text):
             raise ExperimentError(f"caps: '{item}' is out of range")
         caps.append(item)
     return caps
+
+
+def parse_metrics(text, where):
+    """Metric names (results.csv's metric column) to compare pairwise besides the main error."""
+    metrics = split_list(text)
+    for m in metrics:
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", m):
+            raise ExperimentError(f"{where} metrics: '{m}' is not a metric name like reloc_coverage_pct")
+    return metrics
 
 
 def cap_label(cap):
@@ -202,6 +211,7 @@ class Experiment:
         self.budget_slam = os.path.abspath(budget_slam or top.get("budget_slam") and resolve_path(top["budget_slam"], base_dirs) or default_binary("budget-slam"))
         self.budget_simulate = os.path.abspath(budget_simulate or top.get("budget_simulate") and resolve_path(top["budget_simulate"], base_dirs) or default_binary("budget-simulate"))
         self.default_jobs = int(top.get("jobs", "0") or 0)
+        self.metrics = parse_metrics(top.get("metrics", ""), f"{path}: [sweep]")
         group_sections = [s for s in ini.sections() if s.startswith("group ")]
         for s in ini.sections():
             if s != "sweep" and not s.startswith("group "):

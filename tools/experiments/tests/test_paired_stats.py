@@ -99,6 +99,7 @@ class Wilcoxon(unittest.TestCase):
     def test_p_value_formatting(self):
         self.assertEqual([ps.fmt_p(p) for p in (None, 1.0, 0.5, 0.0625, 0.0019531, 3e-5)],
                          ["–", "1.00", "0.50", "0.062", "0.002", "< 0.0001"])
+        self.assertEqual([ps.p_phrase(p) for p in (None, 0.0095, 3e-5)], ["no test", "p = 0.0095", "p < 0.0001"])
 
 
 class Bootstrap(unittest.TestCase):
