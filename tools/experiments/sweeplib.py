@@ -547,23 +547,63 @@ def job_rows(job):
             metrics.append((name, as_number(summary.get(a, {}).get(b))))
         for m, v in metrics:
             if v is not None:
-                rows.append(dict(key, metric=m, value=repr(v) if v != int(v) or abs(v) > 1e15 else str(int(v))))
+                rows.append(dict(key, metric=m, value=fmt_value(v)))
     return rows
 
 
-def collect(exp, path):
-    rows = []
-    for job in exp.jobs:
-        if exp.job_done(job):
-            rows += job_rows(job)
+def fmt_value(v):
+    """A finite number as results.csv writes it: integers without a decimal point."""
+    return repr(v) if v != int(v) or abs(v) > 1e15 else str(int(v))
+
+
+def write_tidy(path, columns, rows):
     tmp = path + ".tmp"
     with open(tmp, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=RESULT_COLUMNS, lineterminator="\n")
+        w = csv.DictWriter(f, fieldnames=columns, lineterminator="\n")
         w.writeheader()
         w.writerows(rows)
     os.replace(tmp, path)
+
+
+def collect(exp, path):
+    """results.csv of every finished job; also relocalization.csv beside it when a job relocalized."""
+    rows, reloc = [], []
+    for job in exp.jobs:
+        if exp.job_done(job):
+            rows += job_rows(job)
+            reloc += relocalization_rows(job)
+    write_tidy(path, RESULT_COLUMNS, rows)
+    if reloc or exp.relocalizes:
+        write_tidy(os.path.join(os.path.dirname(path), "relocalization.csv"), RELOCALIZATION_COLUMNS, reloc)
     return rows
 
+
+RELOCALIZATION_COLUMNS = ["rawlog", "backend", "reducer", "cap", "seed", "traversal", "metric", "value"]
+
+
+def relocalization_rows(job):
+    """Tidy rows of a job's relocalization.csv (one a run and traversal): every numeric column a
+    metric, the traversal named as in the experiment (the file's stem, or sim:<scenario>:<route>)."""
+    path = os.path.join(job.folder, "relocalization.csv")
+    try:
+        with open(path, newline="") as f:
+            table = list(csv.DictReader(f))
+    except OSError:
+        return []
+    names = {}
+    for label, file in job.traversals:
+        names[file] = names[os.path.basename(file)] = names[re.sub(r"\.rawlog$", "", os.path.basename(file))] = label
+    rows = []
+    for r in table:
+        reducer = "none" if r.get("run") == "reference" else r.get("run", "")
+        t = r.get("traversal", "")
+        key = dict(rawlog=job.rawlog.label, backend=job.backend, reducer=job.reducer_label(reducer), cap=job.cap,
+                   seed=job.seed, traversal=names.get(t, names.get(os.path.basename(t), t)))
+        for c, v in r.items():
+            x = as_number(v) if c not in ("run", "traversal") else None
+            if x is not None:
+                rows.append(dict(key, metric=c, value=fmt_value(x)))
+    return rows
 
 def read_results(path):
     with open(path, newline="") as f:
@@ -576,7 +616,8 @@ def read_steps(folder):
     path = os.path.join(folder, "steps.csv")
     with open(path) as f:
         header = f.readline().strip().split(",")
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    # an empty field or `nan` (a value that does not apply) reads as NaN
+    data = np.atleast_2d(np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float))
     return {h: data[:, i] for i, h in enumerate(header)}
 
 

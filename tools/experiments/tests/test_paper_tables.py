@@ -224,6 +224,12 @@ class PartD(unittest.TestCase):
         self.assertIn("- MRCLAM 7 at 25%, coverage [%]: highest coverage 92.0; one run, no test", self.text)
         self.assertNotIn("**", "".join(self.table_row("MRCLAM 7", "25%", "coverage")))
 
+    def test_mrclam_table_per_robot(self):
+        self.assertIn("| cap | reducer | mrclam7_robot2 | mrclam7_robot3 | mrclam7_robot4 | mrclam7_robot5 |", self.text)
+        cell = (f"{fake.value('mrclam7_robot1', 'mi', 1, 'reloc_rmse_m'):.3f} / "
+                f"{fake.value('mrclam7_robot1', 'mi', 1, 'reloc_lost_pct'):.1f}")
+        self.assertIn("|  | mi | " + " | ".join([cell] * 4) + " |", self.text)
+
     def test_pairwise_csv_has_the_tests(self):
         import csv
         with open(os.path.join(self.work, "d", "pairwise.csv"), newline="") as f:

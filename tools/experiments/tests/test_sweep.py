@@ -8,6 +8,7 @@ the relocalization columns carried through, empty and `nan` fields skipped, and 
     test_sweep.py --budget-slam build/bin/budget-slam [unittest options]
 """
 import csv
+import math
 import os
 import statistics
 import signal
@@ -256,11 +257,40 @@ class PairwiseWithFakeBudgetSlam(unittest.TestCase):
         v = {(r["reducer"], r["seed"], r["metric"]): float(r["value"]) for r in rows}
         self.assertEqual(v[("mi", "7", "reloc_rmse_m")], fake.value("rooms", "mi", 7, "reloc_rmse_m"))
 
+    def test_relocalization_csv_is_collected_per_traversal(self):
+        with open(os.path.join(self.out, "relocalization.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(list(rows[0]), ["rawlog", "backend", "reducer", "cap", "seed", "traversal", "metric", "value"])
+        # 12 seeds x 5 runs x 1 traversal x 4 numbers (nees_mean is empty)
+        self.assertEqual(len(rows), 12 * 5 * 4)
+        self.assertEqual({r["traversal"] for r in rows}, {"park"})
+        self.assertEqual({r["metric"] for r in rows}, {"rmse_m", "max_m", "lost_pct", "coverage_pct"})
+        v = {(r["reducer"], r["seed"], r["metric"]): float(r["value"]) for r in rows}
+        self.assertEqual(v[("coverage", "3", "lost_pct")], fake.value("rooms", "coverage", 3, "reloc_lost_pct"))
+
     def test_jobs_pass_the_traversals(self):
         with open(os.path.join(self.out, "jobs.txt")) as f:
             lines = f.read().splitlines()
         self.assertEqual(len(lines), 12)
         self.assertTrue(all(f"--relocalize {ROOT}/rawlogs/park.rawlog --quiet" in l for l in lines))
+
+
+class Readers(unittest.TestCase):
+    def test_steps_csv_with_empty_and_nan_fields_reads_them_as_nan(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            with open(os.path.join(tmp, "steps.csv"), "w") as f:
+                f.write("step,t,x,var_x\n0,1.5,0.25,\n1,2.5,nan,0.01\n")
+            s = sweeplib.read_steps(tmp)
+            self.assertEqual(list(s["step"]), [0, 1])
+            self.assertEqual(s["x"][0], 0.25)
+            self.assertTrue(math.isnan(s["var_x"][0]) and math.isnan(s["x"][1]))
+            self.assertEqual(s["var_x"][1], 0.01)
+
+    def test_comparison_fields_empty_or_nan_give_no_row_and_new_columns_pass(self):
+        self.assertIsNone(sweeplib.as_number(""))
+        self.assertIsNone(sweeplib.as_number("nan"))
+        self.assertIsNone(sweeplib.as_number("inf"))
+        self.assertEqual(sweeplib.as_number("2.5"), 2.5)
 
 
 class ExperimentFile(unittest.TestCase):
