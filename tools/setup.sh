@@ -10,6 +10,7 @@ PACKAGES=(
   libtclap-dev nlohmann-json3-dev  # command line, JSON output
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib  # experiment scripts and plots
+  python3-scipy                    # experiment statistics (Wilcoxon signed-rank test)
   clang-format
 )
 
