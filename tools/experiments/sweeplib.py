@@ -23,7 +23,8 @@ from reportlib import write_atomic
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
 GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics"}
-GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config", "relocalize"}
+GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config", "relocalize",
+              "reference_trajectory"}
 BACKENDS = ("ekf", "graph")
 
 
@@ -250,6 +251,17 @@ class Experiment:
                     if not raw.simulated:
                         raise ExperimentError(f"{path}: [{sec}] relocalize '{t.spec}' needs sim: rawlogs, "
                                               f"and '{raw.spec}' is a file (give its traversals as files)")
+            # traversals without ground truth are measured against this trajectory (a TUM file)
+            ref = g.get("reference_trajectory", "").strip()
+            if ref:
+                if not g["relocalize"]:
+                    raise ExperimentError(f"{path}: [{sec}] reference_trajectory needs 'relocalize'")
+                ref = resolve_path(ref, base_dirs)
+                if not os.path.isfile(ref):
+                    raise ExperimentError(f"{path}: [{sec}] reference_trajectory '{ref}' not found")
+                if "," in ref or not ref.strip() == ref:
+                    raise ExperimentError(f"{path}: [{sec}] reference_trajectory '{ref}' has a comma or blank")
+            g["reference_trajectory"] = ref
             g["config"] = resolve_path(g.get("config", "config.ini"), base_dirs)
             if not os.path.isfile(g["config"]):
                 raise ExperimentError(f"{path}: config '{g['config']}' not found")
@@ -312,6 +324,8 @@ class Experiment:
                "--set", f"LandmarkBudget.seed={job.seed}"]
         if job.traversals:
             cmd += ["--relocalize", ",".join(f for _, f in job.traversals)]
+        if job.group.get("reference_trajectory"):
+            cmd += ["--reference-trajectory", job.group["reference_trajectory"]]
         for s in job.sets:
             cmd += ["--set", s]
         cmd += ["--quiet", "--force"]

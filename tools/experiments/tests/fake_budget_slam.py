@@ -3,11 +3,13 @@
 files the experiment scripts read, with numbers designed so that the statistics have a known
 answer. `value()` is the design; the tests import it to compute what the tables must say.
 
-- `run ... -o DIR`: DIR/summary.json (status ok, 40 landmarks kept by the unreduced run).
+- `run ... -o DIR`: DIR/summary.json (status ok, 40 landmarks kept by the unreduced run) and a
+  one-pose DIR/trajectory.tum.
 - `compare ... -o DIR [--relocalize A,B]`: DIR/comparison.csv (the app's columns, the
   relocalization ones included with --relocalize; some fields empty or `nan` as the app writes
   where a metric does not apply), DIR/<run>/summary.json, and with --relocalize
-  DIR/relocalization.csv (run, traversal, rmse_m, max_m, lost_pct, coverage_pct, nees_mean).
+  DIR/relocalization.csv (run, traversal (the file's stem), status, rmse_m, max_m, lost_pct,
+  coverage_pct, nees_mean), the app's columns.
 - `compare --help` lists --relocalize unless FAKE_NO_RELOCALIZE is set in the environment.
 - As budget-simulate (argv[0] ends in budget-simulate): writes the -o rawlog (a stub) and a
   sidecar; `--help` lists --route.
@@ -88,15 +90,14 @@ def compare(args):
     reducers = arg(args, "--reducers").split(",")
     traversals = arg(args, "--relocalize", "")
     traversals = [t for t in traversals.split(",") if t]
-    reloc = ["reloc_coverage_pct", "reloc_mean_landmarks"]
-    if traversals:
-        reloc += ["reloc_rmse_m", "reloc_max_m", "reloc_lost_pct", "reloc_traversal_coverage_pct",
-                  "reloc_rmse_ratio", "reloc_lost_ratio"]
+    # the app writes every reloc_* column; those of --relocalize stay empty without it
+    reloc = ["reloc_coverage_pct", "reloc_mean_landmarks", "reloc_rmse_m", "reloc_max_m", "reloc_lost_pct",
+             "reloc_traversal_coverage_pct", "reloc_rmse_ratio", "reloc_lost_ratio"]
     header = ["run", "reducer", "backend", "status", "cap", "landmarks", "landmarks_reduction_pct", "poses",
               "poses_reduction_pct", "evictions", "ate_m", "ale_m", "are_deg", "ud_pct", "eig_min", "eig_max",
               "gt_trajectory_rmse_m", "gt_trajectory_max_m", "gt_landmark_rmse_m", "nees_mean", "time_s"] + reloc
     os.makedirs(out, exist_ok=True)
-    lines, per_traversal = [",".join(header)], ["run,traversal,rmse_m,max_m,lost_pct,coverage_pct,nees_mean"]
+    lines, per_traversal = [",".join(header)], ["run,traversal,status,rmse_m,max_m,lost_pct,coverage_pct,nees_mean"]
     for run, red in [("reference", "none")] + [(r, r) for r in reducers]:
         row = dict(run=run, reducer=red, backend="ekf", status="ok", cap="" if red == "none" else arg(args, "--cap"),
                    landmarks=40 if red == "none" else arg(args, "--cap"), landmarks_reduction_pct=0, poses=1,
@@ -104,7 +105,9 @@ def compare(args):
                    are_deg="nan", ud_pct="", eig_min="nan", eig_max="nan", gt_trajectory_rmse_m=0.5,
                    gt_trajectory_max_m=1.0, gt_landmark_rmse_m=0.3, nees_mean="", time_s=0.1)
         for m in reloc:
-            if m.endswith("_ratio"):
+            if not traversals and m not in ("reloc_coverage_pct", "reloc_mean_landmarks"):
+                row[m] = ""
+            elif m.endswith("_ratio"):
                 row[m] = ratio(rawlog, red, seed, m.replace("_ratio", "_m" if "rmse" in m else "_pct"))
             else:
                 row[m] = value(rawlog, red, seed, m)
@@ -115,8 +118,9 @@ def compare(args):
             "ground_truth": {"trajectory_rmse_aligned_m": value(rawlog, red, seed, "gt_trajectory_rmse_aligned_m"),
                              "landmark_rmse_aligned_m": None},
             "timings": {"step_ms_mean": 1.0, "step_ms_max": 2.0, "peak_rss_bytes": 1000000}}))
-        for t in traversals:
-            per_traversal.append(f"{run},{t},{value(rawlog, red, seed, 'reloc_rmse_m')},"
+        for t in traversals:  # named by the file's stem, as the app names them
+            stem = os.path.basename(t)[:-len(".rawlog")] if t.endswith(".rawlog") else os.path.basename(t)
+            per_traversal.append(f"{run},{stem},ok,{value(rawlog, red, seed, 'reloc_rmse_m')},"
                                  f"{value(rawlog, red, seed, 'reloc_max_m')},{value(rawlog, red, seed, 'reloc_lost_pct')},"
                                  f"{value(rawlog, red, seed, 'reloc_traversal_coverage_pct')},")
     if traversals:
@@ -129,6 +133,7 @@ def run(args):
     out = arg(args, "-o")
     os.makedirs(out, exist_ok=True)
     write(os.path.join(out, "summary.json"), json.dumps({"status": "ok", "counts": {"landmarks_final": 40}}))
+    write(os.path.join(out, "trajectory.tum"), "1 0 0 0 0 0 0 1\n")
     return 0
 
 

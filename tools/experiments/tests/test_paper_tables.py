@@ -182,6 +182,14 @@ class PartD(unittest.TestCase):
         cut = os.path.join(self.work, "d", "rawlogs")
         self.assertIn(f"-i {cut}/victoria_park-3500.rawlog", vp[0])
         self.assertIn(f"--relocalize {cut}/victoria_park-from3500.rawlog ", vp[0])
+        # no ground truth: measured against one unreduced EKF run over the whole rawlog
+        ref = os.path.join(self.work, "d", "victoria_park-unreduced")
+        self.assertIn(f"--reference-trajectory {ref}/trajectory.tum ", vp[0])
+        with open(self.log) as f:
+            full = [l for l in f if l.startswith("budget-slam run ") and f"-o {ref}.part " in l]
+        self.assertEqual(len(full), 1)
+        self.assertIn(f"-i {os.path.join(self.tmp.name, 'rawlogs')}/victoria_park.rawlog -o ", full[0])
+        self.assertIn("--reducer none --backend ekf", full[0])
         # the revisit traversals were simulated with the mapping run's seed
         with open(self.log) as f:
             sims = [l for l in f if l.startswith("budget-simulate") and "--route revisit" in l]

@@ -351,6 +351,7 @@ class ExperimentFile(unittest.TestCase):
             self.assertEqual(job.traversals, [("sim:lifelong:2:revisit", revisit),
                                               ("park", os.path.join(ROOT, "rawlogs", "park.rawlog"))])
             self.assertIn(f"--relocalize {revisit},{ROOT}/rawlogs/park.rawlog --quiet", exp.job_command(job))
+            self.assertNotIn("--reference-trajectory", exp.job_command(job))
             plain = [j for j in exp.jobs if j.group["name"] == "plain"][0]
             self.assertEqual(plain.traversals, [])
             self.assertNotIn("--relocalize", exp.job_command(plain))
@@ -376,7 +377,13 @@ class ExperimentFile(unittest.TestCase):
                      ("[sweep]\nrawlogs = sim:rooms\nreducers = mi\ncaps = 10\nrelocalize = route:re/visit\n",
                       "relocalize: 'route:re/visit' is not route:<name>"),
                      ("[sweep]\nrawlogs = rawlogs/rooms.rawlog\nreducers = mi\ncaps = 10\nmetrics = ate-m\n",
-                      "metrics: 'ate-m' is not a metric name")]
+                      "metrics: 'ate-m' is not a metric name"),
+                     ("[sweep]\nrawlogs = rawlogs/rooms.rawlog\nreducers = mi\ncaps = 10\n"
+                      "reference_trajectory = rawlogs/rooms_ground_truth.txt\n",
+                      "[sweep] reference_trajectory needs 'relocalize'"),
+                     ("[sweep]\nrawlogs = rawlogs/rooms.rawlog\nreducers = mi\ncaps = 10\n"
+                      "relocalize = rawlogs/park.rawlog\nreference_trajectory = nowhere.tum\n",
+                      "reference_trajectory '" + os.path.join(ROOT, "nowhere.tum") + "' not found")]
             for text, message in cases:
                 path = self.write(tmp, text)
                 p = subprocess.run(["/usr/bin/python3", SWEEP, path, "-o", os.path.join(tmp, "o"),
