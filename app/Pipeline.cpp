@@ -9,12 +9,14 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "MappingOptions.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/StepFilter.h"
 #include "budget_slam/ekf/EkfBackend.h"
 #include "budget_slam/graph/GraphBackend.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/report/MapScene.h"
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFiles.h"
 
@@ -99,6 +101,10 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
   // map.png colours the kept landmarks by the coverage clusters ([CoverageReducer], run's seed).
   coverage_.seed = budget.seed;
   coverage_.loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
+  MappingOptions mapping;
+  mapping.loadFromConfigFile(ini, MappingOptions::kSection);
+  save_3d_scene_ = mapping.save_3d_scene;
+  scene_every_steps_ = mapping.scene_every_steps;
   if (budget.dump_states)
     manager_->setBeforeDropEvent([this](const Backend& b, StepIndex step) { dumpState(b, step); });
 }
@@ -166,6 +172,13 @@ void Pipeline::process(const Step& raw) {
       .cell(reloc_landmarks)
       .cell(reloc_.coverageSoFarPct());
   steps_csv_.endRow();
+
+  if (scene_every_steps_ && raw.index % scene_every_steps_ == 0) {
+    char name[48];
+    std::snprintf(name, sizeof name, "kf_state_%05llu.3Dscene",
+                  static_cast<unsigned long long>(raw.index));
+    writeScene(name, backend_->trajectory(), backend_->landmarks(), nullptr);
+  }
 }
 
 std::size_t Pipeline::trackCoverage(const Step& raw, const Step& filtered,
@@ -219,9 +232,9 @@ void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
   }
 }
 
-void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
-                        const std::vector<LandmarkView>& landmarks,
-                        const FinalCoverage& coverage) const {
+report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& trajectory,
+                                        const std::vector<LandmarkView>& landmarks,
+                                        const FinalCoverage* coverage) const {
   report::MapContent map;
   const auto& budget = manager_->options();
   map.title = backend_->name() + ", reducer " + budget.reducer +
@@ -237,23 +250,38 @@ void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
     map.cluster_of_kept.push_back(static_cast<int>(c));
   map.dropped = dropped_;
   // The path coloured by the final map's landmarks in view, when every pose's step is known.
-  std::unordered_map<StepIndex, std::size_t> in_view;
-  for (const auto& st : coverage.steps) in_view[st.step] = st.in_map;
-  map.min_landmarks = coverage.coverage.min_landmarks;
-  for (const auto& p : trajectory) {
-    const auto it = in_view.find(p.step);
-    if (it == in_view.end()) {
-      map.trajectory_landmarks.clear();
-      break;
+  if (coverage) {
+    std::unordered_map<StepIndex, std::size_t> in_view;
+    for (const auto& st : coverage->steps) in_view[st.step] = st.in_map;
+    map.min_landmarks = coverage->coverage.min_landmarks;
+    for (const auto& p : trajectory) {
+      const auto it = in_view.find(p.step);
+      if (it == in_view.end()) {
+        map.trajectory_landmarks.clear();
+        break;
+      }
+      map.trajectory_landmarks.push_back(it->second);
     }
-    map.trajectory_landmarks.push_back(it->second);
   }
   if (truth_ && !truth_->empty()) {
     const auto gt = metrics::toEstimateFrame(*truth_);
     map.ground_truth_path = gt.path;
     for (const auto& [id, l] : gt.landmarks) map.ground_truth_landmarks.push_back(l);
   }
-  report::writeMapPng(folder_.file("map.png"), map);
+  return map;
+}
+
+void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
+                        const std::vector<LandmarkView>& landmarks,
+                        const FinalCoverage& coverage) const {
+  report::writeMapPng(folder_.file("map.png"), mapContent(trajectory, landmarks, &coverage));
+}
+
+void Pipeline::writeScene(const std::string& name, const std::vector<TrajectoryPoint>& trajectory,
+                          const std::vector<LandmarkView>& landmarks,
+                          const FinalCoverage* coverage) const {
+  report::writeMapScene(folder_.file(name), mapContent(trajectory, landmarks, coverage),
+                        backend_->robotPose().mean);
 }
 
 void Pipeline::writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
@@ -310,6 +338,7 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks);
   const FinalCoverage coverage = final_coverage_ ? *final_coverage_ : finalCoverage();
   writeMap(trajectory, landmarks, coverage);
+  if (save_3d_scene_) writeScene("map.3Dscene", trajectory, landmarks, &coverage);
   if (truth_ && !truth_->path.empty()) writeGroundTruthTum(trajectory, steps_in_rawlog);
 
   const auto& budget = manager_->options();

@@ -15,6 +15,7 @@
 #include "budget_slam/reducers/CoverageOptions.h"
 #include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/report/OutputFolder.h"
+#include "budget_slam/report/Pictures.h"
 
 namespace budget_slam::app {
 
@@ -80,6 +81,11 @@ class Pipeline {
   void logEvictions(const std::vector<reducers::Eviction>& drops);
   void writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
                            std::size_t steps_in_rawlog) const;
+  /// What map.png and map.3Dscene show; with `coverage`, the path coloured by the final map's
+  /// landmarks in view.
+  report::MapContent mapContent(const std::vector<TrajectoryPoint>& trajectory,
+                                const std::vector<LandmarkView>& landmarks,
+                                const FinalCoverage* coverage) const;
   void writeMap(const std::vector<TrajectoryPoint>& trajectory,
                 const std::vector<LandmarkView>& landmarks, const FinalCoverage& coverage) const;
   /// Gives the coverage tracker the landmarks the step observed (`assoc`: the backend's
@@ -87,9 +93,14 @@ class Pipeline {
   /// landmarks of the map held after the step it observed.
   std::size_t trackCoverage(const Step& raw, const Step& filtered,
                             const std::vector<LandmarkId>& assoc);
+  /// map.3Dscene, or kf_state_<step>.3Dscene during the run (MRPT's SceneViewer3D).
+  void writeScene(const std::string& name, const std::vector<TrajectoryPoint>& trajectory,
+                  const std::vector<LandmarkView>& landmarks, const FinalCoverage* coverage) const;
 
   report::OutputFolder folder_;
   reducers::CoverageOptions coverage_;  ///< how map.png clusters the kept landmarks
+  bool save_3d_scene_ = true;           ///< [MappingApplication] save_3d_scene
+  std::size_t scene_every_steps_ = 0;   ///< kf-slam's SAVE_3D_SCENES / SAVE_LOG_FREQUENCY
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<reducers::BudgetManager> manager_;
   std::shared_ptr<const dataset::GroundTruth> truth_;

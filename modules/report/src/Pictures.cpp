@@ -71,6 +71,12 @@ void legendRow(cv::Mat& img, int& y, int x, const std::string& label, cv::Scalar
 
 }  // namespace
 
+std::array<std::uint8_t, 3> paletteRgb(std::size_t i) {
+  const cv::Scalar bgr = palette(i);
+  return {static_cast<std::uint8_t>(bgr[2]), static_cast<std::uint8_t>(bgr[1]),
+          static_cast<std::uint8_t>(bgr[0])};
+}
+
 void writeMapPng(const std::string& path, const MapContent& c, int width, int max_height) {
   double minx = std::numeric_limits<double>::infinity(), maxx = -minx, miny = minx, maxy = -minx;
   const auto grow = [&](double x, double y) {

@@ -2,6 +2,8 @@
 #include <mrpt/math/TPose2D.h>
 
 #include <Eigen/Core>
+#include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,10 @@ struct MapContent {
 /// (between 400 and `max_height` pixels), legend on top (OpenCV). Throws Error if it cannot write.
 void writeMapPng(const std::string& path, const MapContent& content, int width = 1000,
                  int max_height = 1400);
+
+/// The i-th colour (R, G, B) of the palette map.png gives coverage clusters and chart series
+/// (cycles after 10), so that map.3Dscene colours clusters the same.
+std::array<std::uint8_t, 3> paletteRgb(std::size_t i);
 
 /// One line of a chart.
 struct Series {
