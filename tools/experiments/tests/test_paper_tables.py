@@ -108,6 +108,15 @@ class CutRawlog(unittest.TestCase):
             self.assertEqual(s["ground_truth"]["poses"], 32)
 
 
+class RatioCells(unittest.TestCase):
+    def test_a_ratio_undefined_on_one_seed_is_no_mean(self):
+        pt = scripttest.load_script("paper_tables")
+        self.assertTrue(pt.ratio_defined({1: 1.0, 2: 3.0}, {1: 0.0, 2: 4.5}))
+        # seed 2: the unreduced map lost nothing and this one lost 4.5 %: x / 0, no ratio
+        self.assertFalse(pt.ratio_defined({1: 1.0}, {1: 0.0, 2: 4.5}))
+        self.assertFalse(pt.ratio_defined({}, {}))
+
+
 class PartD(unittest.TestCase):
     """Part d with fake binaries (tests/fake_budget_slam.py as budget-slam and budget-simulate), the
     real Victoria Park rawlog (cut with rawlog-edit) and stub MRCLAM files; 20 seeds."""
