@@ -12,6 +12,7 @@
 #include "MapFolder.h"
 #include "ProgressBar.h"
 #include "RunConfig.h"
+#include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
@@ -54,13 +55,16 @@ mrpt::math::TPose2D parseStartPose(const std::string& text) {
 
 void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
   cli_ = CommandLine();
+  help_.clear();
   cli_.command = "localize";
+  CapturedUsage usage;  // outlives cmd, which only borrows it
   TCLAP::CmdLine cmd(
       "Localizes a traversal in the final map of an earlier run (its landmarks.csv) with MRPT's "
       "EKF, no landmark added, and measures the error, the share of steps lost and the map's "
       "coverage of the traversal",
       ' ', "0.1", true);
   cmd.setExceptionHandling(false);
+  cmd.setOutput(&usage);
   TCLAP::ValueArg<std::string> config("c", "config", "ini file (MRPT style)", false, "", "file",
                                       cmd);
   TCLAP::ValueArg<std::string> map("", "map", "output folder of the run whose map is used", true,
@@ -86,19 +90,15 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
   TCLAP::SwitchArg quiet("", "quiet", "no progress bar and no summary on stdout", cmd);
   TCLAP::SwitchArg force("", "force", "write into a non-empty output folder (deletes nothing)",
                          cmd);
-  std::vector<std::string> argv = {args[0] + " localize"};
+  std::vector<std::string> argv = {"budget-slam localize"};  // the usage names the program
   argv.insert(argv.end(), args.begin() + 2, args.end());
   try {
     cmd.parse(argv);
   } catch (const TCLAP::ArgException& e) {
-    throw ConfigError(
-        "command line: " + e.error() +
-        (e.argId().empty() || e.argId() == " " ? std::string() : " (" + e.argId() + ")"));
+    throw UsageError(describe(e) + "; see budget-slam localize --help");
   } catch (const TCLAP::ExitException&) {
-    throw ConfigError(
-        "usage: budget-slam localize -c config.ini --map RUN_DIR -i other.rawlog [-o outdir] "
-        "[--start-pose x,y,yaw] [--reference-trajectory ref.tum] [--set S.k=v] [--quiet] "
-        "[--force]");
+    help_ = usage.text;  // --help or --version
+    return;
   }
   cli_.config = config.getValue();
   cli_.map_dir = map.getValue();
@@ -109,7 +109,12 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
   cli_.sets = sets.getValue();
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
-  if (!cli_.start_pose.empty()) parseStartPose(cli_.start_pose);  // a bad one fails now
+  // a bad start pose is part of the command line: exit 2 before anything is written
+  if (!cli_.start_pose.empty()) try {
+      parseStartPose(cli_.start_pose);
+    } catch (const ConfigError& e) {
+      throw UsageError(e.what() + std::string("; see budget-slam localize --help"));
+    }
   loadConfigFile();
 }
 
@@ -161,9 +166,9 @@ int BudgetSlamApp::runLocalize() {
       steps.push_back(std::move(*s));
       if (InterruptGuard::requested()) {
         bar.done();
-        return fail(std::string("interrupted by ") + InterruptGuard::what() +
-                        " while reading the rawlog",
-                    "interrupted");
+        return fail(
+            std::string("interrupted by ") + InterruptGuard::what() + " while reading the rawlog",
+            "interrupted");
       }
     }
     if (reader.bearingRangeSteps() == 0)
@@ -178,12 +183,13 @@ int BudgetSlamApp::runLocalize() {
       throw InputError(cli_.map_dir +
                        "/summary.json: no ground_truth.map_alignment (the map was made without "
                        "ground truth); give --start-pose or --reference-trajectory");
-    const auto inputs = resolveLocalization(steps, in_rawlog, truth, map.alignment, given,
-                                            cli_.reference_trajectory.empty() ? nullptr : &reference,
-                                            cli_.reference_trajectory, rc.localization);
-    localizer = std::make_unique<Localizer>(rc.ini, rc.localization,
-                                            metric_options.reloc_min_landmarks, *folder,
-                                            map.landmarks, inputs);
+    const auto inputs =
+        resolveLocalization(steps, in_rawlog, truth, map.alignment, given,
+                            cli_.reference_trajectory.empty() ? nullptr : &reference,
+                            cli_.reference_trajectory, rc.localization);
+    localizer =
+        std::make_unique<Localizer>(rc.ini, rc.localization, metric_options.reloc_min_landmarks,
+                                    *folder, map.landmarks, inputs);
     for (const auto& s : steps) {
       localizer->process(s);
       bar.update(static_cast<double>(localizer->stepsDone()) / steps.size(),
@@ -197,19 +203,19 @@ int BudgetSlamApp::runLocalize() {
       }
     }
     bar.done();
-    const auto summary = localizer->finish(
-        "ok", "",
-        {{"rawlog", rc.rawlog},
-         {"sidecar_ini", rc.sidecar},
-         {"config", config_label_},
-         {"map", cli_.map_dir},
-         {"map_status", map.status}});
+    const auto summary = localizer->finish("ok", "",
+                                           {{"rawlog", rc.rawlog},
+                                            {"sidecar_ini", rc.sidecar},
+                                            {"config", config_label_},
+                                            {"map", cli_.map_dir},
+                                            {"map_status", map.status}});
     if (!cli_.quiet) {
       const auto sc = localizer->score();
       *out << "budget-slam localize: " << sc.steps << " steps in a map of " << map.landmarks.size()
            << " landmarks, start from " << inputs.start_source << "\n";
       if (!inputs.truth.kind.empty())
-        *out << "against the " << (inputs.truth.kind == "ground_truth" ? "ground truth" : "reference trajectory")
+        *out << "against the "
+             << (inputs.truth.kind == "ground_truth" ? "ground truth" : "reference trajectory")
              << ": RMSE " << fixed(sc.rmse_m, 3) << " m, max " << fixed(sc.max_m, 3) << " m, lost "
              << fixed(sc.lost_pct, 1) << "% of the steps (error above "
              << fixed(rc.localization.lost_threshold, 2) << " m), NEES " << fixed(sc.nees_mean, 2)
