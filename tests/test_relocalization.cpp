@@ -48,8 +48,8 @@ std::string writeThreePlaces(const fs::path& dir, bool with_ids) {
       scan.std_yaw = 0.01;
       for (int l = 0; l < 3; ++l) {
         const Eigen::Vector2d d = offsets[place][l];
-        scan.readings.push_back({with_ids ? 3 * place + l + 1 : kNoLandmarkId, d.norm(),
-                                 std::atan2(d.y(), d.x()), 0});
+        scan.readings.push_back(
+            {with_ids ? 3 * place + l + 1 : kNoLandmarkId, d.norm(), std::atan2(d.y(), d.x()), 0});
       }
       steps.push_back(dataset::makeStep(steps.size(), steps.size() + 1.0, odo, scan));
     }
@@ -58,7 +58,8 @@ std::string writeThreePlaces(const fs::path& dir, bool with_ids) {
 }
 
 const std::vector<std::string> kThreePlacesSets = {
-    "--set", "LandmarkBudget.protect_recent_steps=1", "--set", "RangeBearingKFSLAM.std_sensor_range=0.01",
+    "--set", "LandmarkBudget.protect_recent_steps=1",
+    "--set", "RangeBearingKFSLAM.std_sensor_range=0.01",
     "--set", "RangeBearingKFSLAM.std_sensor_yaw_deg=0.5"};
 
 std::vector<std::string> withSets(std::vector<std::string> args) {
@@ -84,8 +85,8 @@ std::vector<std::string> column(const fs::path& csv, const std::string& name) {
 const fs::path& roomsMap() {
   static const fs::path dir = [] {
     const auto d = freshDir("reloc_rooms_map");
-    const auto r = runApp({"run", "-c", kConfig, "-i", kRooms, "-o", d.string(), "--reducer",
-                           "none", "--quiet"});
+    const auto r = runApp(
+        {"run", "-c", kConfig, "-i", kRooms, "-o", d.string(), "--reducer", "none", "--quiet"});
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return d;
   }();
@@ -95,8 +96,8 @@ const fs::path& roomsMap() {
 nlohmann::json localize(const std::string& name, const fs::path& map,
                         std::vector<std::string> extra = {}) {
   const auto out = freshDir(name);
-  std::vector<std::string> args = {"localize", "-c", kConfig, "--map", map.string(), "-i",
-                                   kRoomsRevisit, "-o", out.string(), "--quiet"};
+  std::vector<std::string> args = {"localize", "-c",          kConfig, "--map",      map.string(),
+                                   "-i",       kRoomsRevisit, "-o",    out.string(), "--quiet"};
   args.insert(args.end(), extra.begin(), extra.end());
   const auto r = runApp(args);
   EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -202,8 +203,9 @@ TEST(Relocalization, LocalizeRoomsRevisitInTheUnreducedMap) {
 TEST(Relocalization, EmptyMapReportsTheShareLost) {
   const auto empty = freshDir("reloc_empty_map");
   fs::create_directories(empty);
-  std::ofstream(empty / "landmarks.csv") << slurp(roomsMap() / "landmarks.csv").substr(
-      0, slurp(roomsMap() / "landmarks.csv").find('\n') + 1);
+  std::ofstream(empty / "landmarks.csv")
+      << slurp(roomsMap() / "landmarks.csv")
+             .substr(0, slurp(roomsMap() / "landmarks.csv").find('\n') + 1);
   fs::copy_file(roomsMap() / "summary.json", empty / "summary.json");
   const auto s = localize("reloc_localize_empty", empty);
   const auto& l = s["localization"];
@@ -253,7 +255,8 @@ TEST(Relocalization, MapFolderWithoutLandmarksIsOneLineError) {
   EXPECT_EQ(runApp({"localize", "-c", kConfig, "--map", map.string(), "-i", kRoomsRevisit,
                     "--start-pose", "1,2", "-o", out.string()})
                 .err,
-            "budget-slam: --start-pose '1,2': expected x,y,yaw (metres, metres, degrees)\n");
+            "budget-slam: --start-pose '1,2': expected x,y,yaw (metres, metres, degrees); see "
+            "budget-slam localize --help\n");
 }
 
 // compare --relocalize: the reference's final map and every reducer's localize the revisit;
@@ -261,15 +264,15 @@ TEST(Relocalization, MapFolderWithoutLandmarksIsOneLineError) {
 // folder under its run's.
 TEST(Relocalization, CompareRelocalizeFillsEveryRowTheReferenceIncluded) {
   const auto out = freshDir("reloc_compare");
-  const auto r = runApp({"compare", "-c", kConfig, "-i", kRooms, "-o", out.string(), "--reducers",
-                         "oldest,coverage", "--cap", "50", "--relocalize", kRoomsRevisit,
-                         "--quiet"});
+  const auto r =
+      runApp({"compare", "-c", kConfig, "-i", kRooms, "-o", out.string(), "--reducers",
+              "oldest,coverage", "--cap", "50", "--relocalize", kRoomsRevisit, "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto runs = column(out / "comparison.csv", "run");
   ASSERT_EQ(runs, (std::vector<std::string>{"reference", "oldest", "coverage"}));
-  for (const char* c : {"reloc_coverage_pct", "reloc_mean_landmarks", "reloc_rmse_m",
-                        "reloc_max_m", "reloc_lost_pct", "reloc_traversal_coverage_pct",
-                        "reloc_rmse_ratio", "reloc_lost_ratio"}) {
+  for (const char* c :
+       {"reloc_coverage_pct", "reloc_mean_landmarks", "reloc_rmse_m", "reloc_max_m",
+        "reloc_lost_pct", "reloc_traversal_coverage_pct", "reloc_rmse_ratio", "reloc_lost_ratio"}) {
     const auto v = column(out / "comparison.csv", c);
     ASSERT_EQ(v.size(), 3u) << c;
     for (std::size_t i = 0; i < v.size(); ++i) {
