@@ -36,7 +36,10 @@ std::string topLevelHelp() {
       "   budget-slam run     -c config.ini [-i in.rawlog] [-o outdir] [--reducer NAME]\n"
       "                       [--cap N|none] [--backend ekf|graph] [--set Section.key=value]...\n"
       "   budget-slam compare -c config.ini [-i in.rawlog] [-o outdir] [--reducers a,b,c]\n"
-      "                       [--cap N|none] [--threads N] [...]\n"
+      "                       [--cap N|none] [--threads N] [--relocalize a.rawlog,b.rawlog]\n"
+      "                       [--reference-trajectory ref.tum] [...]\n"
+      "   budget-slam localize -c config.ini --map RUN_DIR -i other.rawlog [-o outdir]\n"
+      "                       [--start-pose x,y,yaw] [--reference-trajectory ref.tum] [...]\n"
       "   budget-slam <command> --help    every option of a command\n"
       "   budget-slam --version\n\n"
       "Reducers:\n\n";
@@ -130,10 +133,11 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
     help_ = std::string("budget-slam version ") + kVersion + "\n";
     return;
   }
+  if (command == "localize") return initializeLocalize(args);
   if (command != "run" && command != "compare")
-    throw UsageError((command.empty()
-                          ? std::string("expected a command, run or compare")
-                          : "unknown command '" + command + "' (expected run or compare)") +
+    throw UsageError((command.empty() ? std::string("expected a command, run, compare or localize")
+                                      : "unknown command '" + command +
+                                            "' (expected run, compare or localize)") +
                      "; see budget-slam --help");
   cli_.command = command;
   const bool compare = cli_.command == "compare";
@@ -161,7 +165,16 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
                                         false, "", "a,b,c");
   TCLAP::ValueArg<unsigned> threads(
       "", "threads", "runs at once (default: one a core, at most one a run)", false, 0, "N");
-  if (compare) cmd.add(reducers), cmd.add(threads);
+  TCLAP::ValueArg<std::string> relocalize(
+      "", "relocalize",
+      "comma-separated rawlogs: every run's final map localizes each one (budget-slam localize)",
+      false, "", "a.rawlog,b.rawlog");
+  TCLAP::ValueArg<std::string> reference_trajectory(
+      "", "reference-trajectory",
+      "with --relocalize: trajectory.tum to measure traversals without ground truth against", false,
+      "", "file.tum");
+  if (compare)
+    cmd.add(reducers), cmd.add(threads), cmd.add(relocalize), cmd.add(reference_trajectory);
   TCLAP::ValueArg<std::string> cap("", "cap",
                                    "landmark cap, or none for no cap (reducer none, mi in "
                                    "objective or incremental mode); overrides [LandmarkBudget] "
@@ -197,6 +210,8 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   if (cap.isSet()) cli_.cap = cap.getValue();
   cli_.sets = sets.getValue();
   if (compare) cli_.reducers = splitList(reducers.getValue()), cli_.threads = threads.getValue();
+  if (compare) cli_.relocalize = splitList(relocalize.getValue());
+  if (compare) cli_.reference_trajectory = reference_trajectory.getValue();
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
   // Flag values are part of the command line: a bad one exits 2 before anything is written.
@@ -205,7 +220,10 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   } catch (const ConfigError& e) {
     throw UsageError(e.what() + std::string("; see budget-slam ") + cli_.command + " --help");
   }
+  loadConfigFile();
+}
 
+void BudgetSlamApp::loadConfigFile() {
   config_text_.reset();
   if (!cli_.config.empty() || params.getContent().empty()) {
     const std::string path = cli_.config.empty() ? "config.ini" : cli_.config;
@@ -231,6 +249,7 @@ int BudgetSlamApp::run() {
   }
   InterruptGuard guard;
   InterruptGuard::clear();
+  if (cli_.command == "localize") return runLocalize();
   return cli_.command == "compare" ? runCompare() : runRun();
 }
 

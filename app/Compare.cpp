@@ -12,6 +12,7 @@
 #include "Interrupt.h"
 #include "Pipeline.h"
 #include "ProgressBar.h"
+#include "Relocalize.h"
 #include "RunConfig.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
@@ -24,6 +25,7 @@
 #include "budget_slam/report/ComparisonTable.h"
 #include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/Pictures.h"
+#include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/report/RunFiles.h"
 
 namespace budget_slam::app {
@@ -130,7 +132,12 @@ int BudgetSlamApp::runCompare() {
   std::vector<std::unique_ptr<CompareRun>> runs;
   std::shared_ptr<dataset::GroundTruth> truth;
   std::vector<Step> steps;
+  std::vector<Traversal> traversals;           // --relocalize
+  std::vector<TrajectoryPoint> reference_tum;  // --reference-trajectory
   try {
+    traversals = loadTraversals(params, cli_, config_label_);
+    if (!cli_.reference_trajectory.empty())
+      reference_tum = report::readTrajectoryTum(cli_.reference_trajectory, 50'000'000);
     report::writeFileAtomically(top->file("config_used.ini"), rc.ini.getContent());
     truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
@@ -242,6 +249,13 @@ int BudgetSlamApp::runCompare() {
   int exit_code = 0;
   std::string first_error;
   std::vector<std::string> failures;  ///< one stderr line a run that did not end ok
+  // Without sensor IDs, a final map's coverage goes through the reference run's association
+  // (docs/OUTPUTS.md, "Relocalization coverage").
+  if (ref.status == "ok" && withoutLandmarkIds(steps))
+    for (const auto& r : runs)
+      if (r->status == "ok")
+        r->pipeline->setFinalCoverage(
+            coverageThroughReference(*ref.pipeline, *r->pipeline, metric_options.reloc_match_chi2));
   for (const auto& r : runs) {
     nlohmann::json extra = {{"rawlog", rc.rawlog},
                             {"sidecar_ini", rc.sidecar},
@@ -300,11 +314,36 @@ int BudgetSlamApp::runCompare() {
     row.gt_landmark_rmse_m = jsonNumber(summary, "ground_truth", "landmark_rmse_m");
     row.nees_mean = jsonNumber(summary, "ground_truth", "nees_mean");
     row.time_s = r->pipeline->totalStepSeconds();
+    row.reloc_coverage_pct = jsonNumber(summary, "relocalization", "coverage_pct");
+    row.reloc_mean_landmarks = jsonNumber(summary, "relocalization", "mean_landmarks");
     rows.push_back(row);
+  }
+
+  // --relocalize: every final map (the reference's too) localizes each traversal.
+  std::vector<RelocalizationResult> relocalized;
+  if (!traversals.empty()) {
+    std::vector<MapOfRun> maps;
+    for (const auto& r : runs)
+      if (r->status == "ok")
+        maps.push_back({r->name, r->pipeline->folder().path(), r->pipeline->backend().landmarks(),
+                        r->pipeline->mapAlignment()});
+    relocalized = relocalizeAll(maps, traversals,
+                                cli_.reference_trajectory.empty() ? nullptr : &reference_tum,
+                                cli_.reference_trajectory, cli_.threads, cli_.force);
+    addRelocalizationColumns(rows, relocalized, kReference);
+    for (const auto& r : relocalized)
+      if (r.status != "ok") {
+        if (exit_code == 0) exit_code = r.status == "interrupted" ? 130 : 1;
+        const std::string line =
+            "run '" + r.run + "', --relocalize '" + r.traversal + "': " + r.error;
+        if (first_error.empty()) first_error = line;
+        failures.push_back((r.status == "interrupted" ? "" : "error: ") + line);
+      }
   }
 
   try {
     report::writeComparisonCsv(top->file("comparison.csv"), rows);
+    if (!traversals.empty()) writeRelocalizationCsv(top->file("relocalization.csv"), relocalized);
     const std::string title = "budget-slam compare: " + rc.rawlog + ", backend " +
                               rc.mapping.backend + ", cap " +
                               reducers::BudgetOptions::capText(rc.budget.max_landmarks) + ", " +

@@ -131,6 +131,7 @@ Eigen::Matrix2d GraphBackend::sensorCovariance() const {
 }
 
 void GraphBackend::process(const Step& step) {
+  last_ids_.clear();
   const BetweenFactor odo = odometryFactor(step);
   if (graph_.poses().empty()) {
     // Step 0's action moves the robot from the start pose (the origin, as MRPT's filter) to pose 0.
@@ -176,10 +177,12 @@ void GraphBackend::process(const Step& step) {
     const std::vector<LandmarkId> ids = associate(scan, step.index, sensor);
     for (LandmarkId id : ids)
       if (id != kNoLandmarkId) next_fresh_id_ = std::max(next_fresh_id_, id + 1);
+    last_ids_.assign(scan.readings.size(), kNoLandmarkId);
     for (std::size_t r = 0; r < scan.readings.size(); ++r) {
       const RangeBearingReading& z = scan.readings[r];
       LandmarkId id = ids[r];
       if (id == kNoLandmarkId) id = next_fresh_id_++;
+      last_ids_[r] = id;
       const RangeBearingFactor f = RangeBearingFactor::make(z.range, z.yaw, sensor, R);
       if (!graph_.hasLandmark(id)) {
         graph_.addLandmark(id, f.landmarkFrom(x));  // re-seen after removal: back as new

@@ -31,6 +31,11 @@ class Backend {
   /// The estimated trajectory (see TrajectoryPoint).
   virtual std::vector<TrajectoryPoint> trajectory() const = 0;
 
+  /// For each reading of the step last given to process(), in its order: the id of the landmark
+  /// the reading was used for (a new landmark's id included), kNoLandmarkId when it was not used.
+  /// Read right after process(), before any removal. Empty when the backend does not say.
+  virtual std::vector<LandmarkId> lastAssociation() const { return {}; }
+
   /// Robot poses held in the estimate (1 for the EKF, kept poses for the graph).
   virtual std::size_t poseCount() const = 0;
 

@@ -23,6 +23,7 @@ class EkfBackend : public Backend {
   PoseEstimate robotPose() const override;
   std::vector<TrajectoryPoint> trajectory() const override { return trajectory_; }
   std::size_t poseCount() const override { return 1; }
+  std::vector<LandmarkId> lastAssociation() const override { return last_ids_; }
   void removeLandmark(LandmarkId id) override;
   /// I(L; rest of the state) in bits; one factorization per drop event, updated by Schur
   /// complements across the drops of that event (see BlockMutualInformation).
@@ -57,6 +58,7 @@ class EkfBackend : public Backend {
   std::vector<TrajectoryPoint> trajectory_;
   bool keep_trajectory_ = true;
   StepIndex last_step_ = 0;
+  std::vector<LandmarkId> last_ids_;  ///< lastAssociation()
   /// Valid from the first informationGain() after a step until the next step.
   mutable std::optional<BlockMutualInformation> mi_;
 };

@@ -32,6 +32,7 @@ class GraphBackend : public Backend {
   PoseEstimate robotPose() const override;
   std::vector<TrajectoryPoint> trajectory() const override;
   std::size_t poseCount() const override { return graph_.poses().size(); }
+  std::vector<LandmarkId> lastAssociation() const override { return last_ids_; }
   void removeLandmark(LandmarkId id) override;
   std::vector<double> informationGain(const std::vector<LandmarkId>& ids) const override;
   Eigen::Matrix2d landmarkCovariance(LandmarkId id) const override;
@@ -78,6 +79,7 @@ class GraphBackend : public Backend {
   FactorGraph graph_;
   std::map<LandmarkId, Track> tracks_;
   LandmarkId next_fresh_id_ = 0;
+  std::vector<LandmarkId> last_ids_;  ///< lastAssociation(): one id a reading of the last step
   int poses_since_update_ = 0;
   std::size_t updates_ = 0;
   SparseCholesky solver_chol_;
