@@ -46,7 +46,7 @@ mrpt::serialization::CSerializable::Ptr decodeObject(const std::uint8_t* data, s
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
-    throw ReadFailure(ReadFailure::Kind::kCorrupt, "MRPT refuses it: " + mrptCause(e.what()));
+    throw ReadFailure(ReadFailure::Kind::kCorrupt, "that MRPT refuses: " + mrptCause(e.what()));
   }
   if (mem.getPosition() != size)
     throw std::logic_error("rawlog object check: MRPT read " + std::to_string(mem.getPosition()) +
