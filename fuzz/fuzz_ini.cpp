@@ -20,7 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string kSet = "--set ";
   while (text.compare(0, kSet.size(), kSet) == 0) {
     const auto eol = text.find('\n');
-    cli.sets.push_back(text.substr(kSet.size(), eol == std::string::npos ? eol : eol - kSet.size()));
+    cli.sets.push_back(
+        text.substr(kSet.size(), eol == std::string::npos ? eol : eol - kSet.size()));
     text.erase(0, eol == std::string::npos ? text.size() : eol + 1);
   }
   try {

@@ -11,6 +11,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib  # experiment scripts and plots
   clang-format
+  clang-14 libclang-rt-14-dev      # libFuzzer targets and sanitizer runtimes (tools/fuzz.sh)
 )
 
 missing=()
