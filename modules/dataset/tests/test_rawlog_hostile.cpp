@@ -6,10 +6,12 @@
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPosePDFGaussianInf.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <cmath>
@@ -268,4 +270,54 @@ TEST(RawlogHostile, ReadsTheShippedRawlogsAsMrptDoes) {
     EXPECT_FALSE(reader.next()) << name;
     EXPECT_GT(k, 100u) << name;
   }
+}
+
+TEST(RawlogHostile, EveryLayoutTheCheckWalksIsTheOneMrptWrites) {
+  // The check walks each class's fields as MRPT 2.5 reads them; after the check MRPT must read
+  // exactly the bytes walked (the decoder throws otherwise). Written by MRPT itself here: the
+  // optional branches (3D actions with velocities, scan-matching actions with their own pose
+  // distribution, odometry with encoders and velocities, per-reading covariances, labels).
+  CActionCollection acts;
+  mrpt::obs::CActionRobotMovement3D move3d;
+  move3d.poseChange.mean = mrpt::poses::CPose3D(0.5, 0.1, 0, 0.2, 0, 0);
+  move3d.hasVelocities = {true, false, true, false, false, true};
+  move3d.velocities.resize(6);
+  move3d.velocities.fill(0.25f);
+  acts.insert(move3d);
+  CActionRobotMovement2D matched;
+  matched.estimationMethod = CActionRobotMovement2D::emScan2DMatching;
+  auto inf = mrpt::poses::CPosePDFGaussianInf::Create();
+  inf->mean = mrpt::poses::CPose2D(0.4, 0, 0.1);
+  inf->cov_inv.setIdentity();
+  matched.poseChange = mrpt::poses::CPosePDF::Ptr(inf);
+  matched.hasVelocities = true;
+  matched.hasEncodersInfo = true;
+  acts.insert(matched);
+
+  CSensoryFrame sf;
+  auto odo = CObservationOdometry::Create();
+  odo->odometry = mrpt::poses::CPose2D(1, 2, 0.3);
+  odo->hasEncodersInfo = true;
+  odo->hasVelocities = true;
+  odo->sensorLabel = "ODOMETRY";
+  sf.insert(odo);
+  auto br = CObservationBearingRange::Create();
+  br->validCovariances = true;
+  br->sensorLabel = "LANDMARKS";
+  br->sensedData.resize(2);
+  for (int i = 0; i < 2; ++i) {
+    br->sensedData[i].range = 2.0f + i;
+    br->sensedData[i].landmarkID = i;
+    br->sensedData[i].covariance.setIdentity();
+  }
+  sf.insert(br);
+
+  const std::string bytes = serialized(acts) + serialized(sf);
+  RawlogReader reader("layouts.rawlog", bytes);
+  const auto step = reader.next();
+  ASSERT_TRUE(step);
+  ASSERT_TRUE(step->scan);
+  EXPECT_EQ(step->scan->readings.size(), 2u);
+  EXPECT_EQ(step->action->size(), 2u);
+  EXPECT_FALSE(reader.next());
 }
