@@ -15,10 +15,14 @@
 #include "Pipeline.h"
 #include "ProgressBar.h"
 #include "RunConfig.h"
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/IniText.h"
+#include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/RunFiles.h"
 
 namespace budget_slam::app {
@@ -202,15 +206,20 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
     throw UsageError(e.what() + std::string("; see budget-slam ") + cli_.command + " --help");
   }
 
+  config_text_.reset();
   if (!cli_.config.empty() || params.getContent().empty()) {
     const std::string path = cli_.config.empty() ? "config.ini" : cli_.config;
-    std::ifstream in(path);
-    if (!in) throw ConfigError("config file '" + path + "': no such file or not readable");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    params.setContent(ss.str());
+    // Missing, a folder or over 1 MiB: the file cannot be read, a command-line error (exit 2).
+    config_text_ = readIniFile(path, "config file '" + path + "'");
     config_label_ = path;
   }
+}
+
+void BudgetSlamApp::loadConfig() {
+  if (!config_text_) return;
+  params.clear();
+  loadIniText(params, *config_text_, config_label_);
+  config_text_.reset();
 }
 
 int BudgetSlamApp::run() {
@@ -229,37 +238,54 @@ int BudgetSlamApp::runRun() {
   std::optional<report::OutputFolder> folder;
   std::unique_ptr<Pipeline> pipeline;
   std::size_t steps_read = 0;
+  nlohmann::json given = {{"config", config_label_}};  // what the run was given, in summary.json
 
-  // What the run was given, in summary.json whether it ends ok or not.
-  nlohmann::json given = {{"config", config_label_}};
   if (!cli_.rawlog.empty()) given["rawlog"] = cli_.rawlog;
-  const auto fail = [&](const std::string& msg, const std::string& status) {
+  const auto fail = [&](const std::string& why, const std::string& status) {
+    // One printable line whatever the message echoes (corrupt bytes of a file, say).
+    const std::string msg = printable(why);
     *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ") << msg << std::endl;
+    std::string not_saved;
     try {
       if (pipeline) {
         pipeline->finish(status, msg, steps_read, given);
+        not_saved = pipeline->summaryError();
       } else if (folder) {
         nlohmann::json j = {{"status", status}, {"error", msg}};
         j.update(given);
+        if (!folder->earlierRun().empty()) j["earlier_run_moved_to"] = folder->earlierRun();
         report::writeJson(folder->file("summary.json"), j);
       }
     } catch (const std::exception& e) {
-      *err << "budget-slam: error: while saving outputs: " << e.what() << std::endl;
+      not_saved = exceptionLine(e);
     }
+    if (!not_saved.empty())
+      *err << "budget-slam: error: while saving outputs: " << not_saved << std::endl;
     return status == "interrupted" ? 130 : 1;
+  };
+  // Where a stop request (Ctrl-C) found the run: the last step whose outputs are written.
+  const auto interrupted = [&](const char* where) {
+    const auto last = pipeline ? pipeline->lastStep() : std::nullopt;
+    return std::string("interrupted by ") + InterruptGuard::what() + where +
+           (last ? " after step " + std::to_string(*last) : std::string(" before the first step"));
   };
 
   RunConfig rc;
   try {
+    loadConfig();
     rc = loadRunConfig(params, cli_, config_label_);
-  } catch (const Error& e) {
+  } catch (const std::exception& e) {
+    // Error: a bad value, key or file; anything else (MRPT's own exceptions) in one line.
+    const std::string why = dynamic_cast<const Error*>(&e)
+                                ? std::string(e.what())
+                                : config_label_ + ": " + exceptionLine(e);
     if (!cli_.outdir.empty()) {
       try {
         folder.emplace(cli_.outdir, cli_.force);
       } catch (const Error&) {
       }
     }
-    return fail(e.what(), "failed");
+    return fail(why, "failed");
   }
 
   given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", config_label_}};
@@ -268,9 +294,18 @@ int BudgetSlamApp::runRun() {
   } catch (const Error& e) {
     return fail(e.what(), "failed");
   }
+  if (!folder->earlierRun().empty()) {
+    // Recorded in summary.json; said on stderr unless --quiet (an error stays one line).
+    given["earlier_run_moved_to"] = folder->earlierRun();
+    if (!cli_.quiet)
+      *err << "budget-slam: note: " << folder->path()
+           << " held an earlier run; its files were moved to " << folder->earlierRun() << "/"
+           << std::endl;
+  }
 
+  bool end_phase = false;
   try {
-    std::ofstream(folder->file("config_used.ini")) << rc.ini.getContent();
+    report::writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
     auto truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
     pipeline = std::make_unique<Pipeline>(rc.ini, rc.mapping.backend, rc.budget, *folder, truth,
@@ -298,9 +333,7 @@ int BudgetSlamApp::runRun() {
       if (on_step) on_step(step->index);
       if (InterruptGuard::requested()) {
         bar.done();
-        return fail(std::string("interrupted by ") + InterruptGuard::what() + " after step " +
-                        std::to_string(step->index),
-                    "interrupted");
+        return fail(interrupted(""), "interrupted");
       }
     }
     bar.done();
@@ -308,10 +341,20 @@ int BudgetSlamApp::runRun() {
       throw InputError("rawlog '" + rc.rawlog + "' holds no CObservationBearingRange (it holds: " +
                        joined(reader.observationClasses()) + ")");
 
+    end_phase = true;
+    if (on_end_phase) on_end_phase();
     const auto summary = pipeline->finish("ok", "", steps_read, given);
     // Shadow reducers are only logged; their failures end nothing, but are never silent.
     for (const auto& f : pipeline->budget().shadowFailures())
       *err << "budget-slam: warning: " << shadowFailureLine(f) << std::endl;
+    if (summary["status"] != "ok" || !pipeline->writeError().empty()) {
+      // An output that could not be written (a full disk): the run failed, summary.json says so
+      // when it could still be written.
+      const std::string why =
+          summary["status"] != "ok" ? summary["error"].get<std::string>() : pipeline->writeError();
+      *err << "budget-slam: error: " << why << std::endl;
+      return 1;
+    }
     if (!cli_.quiet) {
       const auto pose = pipeline->backend().robotPose().mean;
       *out << "budget-slam run: " << steps_read << " steps, backend " << rc.mapping.backend
@@ -334,10 +377,12 @@ int BudgetSlamApp::runRun() {
            << " s of SLAM)\n";
     }
     return 0;
+  } catch (const Interrupted&) {
+    return fail(interrupted(end_phase ? " in the end phase," : ""), "interrupted");
   } catch (const Error& e) {
     return fail(e.what(), "failed");
   } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + e.what(), "failed");
+    return fail(std::string("internal error: ") + exceptionLine(e), "failed");
   }
 }
 

@@ -29,9 +29,10 @@ struct CommandLine {
 /// in-memory config (`params`) and a temporary output folder, as MRPT's KFSLAMApp.
 class BudgetSlamApp {
  public:
-  /// Parses the command line (args[0] = program name). Loads -c into `params`.
-  /// Throws UsageError on a bad command line (main exits 2), ConfigError when -c cannot be read.
-  /// --help and --version only keep their text for run().
+  /// Parses the command line (args[0] = program name) and reads the -c file (run() checks and
+  /// parses it into `params`). Throws UsageError on a bad command line (main exits 2), ConfigError
+  /// when -c cannot be read (missing, a folder, over 1 MiB). --help and --version only keep their
+  /// text for run().
   void initialize(const std::vector<std::string>& args);
   void initialize(int argc, const char* const* argv);
 
@@ -40,20 +41,29 @@ class BudgetSlamApp {
   /// After --help or --version: prints that text once on `out` and returns 0.
   int run();
 
-  mrpt::config::CConfigFileMemory params;  ///< the ini, before sidecar, --set and flags
+  mrpt::config::CConfigFileMemory params;  ///< the ini, before sidecar, --set and flags (tests may
+                                           ///< set it instead of giving -c)
   std::ostream* out = nullptr;             ///< summary lines (default std::cout)
   std::ostream* err = nullptr;             ///< errors and progress (default std::cerr)
   /// Called after each step of `run` (progress observers; tests use it to press Ctrl-C).
   std::function<void(StepIndex)> on_step;
+  /// Called once the steps are done, before the end phase (the reducer's end-of-run event, the
+  /// graph's final solve, the outputs); tests use it to press Ctrl-C there. compare calls it once
+  /// a run, from its worker threads.
+  std::function<void()> on_end_phase;
   const CommandLine& commandLine() const { return cli_; }
 
  private:
   int runRun();
   int runCompare();
+  /// Checks and parses the -c text read by initialize() into `params` (core/IniText.h): a
+  /// binary file, prose, a duplicated key or a failed ${...} is a ConfigError naming the line.
+  void loadConfig();
 
   CommandLine cli_;
   std::string config_label_ = "config";
-  std::string help_;  ///< usage or version text to print instead of running
+  std::optional<std::string> config_text_;  ///< the -c file, until loadConfig()
+  std::string help_;                        ///< usage or version text to print instead of running
 };
 
 }  // namespace budget_slam::app

@@ -13,12 +13,16 @@
 #include "Pipeline.h"
 #include "ProgressBar.h"
 #include "RunConfig.h"
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/IniText.h"
+#include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/metrics/ReferenceMetrics.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/ComparisonTable.h"
+#include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFiles.h"
 
@@ -82,12 +86,14 @@ std::vector<report::Series> errorSeries(const std::vector<std::unique_ptr<Compar
 
 int BudgetSlamApp::runCompare() {
   std::optional<report::OutputFolder> top;
-  const auto fail = [&](const std::string& msg) {
+  const auto fail = [&](const std::string& why) {
+    const std::string msg = printable(why);  // one line, valid UTF-8 (summary.json)
     *err << "budget-slam: error: " << msg << std::endl;
     if (top) {
       try {
         report::writeJson(top->file("summary.json"), {{"status", "failed"}, {"error", msg}});
-      } catch (const std::exception&) {
+      } catch (const std::exception& e) {
+        *err << "budget-slam: error: while saving outputs: " << exceptionLine(e) << std::endl;
       }
     }
     return 1;
@@ -96,6 +102,7 @@ int BudgetSlamApp::runCompare() {
   RunConfig rc;
   std::vector<std::string> names = cli_.reducers;
   try {
+    loadConfig();
     rc = loadRunConfig(params, cli_, config_label_);
     // --reducers was checked with the command line (BudgetSlamApp::initialize).
     if (names.empty())
@@ -116,12 +123,15 @@ int BudgetSlamApp::runCompare() {
   } catch (const Error& e) {
     return fail(e.what());
   }
+  if (!top->earlierRun().empty() && !cli_.quiet)
+    *err << "budget-slam: note: " << top->path() << " held an earlier run; its files were moved to "
+         << top->earlierRun() << "/" << std::endl;
 
   std::vector<std::unique_ptr<CompareRun>> runs;
   std::shared_ptr<dataset::GroundTruth> truth;
   std::vector<Step> steps;
   try {
-    std::ofstream(top->file("config_used.ini")) << rc.ini.getContent();
+    report::writeFileAtomically(top->file("config_used.ini"), rc.ini.getContent());
     truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
 
@@ -156,39 +166,56 @@ int BudgetSlamApp::runCompare() {
     for (const auto& name : all) {
       auto run = std::make_unique<CompareRun>();
       run->name = name;
-      mrpt::config::CConfigFileMemory ini(rc.ini.getContent());
+      mrpt::config::CConfigFileMemory ini;
+      copyIni(rc.ini, ini);  // no second ${...} expansion
       reducers::BudgetOptions budget = rc.budget;
       budget.reducer = name == kReference ? "none" : name;
       ini.write(reducers::BudgetOptions::kSection, "reducer", budget.reducer);
       report::OutputFolder folder(top->file(name), cli_.force);
-      std::ofstream(folder.file("config_used.ini")) << ini.getContent();
+      report::writeFileAtomically(folder.file("config_used.ini"), ini.getContent());
       run->pipeline = std::make_unique<Pipeline>(ini, rc.mapping.backend, budget, folder, truth);
       runs.push_back(std::move(run));
     }
   } catch (const Error& e) {
     return fail(e.what());
+  } catch (const std::exception& e) {
+    return fail(std::string("internal error: ") + exceptionLine(e));
   }
 
-  // One thread a core, each taking whole runs.
+  // One thread a core, each taking whole runs. A stop request (Ctrl-C) ends each run between two
+  // steps, or inside a step or the end phase (Interrupted, core/Cancellation.h); every run's
+  // outputs are then written with status interrupted.
+  const auto stopped = [](const CompareRun& r, const char* where) {
+    const auto last = r.pipeline->lastStep();
+    return std::string("interrupted by ") + Cancellation::signalName() + where +
+           (last ? " after step " + std::to_string(*last) : std::string(" before the first step"));
+  };
   std::atomic<std::size_t> next{0};
   const auto worker = [&] {
     for (std::size_t i; (i = next++) < runs.size();) {
       CompareRun& r = *runs[i];
+      bool end_phase = false;
       try {
         for (const auto& s : steps) {
-          if (InterruptGuard::requested()) {
+          if (Cancellation::requested()) {
             r.status = "interrupted";
-            r.error = std::string("interrupted by ") + InterruptGuard::what() + " after step " +
-                      std::to_string(r.steps_done == 0 ? 0 : r.steps_done - 1);
+            r.error = stopped(r, "");
             break;
           }
           r.pipeline->process(s);
           ++r.steps_done;
         }
-        if (r.status == "ok") r.pipeline->complete();
+        if (r.status == "ok") {
+          end_phase = true;
+          if (on_end_phase) on_end_phase();
+          r.pipeline->complete();
+        }
+      } catch (const Interrupted&) {
+        r.status = "interrupted";
+        r.error = stopped(r, end_phase ? " in the end phase," : "");
       } catch (const std::exception& e) {
         r.status = "failed";
-        r.error = e.what();
+        r.error = exceptionLine(e);
       }
     }
   };
@@ -225,6 +252,11 @@ int BudgetSlamApp::runCompare() {
                             {"config", config_label_},
                             {"run", r->name}};
     metrics::ReferenceMetrics m;
+    // A stop request after a run's end phase: its outputs are still written (quickly), marked.
+    if (r->status == "ok" && Cancellation::requested()) {
+      r->status = "interrupted";
+      r->error = stopped(*r, " before its outputs were written,");
+    }
     if (ref.status == "ok" && r->status == "ok") {
       m = metrics::compareWithReference(ref.pipeline->backend(), r->pipeline->backend(),
                                         metric_options.eig_max_rows);
@@ -233,9 +265,14 @@ int BudgetSlamApp::runCompare() {
     nlohmann::json summary;
     try {
       summary = r->pipeline->finish(r->status, r->error, steps.size(), extra);
+      if (r->status == "ok" && summary["status"] != "ok") {
+        // An output of the run could not be written (a full disk), or its estimate diverged.
+        r->status = "failed";
+        r->error = summary["error"].get<std::string>();
+      }
     } catch (const std::exception& e) {
       r->status = "failed";
-      r->error = std::string("while saving outputs: ") + e.what();
+      r->error = std::string("while saving outputs: ") + exceptionLine(e);
     }
     if (r->status != "ok") {
       exit_code = r->status == "interrupted" && exit_code != 1 ? 130 : 1;
@@ -295,23 +332,24 @@ int BudgetSlamApp::runCompare() {
                       "step", "m", errorSeries(runs, has_path ? &gt : nullptr, steps.size()),
                       false});
     report::writeChartPng(top->file("comparison.png"), panels);
-    report::writeJson(
-        top->file("summary.json"),
-        {{"status", exit_code == 0 ? "ok" : (exit_code == 130 ? "interrupted" : "failed")},
-         {"error", first_error},
-         {"rawlog", rc.rawlog},
-         {"sidecar_ini", rc.sidecar},
-         {"config", config_label_},
-         {"runs", names.size() + 1},
-         {"steps", steps.size()},
-         {"threads", threads}});
+    nlohmann::json summary = {
+        {"status", exit_code == 0 ? "ok" : (exit_code == 130 ? "interrupted" : "failed")},
+        {"error", first_error},
+        {"rawlog", rc.rawlog},
+        {"sidecar_ini", rc.sidecar},
+        {"config", config_label_},
+        {"runs", names.size() + 1},
+        {"steps", steps.size()},
+        {"threads", threads}};
+    if (!top->earlierRun().empty()) summary["earlier_run_moved_to"] = top->earlierRun();
+    report::writeJson(top->file("summary.json"), summary);
     if (!cli_.quiet) *out << md << "outputs in " << top->path() << "/\n";
   } catch (const std::exception& e) {
-    return fail(std::string("while saving outputs: ") + e.what());
+    return fail(std::string("while saving outputs: ") + exceptionLine(e));
   }
   // One line a run that failed or was interrupted (the reference's failure fails every
   // comparison, but the others' errors are their own), and a warning a failed shadow reducer.
-  for (const auto& line : failures) *err << "budget-slam: " << line << std::endl;
+  for (const auto& line : failures) *err << "budget-slam: " << printable(line) << std::endl;
   return exit_code;
 }
 

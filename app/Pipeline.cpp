@@ -6,14 +6,19 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <iomanip>
+#include <sstream>
 
 #include "MappingOptions.h"
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/StepFilter.h"
+#include "budget_slam/core/Text.h"
 #include "budget_slam/ekf/EkfBackend.h"
 #include "budget_slam/graph/GraphBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/MapScene.h"
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFiles.h"
@@ -153,27 +158,11 @@ void Pipeline::process(const Step& raw) {
   const auto drops = manager_->enforce(*backend_, raw.index);
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = threadCpuSeconds() - cpu0;
-
-  ++steps_done_;
-  last_step_ = raw.index;
-  landmarks_added_ += added;
-  total_step_s_ += dt;
-  max_step_s_ = std::max(max_step_s_, dt);
   const std::size_t n = backend_->landmarkCount();
-  peak_landmarks_ = std::max(peak_landmarks_, n);
-  if (keep_history_) counts_.push_back(n);
-
   const PoseEstimate pose = backend_->robotPose();
-  if (keep_history_) online_.push_back({raw.index, pose});
-  if (truth_frame_)
-    for (int offset : {0, 1}) {
-      const std::size_t row = raw.index + offset;
-      if (row >= truth_frame_->path.size()) continue;
-      const double nees = metrics::poseNees(pose, truth_frame_->path[row]);
-      if (!std::isfinite(nees)) continue;  // e.g. the zero covariance before the first motion
-      nees_sum_[offset] += nees;
-      ++nees_n_[offset];
-    }
+
+  // The row first: a step whose row cannot be written (a full disk) does not count, so that
+  // steps.csv, trajectory.tum and summary.json agree on the steps done.
   steps_csv_.cell(raw.index)
       .cell(raw.t)
       .cell(n)
@@ -190,6 +179,24 @@ void Pipeline::process(const Step& raw) {
       .cell(1e3 * cpu)
       .cell(residentBytes());
   steps_csv_.endRow();
+
+  ++steps_done_;
+  last_step_ = raw.index;
+  landmarks_added_ += added;
+  total_step_s_ += dt;
+  max_step_s_ = std::max(max_step_s_, dt);
+  peak_landmarks_ = std::max(peak_landmarks_, n);
+  if (keep_history_) counts_.push_back(n);
+  if (keep_history_) online_.push_back({raw.index, pose});
+  if (truth_frame_)
+    for (int offset : {0, 1}) {
+      const std::size_t row = raw.index + offset;
+      if (row >= truth_frame_->path.size()) continue;
+      const double nees = metrics::poseNees(pose, truth_frame_->path[row]);
+      if (!std::isfinite(nees)) continue;  // e.g. the zero covariance before the first motion
+      nees_sum_[offset] += nees;
+      ++nees_n_[offset];
+    }
 
   logEvictions(drops);
   if (scene_every_steps_ && raw.index % scene_every_steps_ == 0) {
@@ -274,7 +281,7 @@ void Pipeline::dumpState(const Backend& backend, StepIndex step) const {
   const Eigen::MatrixXd P = backend.jointCovariance(vars);
   const PoseEstimate pose = backend.robotPose();
 
-  std::ofstream out(folder_.file("states/step_" + std::to_string(step) + ".txt"));
+  std::ostringstream out;
   out << std::setprecision(17);
   out << "# state before the drop event after step " << step << " (backend " << backend.name()
       << ")\n# order: robot x y yaw, then x y of each landmark below\n# ids:";
@@ -286,6 +293,8 @@ void Pipeline::dumpState(const Backend& backend, StepIndex step) const {
     for (Eigen::Index c = 0; c < P.cols(); ++c) out << (c ? " " : "") << P(r, c);
     out << '\n';
   }
+  report::writeFileAtomically(folder_.file("states/step_" + std::to_string(step) + ".txt"),
+                              out.str());
 }
 
 void Pipeline::complete() {
@@ -294,36 +303,83 @@ void Pipeline::complete() {
   // The reducer's end-of-run event (mi objective mode: Choudhary et al.'s active minimization),
   // then the backend's (the graph's solve to the batch optimum).
   if (steps_done_ > 0) logEvictions(manager_->finish(*backend_, last_step_));
+  Cancellation::check();  // drops cut short by a stop request are logged above
   backend_->finish();
 }
 
 nlohmann::json Pipeline::finish(const std::string& status, const std::string& error,
                                 std::size_t steps_in_rawlog, const nlohmann::json& extra) {
-  if (status == "ok") complete();
-  const auto trajectory = backend_->trajectory();
-  // A run that failed (e.g. diverged) may hold landmarks with non-finite estimates: they are
-  // left out of landmarks.csv, map.png and the metrics, and counted in summary.json.
-  std::vector<LandmarkView> landmarks = backend_->landmarks();
-  const std::size_t held = landmarks.size();
-  landmarks.erase(std::remove_if(landmarks.begin(), landmarks.end(),
-                                 [](const LandmarkView& l) { return !finite(l); }),
-                  landmarks.end());
-  report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory);
-  report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks);
-  writeMap(trajectory, landmarks);
-  if (save_3d_scene_) writeScene("map.3Dscene", trajectory, landmarks);
-  if (truth_ && !truth_->path.empty()) writeGroundTruthTum(trajectory, steps_in_rawlog);
+  if (status == "ok") {
+    complete();
+    Cancellation::check();  // a stop request before the outputs: the run ends as interrupted
+  }
+  // What the outputs may hold: the poses of the steps that completed, and finite estimates only
+  // (a diverged filter's NaN reaches no picture, metric, k-means or file).
+  const auto finitePose = [](const mrpt::math::TPose2D& p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
+  };
+  std::vector<TrajectoryPoint> trajectory;
+  std::size_t poses_not_finite = 0;
+  for (const auto& p : backend_->trajectory()) {
+    if (steps_done_ == 0 || p.step > last_step_) continue;  // a step cut short
+    if (!finitePose(p.pose) || !std::isfinite(p.t))
+      ++poses_not_finite;
+    else
+      trajectory.push_back(p);
+  }
+  std::vector<LandmarkView> landmarks;
+  std::size_t landmarks_not_finite = 0;
+  for (const auto& l : backend_->landmarks()) {
+    if (finite(l))
+      landmarks.push_back(l);
+    else
+      ++landmarks_not_finite;
+  }
+
+  // Every output is attempted; the first failure (a full disk) is the run's error.
+  std::vector<std::string> not_written;
+  std::string first_error;
+  const auto attempt = [&](const std::string& name, const std::function<void()>& write) {
+    try {
+      write();
+    } catch (const std::exception& e) {
+      not_written.push_back(name);
+      if (first_error.empty()) first_error = exceptionLine(e);
+    }
+  };
+  attempt("steps.csv", [&] { steps_csv_.close(); });
+  attempt("evictions.csv", [&] { evictions_csv_.close(); });
+  attempt("trajectory.tum",
+          [&] { report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory); });
+  attempt("landmarks.csv",
+          [&] { report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks); });
+  attempt("map.png", [&] { writeMap(trajectory, landmarks); });
+  if (save_3d_scene_)
+    attempt("map.3Dscene", [&] { writeScene("map.3Dscene", trajectory, landmarks); });
+  if (truth_ && !truth_->path.empty())
+    attempt("ground_truth.tum", [&] { writeGroundTruthTum(trajectory, steps_in_rawlog); });
+
+  std::string st = status, why = error;
+  if (st == "ok" && (poses_not_finite || landmarks_not_finite)) {
+    st = "failed";
+    why = "the " + backend_->name() + " estimate is not finite at the end of the run (" +
+          std::to_string(poses_not_finite) + " poses, " + std::to_string(landmarks_not_finite) +
+          " landmarks)";
+  }
+  if (st == "ok" && !first_error.empty()) st = "failed", why = first_error;
 
   const auto& budget = manager_->options();
   nlohmann::json j;
-  j["status"] = status;
-  j["error"] = error;
+  j["status"] = st;
+  j["error"] = why;
+  if (!not_written.empty()) j["files_not_written"] = not_written;
   j["backend"] = backend_->name();
   j["reducer"] = budget.reducer;
   j["cap"] = manager_->capped() ? nlohmann::json(*budget.max_landmarks) : nlohmann::json();
   j["counts"] = {{"steps", steps_done_},
                  {"landmarks_final", landmarks.size()},
-                 {"landmarks_not_finite", held - landmarks.size()},
+                 {"landmarks_not_finite", landmarks_not_finite},
+                 {"poses_not_finite", poses_not_finite},
                  {"landmarks_peak", peak_landmarks_},
                  {"landmarks_added", landmarks_added_},
                  {"evictions", evictions_},
@@ -353,7 +409,12 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   j["shadow_failures"] = shadow_failures;
 
   if (truth_ && !truth_->empty()) {
-    const auto e = metrics::groundTruthErrors(trajectory, {}, landmarks, *truth_, steps_in_rawlog);
+    metrics::GroundTruthErrors e;
+    try {
+      e = metrics::groundTruthErrors(trajectory, {}, landmarks, *truth_, steps_in_rawlog);
+    } catch (const Error& x) {
+      if (first_error.empty()) first_error = x.what();  // a bug: inputs are finite here
+    }
     const int offset =
         truth_->path.empty()
             ? 1
@@ -373,7 +434,13 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
                          {"nees_samples", nees_n_[offset]}};
   }
   for (const auto& [k, v] : extra.items()) j[k] = v;
-  report::writeJson(folder_.file("summary.json"), j);
+  try {
+    report::writeJson(folder_.file("summary.json"), j);
+  } catch (const std::exception& e) {
+    summary_error_ = exceptionLine(e);
+    if (first_error.empty()) first_error = summary_error_;
+  }
+  write_error_ = first_error;
   return j;
 }
 

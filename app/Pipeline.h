@@ -35,16 +35,33 @@ class Pipeline {
            std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history = true);
 
   /// Runs one step: backend update (evicted landmarks filtered out when readmission is off), then
-  /// the budget. Throws Error on bad data; the outputs written so far stay.
+  /// the budget, then its steps.csv row. Throws Error on bad data, on a diverged estimate and when
+  /// the row cannot be written, Interrupted on a stop request inside the step; the step then does
+  /// not count (lastStep() is the step before) and the outputs written so far stay.
   void process(const Step& step);
 
-  /// Runs the backend's end-of-run work (the graph's final solve) once; finish() calls it too.
+  /// Runs the reducer's and the backend's end-of-run work (active minimization, the graph's final
+  /// solve) once; finish("ok") calls it too. Throws Interrupted on a stop request.
   void complete();
 
-  /// Writes trajectory.tum, landmarks.csv, map.png and summary.json with `status` (ok | failed |
-  /// interrupted) and `error`. `steps_in_rawlog` maps ground truth rows. Returns the summary.
+  /// Writes every output (steps.csv and evictions.csv flushed to disk, trajectory.tum,
+  /// landmarks.csv, map.png, ground_truth.tum) and then summary.json with `status` (ok | failed |
+  /// interrupted) and `error`. Only the steps that completed and only finite estimates are written
+  /// or drawn (a diverged estimate leaves its non-finite poses and landmarks out, counted in
+  /// summary.json). Each output is attempted even when another fails; an ok run whose outputs
+  /// could not all be written becomes failed, with the first write error (see writeError()).
+  /// `steps_in_rawlog` maps ground truth rows. Returns the summary. With status ok, throws
+  /// Interrupted when a stop request came before the outputs were written.
   nlohmann::json finish(const std::string& status, const std::string& error,
                         std::size_t steps_in_rawlog, const nlohmann::json& extra = {});
+  /// The first output finish() could not write ("" when all were written).
+  const std::string& writeError() const { return write_error_; }
+  /// Why finish() could not write summary.json ("" when it did).
+  const std::string& summaryError() const { return summary_error_; }
+  /// The last step that completed (its steps.csv row is written), none before the first.
+  std::optional<StepIndex> lastStep() const {
+    return steps_done_ ? std::optional<StepIndex>(last_step_) : std::nullopt;
+  }
 
   const Backend& backend() const { return *backend_; }
   const reducers::BudgetManager& budget() const { return *manager_; }
@@ -89,6 +106,7 @@ class Pipeline {
   std::vector<std::size_t> counts_;
   std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
   bool completed_ = false;
+  std::string write_error_, summary_error_;
   StepIndex last_step_ = 0;
   std::size_t steps_done_ = 0, evictions_ = 0, peak_landmarks_ = 0, landmarks_added_ = 0;
   double total_step_s_ = 0, max_step_s_ = 0;

@@ -1,17 +1,22 @@
 #include "RunConfig.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSchema.h"
+#include "budget_slam/core/IniText.h"
+#include "budget_slam/core/Text.h"
+#include "budget_slam/ekf/MrptIniCheck.h"
 #include "budget_slam/ekf/MrptIniKeys.h"
 #include "budget_slam/graph/GraphOptions.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/reducers/CoverageOptions.h"
 
 namespace fs = std::filesystem;
 
@@ -27,24 +32,34 @@ IniSchema knownKeys() {
   schema.addSection(graph::GraphSlamOptions::kSection, graph::GraphSlamOptions::keys());
   for (const auto* e : reducers::builtinReducers().entries())
     if (!e->section.empty()) schema.addSection(e->section, e->keys);
+  // An MRPT ini shared with MRPT's other applications (simul-landmarks...) keeps their sections.
+  for (const auto& s : ekf::mrptOtherAppSections()) schema.addForeignSection(s);
   return schema;
 }
 
-/// Copies every key of `from` into `to` (later files override earlier ones).
-void overlay(mrpt::config::CConfigFileMemory& to, const mrpt::config::CConfigFileBase& from) {
-  std::vector<std::string> sections;
-  from.getAllSections(sections);
-  for (const auto& s : sections) {
-    std::vector<std::string> keys;
-    from.getAllKeys(s, keys);
-    for (const auto& k : keys) to.write(s, k, from.read_string(s, k, "", false));
-  }
-}
-
-void applySet(mrpt::config::CConfigFileMemory& ini, const std::string& set) {
+/// --set overrides a key budget-slam reads: its section must be one (another application's
+/// section would be set for nothing), and its value one line of text.
+void applySet(mrpt::config::CConfigFileMemory& ini, const std::string& set,
+              const IniSchema& schema) {
   checkSet(set);
   const auto dot = set.find('.'), eq = set.find('=');
-  ini.write(set.substr(0, dot), set.substr(dot + 1, eq - dot - 1), set.substr(eq + 1));
+  const std::string section = set.substr(0, dot), value = set.substr(eq + 1);
+  if (!schema.hasSection(section))
+    throw ConfigError("--set '" + printable(set) +
+                      "': " + schema.unknownSection(printable(section)));
+  checkIniValue(value, "--set '" + printable(set) + "'");
+  ini.write(section, set.substr(dot + 1, eq - dot - 1), value);
+}
+
+/// Loads every option of every section once, so that a bad value is an error before anything
+/// runs, whichever backend and reducer will read it (each loader names section, key and value).
+void checkValues(const mrpt::config::CConfigFileBase& ini, std::uint64_t seed) {
+  ekf::checkMrptKfSlamOptions(ini);
+  graph::GraphSlamOptions().loadFromConfigFile(ini, graph::GraphSlamOptions::kSection);
+  graph::RangeBearingNoise().loadFromConfigFile(ini, graph::RangeBearingNoise::kSection);
+  metrics::MetricsOptions().loadFromConfigFile(ini, metrics::MetricsOptions::kSection);
+  reducers::CoverageOptions().loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
+  for (const auto* e : reducers::builtinReducers().entries()) e->factory(ini, seed);
 }
 
 std::string resolveRawlog(const std::string& from_ini, const std::string& config_path) {
@@ -61,7 +76,7 @@ std::string resolveRawlog(const std::string& from_ini, const std::string& config
 void checkSet(const std::string& set) {
   const auto dot = set.find('.'), eq = set.find('=');
   if (dot == std::string::npos || eq == std::string::npos || dot == 0 || dot > eq || eq == dot + 1)
-    throw ConfigError("--set '" + set + "': expected Section.key=value");
+    throw ConfigError("--set '" + printable(set) + "': expected Section.key=value");
 }
 
 void checkCapFor(const RunConfig& rc, const CommandLine& cli, const std::string& reducer,
@@ -86,7 +101,7 @@ void checkCapFor(const RunConfig& rc, const CommandLine& cli, const std::string&
 RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const CommandLine& cli,
                         const std::string& config_label) {
   RunConfig rc;
-  rc.ini.setContent(params.getContent());
+  copyIni(params, rc.ini);  // no second ${...} expansion of the values
   const std::string prefix = config_label + ": ";
   try {
     // The rawlog decides which sidecar applies, so read it before the overlays.
@@ -100,13 +115,11 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
     if (fs::path(rc.rawlog).extension() == ".rawlog" && fs::exists(sidecar)) {
       rc.sidecar = sidecar.string();
       mrpt::config::CConfigFileMemory side;
-      std::ifstream in(rc.sidecar);
-      std::stringstream ss;
-      ss << in.rdbuf();
-      side.setContent(ss.str());
-      overlay(rc.ini, side);
+      loadIniText(side, readIniFile(rc.sidecar, rc.sidecar), rc.sidecar);
+      copyIni(side, rc.ini);
     }
-    for (const auto& s : cli.sets) applySet(rc.ini, s);
+    const IniSchema schema = knownKeys();
+    for (const auto& s : cli.sets) applySet(rc.ini, s, schema);
     if (!cli.reducer.empty())
       rc.ini.write(reducers::BudgetOptions::kSection, "reducer", cli.reducer);
     if (cli.cap) rc.ini.write(reducers::BudgetOptions::kSection, "max_landmarks", *cli.cap);
@@ -118,16 +131,17 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
     }
     if (!cli.rawlog.empty()) rc.ini.write(MappingOptions::kSection, "rawlog_file", cli.rawlog);
 
-    knownKeys().validate(rc.ini);
+    schema.validate(rc.ini);
     rc.mapping.loadFromConfigFile(rc.ini, MappingOptions::kSection);
     rc.budget.loadFromConfigFile(rc.ini, reducers::BudgetOptions::kSection);
+    checkValues(rc.ini, rc.budget.seed);
     reducers::builtinReducers().entry(rc.budget.reducer);  // unknown name: error now
     for (const auto& s : rc.budget.shadow_reducers) reducers::builtinReducers().entry(s);
   } catch (const ConfigError& e) {
     const std::string msg = e.what();
     // Flag and name errors speak for themselves; ini errors get the file's name.
     if (msg.rfind("--", 0) == 0 || msg.rfind("unknown reducer", 0) == 0 ||
-        msg.rfind("no rawlog", 0) == 0)
+        msg.rfind("no rawlog", 0) == 0 || (!rc.sidecar.empty() && msg.rfind(rc.sidecar, 0) == 0))
       throw;
     throw ConfigError(prefix + msg);
   }

@@ -1,8 +1,9 @@
 // libFuzzer target: the run configuration as the application builds it from an ini text and
-// --set overrides (loadRunConfig: parsing, overlays, the key schema, every option loader).
-// Input: leading lines "--set Section.key=value" become overrides, the rest is the ini text.
-// Allowed outcomes: a configuration or one ConfigError line. A finding is anything else: a crash,
-// a sanitizer report, another exception (an MRPT stack dump reaching the user), a hang.
+// --set overrides (loadIniText and loadRunConfig: the text checks, parsing, overlays, the key
+// schema, every option loader). Input: leading lines "--set Section.key=value" become overrides,
+// the rest is the ini text. Allowed outcomes: a configuration or one ConfigError line. A finding is
+// anything else: a crash, a sanitizer report, another exception (an MRPT stack dump reaching the
+// user), a hang.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -10,6 +11,7 @@
 #include "BudgetSlamApp.h"
 #include "RunConfig.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/IniText.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::string text(reinterpret_cast<const char*>(data), size);
@@ -26,7 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     mrpt::config::CConfigFileMemory params;
-    params.setContent(text);
+    budget_slam::loadIniText(params, text, "fuzz.ini");  // as BudgetSlamApp reads -c
     budget_slam::app::loadRunConfig(params, cli, "fuzz.ini");
   } catch (const budget_slam::Error& e) {
     for (const char* p = e.what(); *p; ++p)

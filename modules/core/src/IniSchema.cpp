@@ -52,24 +52,44 @@ void IniSchema::addSection(const std::string& section, const std::vector<std::st
     if (!containsNoCase(v, k)) v.push_back(k);
 }
 
+void IniSchema::addForeignSection(const std::string& section) {
+  if (!section.empty() && section.back() == '*')
+    foreign_prefixes_.push_back(lower(section.substr(0, section.size() - 1)));
+  else
+    foreign_.push_back(section);
+}
+
 bool IniSchema::hasSection(const std::string& section) const {
-  return sections_.count(section) > 0;
+  return std::any_of(sections_.begin(), sections_.end(),
+                     [&](const auto& kv) { return lower(kv.first) == lower(section); });
+}
+
+bool IniSchema::isForeign(const std::string& section) const {
+  const std::string l = lower(section);
+  return containsNoCase(foreign_, section) ||
+         std::any_of(foreign_prefixes_.begin(), foreign_prefixes_.end(), [&](const std::string& p) {
+           return l.size() > p.size() && l.rfind(p, 0) == 0;
+         });
+}
+
+std::string IniSchema::unknownSection(const std::string& section) const {
+  std::vector<std::string> known = foreign_;
+  for (const auto& [s, keys] : sections_) known.push_back(s);
+  const std::string near = closestMatch(section, known);
+  return "unknown section [" + section + "]" +
+         (near.empty() ? std::string(" (neither budget-slam nor another MRPT application reads it)")
+                       : " (did you mean [" + near + "]?)");
 }
 
 void IniSchema::validate(const mrpt::config::CConfigFileBase& ini) const {
-  std::vector<std::string> known;
-  for (const auto& [s, keys] : sections_) known.push_back(s);
-
   std::vector<std::string> sections;
   ini.getAllSections(sections);
   for (const auto& section : sections) {
     const auto it = std::find_if(sections_.begin(), sections_.end(),
                                  [&](const auto& kv) { return lower(kv.first) == lower(section); });
     if (it == sections_.end()) {
-      const std::string near = closestMatch(section, known);
-      if (!near.empty() && editDistance(section, near) <= 2)
-        throw ConfigError("unknown section [" + section + "] (did you mean [" + near + "]?)");
-      continue;  // another application's section
+      if (isForeign(section)) continue;  // another application's section
+      throw ConfigError(unknownSection(section));
     }
     std::vector<std::string> keys;
     ini.getAllKeys(section, keys);

@@ -68,10 +68,21 @@ double IniSection::readDouble(const std::string& key, double def, double lo, dou
   char* end = nullptr;
   errno = 0;
   const double x = std::strtod(v.c_str(), &end);
-  if (v.empty() || end != v.c_str() + v.size() || errno == ERANGE || std::isnan(x))
+  if (v.empty() || end != v.c_str() + v.size() || std::isnan(x))
     fail(key, "'" + v + "'", "not a number");
+  if (!std::isfinite(x) || (errno == ERANGE && std::abs(x) > 1))
+    fail(key, v, "must be a finite number");
   if (x < lo) fail(key, v, "must be at least " + formatNumber(lo));
   if (x > hi) fail(key, v, "must be at most " + formatNumber(hi));
+  return x;
+}
+
+double IniSection::readStd(const std::string& key, double def) const {
+  const double x = readDouble(key, def);
+  if (!has(key)) return x;
+  if (x <= 0) fail(key, raw(key), "must be > 0 (a standard deviation)");
+  if (x < kMinStd) fail(key, raw(key), "must be at least " + formatNumber(kMinStd));
+  if (x > kMaxStd) fail(key, raw(key), "must be at most " + formatNumber(kMaxStd));
   return x;
 }
 

@@ -47,8 +47,20 @@ TEST(IniSection, ErrorsNameSectionKeyAndValue) {
 TEST(IniSchema, RejectsUnknownKeyWithClosestSuggestion) {
   IniSchema schema;
   schema.addSection("LandmarkBudget", {"reducer", "max_landmarks", "protect_recent_steps"});
-  mrpt::config::CConfigFileMemory ok("[LandmarkBudget]\nmax_landmarks=3\n[Other]\nfoo=1\n");
+  schema.addForeignSection("Params");
+  schema.addForeignSection("RANDOMSET_*");
+  mrpt::config::CConfigFileMemory ok(
+      "[LandmarkBudget]\nmax_landmarks=3\n[Params]\nfoo=1\n[RANDOMSET_2]\nn=3\n");
   EXPECT_NO_THROW(schema.validate(ok));
+  // Sections nobody reads are errors (a kf-slam ini shared with simul-landmarks still passes).
+  mrpt::config::CConfigFileMemory other("[LandmarkBudget]\nmax_landmarks=3\n[Other]\nfoo=1\n");
+  EXPECT_EQ(errorOf([&] { schema.validate(other); }),
+            "unknown section [Other] (neither budget-slam nor another MRPT application reads it)");
+  mrpt::config::CConfigFileMemory param("[Param]\nfoo=1\n");
+  EXPECT_EQ(errorOf([&] { schema.validate(param); }),
+            "unknown section [Param] (did you mean [Params]?)");
+  EXPECT_TRUE(schema.isForeign("randomset_17"));
+  EXPECT_FALSE(schema.isForeign("RANDOMSET_"));
   mrpt::config::CConfigFileMemory typo("[LandmarkBudget]\nmax_landmark=3\n");
   EXPECT_EQ(errorOf([&] { schema.validate(typo); }),
             "unknown key [LandmarkBudget] max_landmark (did you mean max_landmarks?)");

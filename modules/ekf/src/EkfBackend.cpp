@@ -3,11 +3,19 @@
 #include <stdexcept>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/Text.h"
+#include "budget_slam/ekf/MrptIniCheck.h"
 
 namespace budget_slam::ekf {
 
 EkfBackend::EkfBackend(const mrpt::config::CConfigFileBase& ini) {
-  kf_.loadOptions(ini);  // exactly what MRPT's kf-slam does
+  checkMrptKfSlamOptions(ini);  // MRPT takes any number and dumps a stack on a bad enum
+  try {
+    kf_.loadOptions(ini);  // exactly what MRPT's kf-slam does
+  } catch (const std::exception& e) {
+    throw ConfigError("[RangeBearingKFSLAM]: MRPT cannot load the filter options: " +
+                      exceptionLine(e));
+  }
   kf_.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
 }
 

@@ -24,4 +24,23 @@ const std::map<std::string, std::vector<std::string>>& mrptKfSlamIniKeys() {
   return keys;
 }
 
+const std::vector<std::string>& mrptOtherAppSections() {
+  static const std::vector<std::string> sections = {
+      // simul-landmarks, simul-beacons
+      "Params", "RANDOMSET_*",
+      // icp-slam, icp-slam-live, rbpf-slam (their map definitions share kf-slam's app section name)
+      "ICP", "LIDAR_SENSOR", "MappingApplication_*",
+      // pf-localization, ro-localization
+      "PF_options", "KLD_options", "MetricMap", "MetricMap_*", "LocalizationExperiment",
+      "DummyOdometryParams", "OdometryEstimation", "RO_MODEL", "ro-localization",
+      // hmt-slam
+      "HMT-SLAM", "GRAPH_CUT", "PARTICLE_FILTER", "TLC_GRIDMATCHING", "MetricMaps", "MetricMaps_*",
+      // graphslam-engine
+      "GeneralConfiguration", "EdgeRegistrationDeciderParameters",
+      "NodeRegistrationDeciderParameters", "OptimizerParameters", "VisualizationParameters",
+      // icp-graph-slam, grid-matching
+      "icp_graphslam", "icp_graphslam_*", "grid-match", "metric_maps", "metric_maps_*"};
+  return sections;
+}
+
 }  // namespace budget_slam::ekf

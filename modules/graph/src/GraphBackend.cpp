@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/graph/InformationGain.h"
 #include "budget_slam/graph/Marginals.h"
 
@@ -328,7 +329,17 @@ std::size_t GraphBackend::marginalizePosesWithoutLandmarks(std::size_t keep_last
 }
 
 SolveReport GraphBackend::optimize() {
-  const SolveReport r = graph::optimize(graph_, options_.solverSettings(), &solver_chol_);
+  SolverSettings settings = options_.solverSettings();
+  settings.stop_on_request = true;  // a full solve of a long run takes seconds
+  SolveReport r;
+  try {
+    r = graph::optimize(graph_, settings, &solver_chol_);
+  } catch (const Interrupted&) {
+    // The estimate moved to the last accepted iterate: the caches must follow it.
+    pose_cov_.reset();
+    touch();
+    throw;
+  }
   poses_since_update_ = 0;
   pose_cov_.reset();
   touch();

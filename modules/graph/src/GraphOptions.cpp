@@ -93,10 +93,10 @@ SolverSettings GraphSlamOptions::solverSettings() const {
 
 void RangeBearingNoise::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
                                            const std::string& section) {
+  // The same rule as the EKF's (ekf::checkMrptKfSlamOptions): both read these keys.
   const IniSection s(ini, section);
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  std_sensor_range = s.readDouble("std_sensor_range", std_sensor_range, 1e-12, kInf);
-  std_sensor_yaw_deg = s.readDouble("std_sensor_yaw_deg", std_sensor_yaw_deg, 1e-12, kInf);
+  std_sensor_range = s.readStd("std_sensor_range", std_sensor_range);
+  std_sensor_yaw_deg = s.readStd("std_sensor_yaw_deg", std_sensor_yaw_deg);
 }
 
 void RangeBearingNoise::dumpToTextStream(std::ostream& out) const {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "budget_slam/core/Cancellation.h"
+
 namespace budget_slam::graph {
 
 void factorizeAtEstimate(const FactorGraph& graph, SparseCholesky* chol) {
@@ -26,6 +28,7 @@ SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky
   double lambda = s.lm_initial_lambda;
   double chi2 = rep.initial_chi2;
   for (int it = 0; it < s.max_iterations; ++it) {
+    if (s.stop_on_request) Cancellation::check();
     graph.linearize(&H, &g);
     rep.iterations = it + 1;
     if (s.method == SolverSettings::Method::GaussNewton) {
@@ -56,6 +59,7 @@ SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky
     const Eigen::VectorXd diag = H.diagonal();
     bool accepted = false;
     for (int tries = 0; tries < 20 && !accepted; ++tries) {
+      if (s.stop_on_request) Cancellation::check();
       Eigen::SparseMatrix<double> Hd = H;
       for (int i = 0; i < Hd.rows(); ++i) Hd.coeffRef(i, i) += lambda * std::max(diag[i], 1e-12);
       if (!chol->factorize(Hd, version)) {

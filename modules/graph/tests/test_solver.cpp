@@ -1,7 +1,11 @@
 // The sparse solvers reach the batch optimum: a dense Gauss-Newton run to convergence.
 #include <gtest/gtest.h>
 
+#include <csignal>
+#include <string>
+
 #include "TestGraphs.h"
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/graph/Solver.h"
 
 using namespace budget_slam::graph;
@@ -63,4 +67,25 @@ TEST(Solver, UnconstrainedLandmarkIsAnError) {
   g.addLandmark(77, Eigen::Vector2d(1, 1));  // no factor touches it: H is singular
   SparseCholesky chol;
   EXPECT_THROW(optimize(g, SolverSettings{}, &chol), std::runtime_error);
+}
+
+TEST(Solver, AStopRequestEndsAFullSolveBetweenIterations) {
+  // Ctrl-C during the end phase's full solve: Interrupted before the next iteration, the estimate
+  // left at the last accepted iterate; without stop_on_request (incremental solves) it runs on.
+  FactorGraph g = testgraphs::randomGraph(40, 15, 4);
+  const Eigen::VectorXd start = g.values();
+  SolverSettings s;
+  s.stop_on_request = true;
+  SparseCholesky chol;
+  budget_slam::Cancellation::request(SIGINT);
+  try {
+    optimize(g, s, &chol);
+    ADD_FAILURE() << "no Interrupted";
+  } catch (const budget_slam::Interrupted& e) {
+    EXPECT_EQ(std::string(e.what()), "interrupted by Ctrl-C");
+  }
+  EXPECT_EQ(g.values(), start);
+  s.stop_on_request = false;
+  EXPECT_TRUE(optimize(g, s, &chol).converged);
+  budget_slam::Cancellation::clear();
 }

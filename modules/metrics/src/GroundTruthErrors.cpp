@@ -8,8 +8,21 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <cmath>
+#include <string>
+
+#include "budget_slam/core/Error.h"
 
 namespace budget_slam::metrics {
+
+void requireFinite(const std::vector<TrajectoryPoint>& trajectory,
+                   const std::vector<LandmarkView>& landmarks, const std::string& what) {
+  for (const auto& p : trajectory)
+    if (!std::isfinite(p.pose.x) || !std::isfinite(p.pose.y) || !std::isfinite(p.pose.phi))
+      throw Error(what + ": the pose of step " + std::to_string(p.step) + " is not finite");
+  for (const auto& l : landmarks)
+    if (!l.mean.allFinite())
+      throw Error(what + ": landmark " + std::to_string(l.id) + " is not finite");
+}
 
 std::size_t groundTruthRow(StepIndex step, std::size_t path_rows, std::size_t steps) {
   return path_rows == steps ? step : step + 1;
@@ -57,6 +70,12 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
                                     const std::vector<PoseRecord>& online,
                                     const std::vector<LandmarkView>& landmarks,
                                     const dataset::GroundTruth& raw_truth, std::size_t steps) {
+  requireFinite(trajectory, landmarks, "errors against ground truth");
+  for (const auto& r : online)
+    if (!std::isfinite(r.estimate.mean.x) || !std::isfinite(r.estimate.mean.y) ||
+        !std::isfinite(r.estimate.mean.phi))
+      throw Error("errors against ground truth: the pose of step " + std::to_string(r.step) +
+                  " is not finite");
   GroundTruthErrors out;
   // Frame of the estimate: the ground-truth start pose is its origin.
   const dataset::GroundTruth truth = toEstimateFrame(raw_truth);

@@ -7,12 +7,16 @@
 #include <map>
 #include <unordered_map>
 
+#include "budget_slam/metrics/GroundTruthErrors.h"
+
 namespace budget_slam::metrics {
 
 ReferenceMetrics compareTrajectories(const std::vector<TrajectoryPoint>& reference,
                                      const std::vector<TrajectoryPoint>& reduced,
                                      const std::vector<LandmarkView>& reference_landmarks,
                                      const std::vector<LandmarkView>& reduced_landmarks) {
+  requireFinite(reference, reference_landmarks, "metrics against the reference run");
+  requireFinite(reduced, reduced_landmarks, "metrics against the reference run");
   ReferenceMetrics m;
   std::unordered_map<StepIndex, const TrajectoryPoint*> by_step;
   for (const auto& p : reference) by_step[p.step] = &p;

@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 
 namespace budget_slam::reducers {
@@ -26,6 +27,15 @@ std::vector<std::size_t> dropCandidates(const std::vector<LandmarkView>& landmar
 }
 
 namespace {
+
+/// A stop request (Ctrl-C) between two drops of one event: with none done yet, the event ends at
+/// once (Interrupted); after some, the loop stops and returns them, so that every landmark that
+/// left the map is in the log (the map may then stay over its cap for this last step).
+bool stopBetweenDrops(const std::vector<Eviction>& done) {
+  if (!Cancellation::requested()) return false;
+  if (done.empty()) Cancellation::check();
+  return true;
+}
 
 BudgetOptions inForce(BudgetOptions options, const Reducer* active) {
   if (active && !active->readmitsEvicted()) options.readmit_evicted = false;
@@ -132,6 +142,7 @@ std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex st
   // graph each fresh landmarks() refactorizes) one view of the map serves the whole event.
   std::vector<LandmarkView> landmarks = backend.landmarks();
   for (const ReducerChoice& victim : plan.drops) {
+    if (stopBetweenDrops(out)) return out;
     if (!shadows_.empty() && !out.empty()) landmarks = backend.landmarks();
     const auto it = std::find_if(landmarks.begin(), landmarks.end(),
                                  [&](const LandmarkView& l) { return l.id == victim.id; });
@@ -158,6 +169,7 @@ std::vector<Eviction> BudgetManager::enforce(Backend& backend, StepIndex step) {
   bool event_started = false;
   // The cap holds in every mode: after the reducer's own scheduled drops, the cap-mode rule.
   while (options_.max_landmarks && backend.landmarkCount() > *options_.max_landmarks) {
+    if (stopBetweenDrops(out)) break;
     if (!event_started && before_drop_event_) before_drop_event_(backend, step);
     event_started = true;
 

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+
+#include "budget_slam/core/Error.h"
 
 namespace budget_slam::reducers {
 
@@ -110,6 +113,11 @@ KMeans::Result KMeans::cluster(const std::vector<Eigen::Vector2d>& points, const
   Result res;
   const std::size_t n = points.size();
   if (n == 0) return res;
+  // A NaN or infinite point has no distance to anything: refuse it rather than cluster garbage.
+  for (std::size_t i = 0; i < n; ++i)
+    if (!points[i].allFinite())
+      throw Error("k-means: point " + std::to_string(i) + " is not finite (" +
+                  std::to_string(points[i].x()) + ", " + std::to_string(points[i].y()) + ")");
   const std::size_t k = std::clamp<std::size_t>(options.k, 1, n);
   for (const auto i : seedIndices(points, k, options.distance, options.seed))
     res.centres.push_back(points[i]);

@@ -1,10 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <map>
 #include <set>
 
 #include "FakeBackend.h"
 #include "TestStates.h"
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/reducers/ActiveMinimization.h"
 #include "budget_slam/reducers/BudgetManager.h"
@@ -346,4 +348,19 @@ TEST(ActiveMinimization, CapModeSchedulesNothing) {
   EXPECT_TRUE(manager.enforce(b, 100).empty());
   EXPECT_TRUE(manager.finish(b, 100).empty());
   EXPECT_TRUE(b.marginalize_calls.empty());
+}
+
+TEST(ActiveMinimization, AStopRequestEndsTheGreedySequence) {
+  // Ctrl-C during the end-of-run event: each greedy round (one information gain a candidate) is
+  // seconds on a long run, so the sequence polls the stop request and ends at once.
+  ScriptedBackend copy = handMade();
+  budget_slam::Cancellation::request(SIGTERM);
+  try {
+    greedySequence(copy, {1, 2, 3, 4});
+    ADD_FAILURE() << "no Interrupted";
+  } catch (const budget_slam::Interrupted& e) {
+    EXPECT_EQ(std::string(e.what()), "interrupted by SIGTERM");
+  }
+  budget_slam::Cancellation::clear();
+  EXPECT_EQ(greedySequence(copy, {1, 2, 3, 4}).size(), 4u);
 }

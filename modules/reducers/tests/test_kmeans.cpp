@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 #include <set>
+
+#include "budget_slam/core/Error.h"
 
 #include "budget_slam/reducers/CoverageOptions.h"
 #include "budget_slam/reducers/KMeans.h"
@@ -142,4 +145,23 @@ TEST(KMeans, StopsAfterMaxIterations) {
   EXPECT_FALSE(r.converged);
   o.max_iterations = 1000;
   EXPECT_TRUE(KMeans::cluster(pts, o).converged);
+}
+
+TEST(KMeans, NonFinitePointsAreAnErrorNotUndefinedBehaviour) {
+  // A diverged estimate: NaN positions used to leave refillEmpty without a farthest point and
+  // write one past the end of the labels.
+  KMeans::Options o;
+  o.k = 2;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  try {
+    KMeans::cluster({{0, 0}, {nan, nan}, {1, 1}}, o);
+    FAIL() << "no error";
+  } catch (const budget_slam::Error& e) {
+    EXPECT_EQ(std::string(e.what()), "k-means: point 1 is not finite (nan, nan)");
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(KMeans::cluster({{inf, 0}, {0, 0}}, o), budget_slam::Error);
+  // Every point non-finite, k = N: the case that crashed.
+  o.k = 3;
+  EXPECT_THROW(KMeans::cluster({{nan, nan}, {nan, nan}, {nan, nan}}, o), budget_slam::Error);
 }

@@ -7,6 +7,7 @@
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/report/CsvWriter.h"
+#include "budget_slam/report/FileWrite.h"
 
 namespace budget_slam::report {
 namespace {
@@ -29,27 +30,29 @@ std::string withPct(std::size_t n, double pct) {
 }  // namespace
 
 void writeComparisonCsv(const std::string& path, const std::vector<ComparisonRow>& rows) {
-  CsvWriter csv(path, {"run",
-                       "reducer",
-                       "backend",
-                       "status",
-                       "cap",
-                       "landmarks",
-                       "landmarks_reduction_pct",
-                       "poses",
-                       "poses_reduction_pct",
-                       "evictions",
-                       "ate_m",
-                       "ale_m",
-                       "are_deg",
-                       "ud_pct",
-                       "eig_min",
-                       "eig_max",
-                       "gt_trajectory_rmse_m",
-                       "gt_trajectory_max_m",
-                       "gt_landmark_rmse_m",
-                       "nees_mean",
-                       "time_s"});
+  CsvWriter csv(path,
+                {"run",
+                 "reducer",
+                 "backend",
+                 "status",
+                 "cap",
+                 "landmarks",
+                 "landmarks_reduction_pct",
+                 "poses",
+                 "poses_reduction_pct",
+                 "evictions",
+                 "ate_m",
+                 "ale_m",
+                 "are_deg",
+                 "ud_pct",
+                 "eig_min",
+                 "eig_max",
+                 "gt_trajectory_rmse_m",
+                 "gt_trajectory_max_m",
+                 "gt_landmark_rmse_m",
+                 "nees_mean",
+                 "time_s"},
+                CsvWriter::Mode::WholeFile);
   for (const auto& r : rows) {
     csv.cell(r.run).cell(r.reducer).cell(r.backend).cell(r.status);
     if (r.cap >= 0)
@@ -74,6 +77,7 @@ void writeComparisonCsv(const std::string& path, const std::vector<ComparisonRow
         .cell(r.time_s);
     csv.endRow();
   }
+  csv.close();
 }
 
 std::string writeComparisonMarkdown(const std::string& path, const std::string& title,
@@ -100,9 +104,7 @@ std::string writeComparisonMarkdown(const std::string& path, const std::string& 
         "landmarks "
         "each run kept (Choudhary et al. Sec. V-B). GT: against ground truth. NEES: mean "
         "normalized estimation error squared of the robot pose (3 = consistent).\n";
-  std::ofstream out(path);
-  if (!out) throw Error("cannot write '" + path + "'");
-  out << md.str();
+  writeFileAtomically(path, md.str());
   return md.str();
 }
 

@@ -16,46 +16,51 @@ std::string formatDouble(double v) {
   return std::string(buf, r.ptr);
 }
 
-CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns)
-    : path_(path), out_(path), columns_(columns.size()) {
-  if (!out_) throw Error("cannot write '" + path + "'");
-  for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i];
-  out_ << '\n';
-  out_.flush();
+CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns, Mode mode)
+    : path_(path), mode_(mode), columns_(columns.size()) {
+  std::string header;
+  for (std::size_t i = 0; i < columns.size(); ++i) header += (i ? "," : "") + columns[i];
+  header += '\n';
+  if (mode_ == Mode::Stream) {
+    file_ = std::make_unique<LineFile>(path);
+    file_->append(header);
+  } else {
+    text_ = header;
+  }
 }
 
 void CsvWriter::separator() {
-  if (in_row_++) out_ << ',';
+  if (in_row_++) row_ += ',';
 }
 
 CsvWriter& CsvWriter::cell(double v) {
   separator();
   // NaN means "does not apply" (e.g. no ground truth): an empty field, which pandas and
   // numpy.genfromtxt read as missing.
-  if (!std::isnan(v)) out_ << formatDouble(v);
+  if (!std::isnan(v)) row_ += formatDouble(v);
   return *this;
 }
 
 CsvWriter& CsvWriter::cell(long long v) {
   separator();
-  out_ << v;
+  row_ += std::to_string(v);
   return *this;
 }
 
 CsvWriter& CsvWriter::cell(unsigned long long v) {
   separator();
-  out_ << v;
+  row_ += std::to_string(v);
   return *this;
 }
 
 CsvWriter& CsvWriter::cell(const std::string& v) {
   separator();
-  if (v.find_first_of(",\"\n") == std::string::npos) {
-    out_ << v;
+  if (v.find_first_of(",\"\n\r") == std::string::npos) {
+    row_ += v;
   } else {
-    out_ << '"';
-    for (char c : v) out_ << (c == '"' ? "\"\"" : std::string(1, c));
-    out_ << '"';
+    row_ += '"';
+    for (char c : v) row_ += c == '"' ? std::string("\"\"") : std::string(1, c);
+    row_ += '"';
   }
   return *this;
 }
@@ -64,9 +69,21 @@ void CsvWriter::endRow() {
   if (in_row_ != columns_)
     throw std::logic_error(path_ + ": row with " + std::to_string(in_row_) + " cells, header has " +
                            std::to_string(columns_));
-  out_ << '\n';
-  out_.flush();
+  row_ += '\n';
   in_row_ = 0;
+  std::string row;
+  row.swap(row_);
+  if (mode_ == Mode::Stream)
+    file_->append(row);
+  else
+    text_ += row;
+}
+
+void CsvWriter::close() {
+  if (mode_ == Mode::Stream)
+    file_->sync();
+  else
+    writeFileAtomically(path_, text_);
 }
 
 }  // namespace budget_slam::report

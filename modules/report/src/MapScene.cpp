@@ -1,5 +1,7 @@
 #include "budget_slam/report/MapScene.h"
 
+#include <mrpt/io/CMemoryStream.h>
+#include <mrpt/io/zip.h>
 #include <mrpt/opengl/CEllipsoid2D.h>
 #include <mrpt/opengl/CGridPlaneXY.h>
 #include <mrpt/opengl/CPointCloud.h>
@@ -8,6 +10,7 @@
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/opengl/CText.h>
 #include <mrpt/opengl/stock_objects.h>
+#include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +18,8 @@
 #include <limits>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/Text.h"
+#include "budget_slam/report/FileWrite.h"
 
 namespace budget_slam::report {
 
@@ -176,17 +181,22 @@ COpenGLScene::Ptr buildMapScene(const MapContent& c, const mrpt::math::TPose2D& 
 void writeMapScene(const std::string& path, const MapContent& content,
                    const mrpt::math::TPose2D& robot) {
   const auto scene = buildMapScene(content, robot);
-  const std::string tmp = path + ".tmp";
-  bool ok = false;
+  // The bytes COpenGLScene::saveToFile writes (the serialized scene, gzip-compressed), made in
+  // memory and written with a checked atomic write: a full disk is an error naming the file and
+  // never leaves a torn scene behind.
+  std::vector<std::uint8_t> plain, gz;
   try {
-    ok = scene->saveToFile(tmp);
-  } catch (const std::exception&) {
-    ok = false;
+    mrpt::io::CMemoryStream mem;
+    auto arch = mrpt::serialization::archiveFrom(mem);
+    arch << *scene;
+    const auto* begin = static_cast<const std::uint8_t*>(mem.getRawBufferData());
+    plain.assign(begin, begin + mem.getTotalBytesCount());
+  } catch (const std::exception& e) {
+    throw Error("cannot write '" + path + "' (" + exceptionLine(e) + ")");
   }
-  if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw Error("cannot write '" + path + "'");
-  }
+  if (!mrpt::io::zip::compress_gz_data_block(plain, gz, 1))
+    throw Error("cannot write '" + path + "' (gzip compression failed)");
+  writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(gz.data()), gz.size()));
 }
 
 }  // namespace budget_slam::report

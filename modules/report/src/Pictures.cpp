@@ -10,8 +10,11 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <string_view>
+#include <vector>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/report/FileWrite.h"
 
 namespace budget_slam::report {
 namespace {
@@ -69,6 +72,16 @@ void legendRow(cv::Mat& img, int& y, int x, const std::string& label, cv::Scalar
   y += 20;
 }
 
+/// PNG-encodes `img` and writes it atomically: a reader never sees a half-written picture.
+void writePng(const std::string& path, const cv::Mat& img) {
+  std::vector<unsigned char> png;
+  if (!cv::imencode(".png", img, png)) throw Error("cannot write '" + path + "' (PNG encoding)");
+  writeFileAtomically(path,
+                      std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+}
+
+bool finite(double x, double y) { return std::isfinite(x) && std::isfinite(y); }
+
 }  // namespace
 
 std::array<std::uint8_t, 3> paletteRgb(std::size_t i) {
@@ -78,6 +91,21 @@ std::array<std::uint8_t, 3> paletteRgb(std::size_t i) {
 }
 
 void writeMapPng(const std::string& path, const MapContent& c, int width, int max_height) {
+  // Non-finite positions (a diverged estimate) have no place on a map: OpenCV would turn them
+  // into arbitrary pixels. The caller leaves them out; anything else is a bug, reported.
+  const auto reject = [&](const std::string& what) {
+    throw Error("cannot draw '" + path + "': " + what + " is not finite");
+  };
+  for (const auto& p : c.trajectory)
+    if (!finite(p.x, p.y)) reject("a trajectory pose");
+  for (const auto& p : c.ground_truth_path)
+    if (!finite(p.x, p.y)) reject("a ground-truth pose");
+  for (const auto& l : c.kept)
+    if (!l.mean.allFinite() || !l.cov.allFinite()) reject("landmark " + std::to_string(l.id));
+  for (const auto& d : c.dropped)
+    if (!d.allFinite()) reject("a dropped landmark");
+  for (const auto& g : c.ground_truth_landmarks)
+    if (!g.allFinite()) reject("a ground-truth landmark");
   double minx = std::numeric_limits<double>::infinity(), maxx = -minx, miny = minx, maxy = -minx;
   const auto grow = [&](double x, double y) {
     minx = std::min(minx, x), maxx = std::max(maxx, x);
@@ -89,6 +117,7 @@ void writeMapPng(const std::string& path, const MapContent& c, int width, int ma
   for (const auto& d : c.dropped) grow(d.x(), d.y());
   for (const auto& g : c.ground_truth_landmarks) grow(g.x(), g.y());
   if (!std::isfinite(minx)) minx = miny = -1, maxx = maxy = 1;
+  if (!std::isfinite(maxx - minx) || !std::isfinite(maxy - miny)) reject("the map's extent");
   const double pad = 0.05 * std::max({maxx - minx, maxy - miny, 1.0});
   minx -= pad, maxx += pad, miny -= pad, maxy += pad;
 
@@ -134,8 +163,9 @@ void writeMapPng(const std::string& path, const MapContent& c, int width, int ma
     // 2-sigma ellipse from the eigen-decomposition of the 2x2 covariance.
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(l.cov);
     if (es.info() == Eigen::Success && es.eigenvalues().minCoeff() > 0) {
-      const double a = 2 * std::sqrt(es.eigenvalues()(1)) * scale,
-                   b = 2 * std::sqrt(es.eigenvalues()(0)) * scale;
+      // Axes in pixels, bounded: a huge covariance must not overflow OpenCV's int sizes.
+      const double a = std::min(2 * std::sqrt(es.eigenvalues()(1)) * scale, 1e5),
+                   b = std::min(2 * std::sqrt(es.eigenvalues()(0)) * scale, 1e5);
       const Eigen::Vector2d v = es.eigenvectors().col(1);
       const double angle = -std::atan2(v.y(), v.x()) * 180 / M_PI;
       cv::ellipse(img, f(l.mean.x(), l.mean.y()),
@@ -156,7 +186,7 @@ void writeMapPng(const std::string& path, const MapContent& c, int width, int ma
             c.cluster_of_kept.empty() ? kGreen : palette(0), 1);
   if (!c.dropped.empty()) legendRow(img, y, lx, "dropped landmark", kRed, 2);
 
-  if (!cv::imwrite(path, img)) throw Error("cannot write '" + path + "'");
+  writePng(path, img);
 }
 
 std::vector<LegendMark> writeChartPng(const std::string& path,
@@ -232,7 +262,7 @@ std::vector<LegendMark> writeChartPng(const std::string& path,
       legendRow(img, ly, right + 15, s.name, colour, 0);
     }
   }
-  if (!cv::imwrite(path, img)) throw Error("cannot write '" + path + "'");
+  writePng(path, img);
   return legend;
 }
 

@@ -7,25 +7,34 @@
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/report/CsvWriter.h"
+#include "budget_slam/report/FileWrite.h"
 
 namespace budget_slam::report {
 
 void writeTrajectoryTum(const std::string& path, const std::vector<TrajectoryPoint>& trajectory) {
-  std::ofstream out(path);
-  if (!out) throw Error("cannot write '" + path + "'");
-  out << std::setprecision(17);
+  std::string text;
   for (const auto& p : trajectory) {
+    if (!std::isfinite(p.t) || !std::isfinite(p.pose.x) || !std::isfinite(p.pose.y) ||
+        !std::isfinite(p.pose.phi))
+      throw Error("cannot write '" + path + "': the pose of step " + std::to_string(p.step) +
+                  " is not finite");
     // Rotation by yaw about z: q = (0, 0, sin(yaw/2), cos(yaw/2)).
     const double h = 0.5 * p.pose.phi;
-    out << formatDouble(p.t) << ' ' << formatDouble(p.pose.x) << ' ' << formatDouble(p.pose.y)
-        << " 0 0 0 " << formatDouble(std::sin(h)) << ' ' << formatDouble(std::cos(h)) << '\n';
+    text += formatDouble(p.t) + ' ' + formatDouble(p.pose.x) + ' ' + formatDouble(p.pose.y) +
+            " 0 0 0 " + formatDouble(std::sin(h)) + ' ' + formatDouble(std::cos(h)) + '\n';
   }
+  writeFileAtomically(path, text);
 }
 
 void writeLandmarksCsv(const std::string& path, const std::vector<LandmarkView>& landmarks) {
-  CsvWriter csv(path, {"id", "x", "y", "cov_xx", "cov_xy", "cov_yy", "n_obs", "obs_mean_x",
-                       "obs_mean_y", "first_step", "last_step"});
+  CsvWriter csv(path,
+                {"id", "x", "y", "cov_xx", "cov_xy", "cov_yy", "n_obs", "obs_mean_x", "obs_mean_y",
+                 "first_step", "last_step"},
+                CsvWriter::Mode::WholeFile);
   for (const auto& l : landmarks) {
+    if (!l.mean.allFinite() || !l.cov.allFinite() || !l.obs_mean.allFinite())
+      throw Error("cannot write '" + path + "': landmark " + std::to_string(l.id) +
+                  " has a non-finite estimate");
     csv.cell(static_cast<long long>(l.id))
         .cell(l.mean.x())
         .cell(l.mean.y())
@@ -39,16 +48,13 @@ void writeLandmarksCsv(const std::string& path, const std::vector<LandmarkView>&
         .cell(l.last_step);
     csv.endRow();
   }
+  csv.close();
 }
 
 void writeJson(const std::string& path, const nlohmann::json& j) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw Error("cannot write '" + path + "'");
-    out << j.dump(2) << '\n';
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw Error("cannot write '" + path + "'");
+  // Strings that are not UTF-8 (an error text echoing corrupt file bytes) would make dump() throw:
+  // their bad bytes become U+FFFD instead, so summary.json is always written and always valid.
+  writeFileAtomically(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + '\n');
 }
 
 const std::vector<std::string>& stepsCsvColumns() {

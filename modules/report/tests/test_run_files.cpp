@@ -58,7 +58,8 @@ TEST(CsvWriter, WritesHeaderRowsAndQuotesAndChecksWidth) {
     csv.cell(1.0);
     EXPECT_THROW(csv.endRow(), std::logic_error);
   }
-  EXPECT_EQ(slurp(p), "a,b,c\n0.1,-3,\"x,y\"\n1e-300,7,\"q\"\"t\"\n1");
+  // The row cut short by the width error never reaches the file.
+  EXPECT_EQ(slurp(p), "a,b,c\n0.1,-3,\"x,y\"\n1e-300,7,\"q\"\"t\"\n");
   EXPECT_EQ(formatDouble(std::nan("")), "nan");
 }
 

@@ -7,20 +7,30 @@
 
 namespace budget_slam {
 
-/// The sections and keys a run understands, to reject typos (DESIGN.md "Bad input": "unknown
-/// key — say which and suggest the closest"). Sections outside the schema are left alone unless
-/// their name is a near miss of a known one (MRPT ini files hold other apps' sections too).
+/// The sections and keys a run understands, to reject typos (unknown key or section: say which
+/// and suggest the closest). MRPT ini files may also hold sections of MRPT's other applications
+/// (an ini shared with simul-landmarks, icp-slam, pf-localization...): those are declared
+/// foreign, accepted and not read; any other section is an error.
 class IniSchema {
  public:
   void addSection(const std::string& section, const std::vector<std::string>& keys);
+  /// A section another application reads; a name ending in '*' declares every section starting
+  /// with what precedes it (e.g. "RANDOMSET_*").
+  void addForeignSection(const std::string& section);
+  /// A section budget-slam reads (case-insensitive, as MRPT).
   bool hasSection(const std::string& section) const;
+  bool isForeign(const std::string& section) const;
 
-  /// Throws ConfigError for the first unknown key or misspelt section, e.g.
+  /// Throws ConfigError for the first unknown section or key, e.g.
+  ///   "unknown section [LandmarkBuget] (did you mean [LandmarkBudget]?)",
   ///   "unknown key [LandmarkBudget] max_landmark (did you mean max_landmarks?)".
   void validate(const mrpt::config::CConfigFileBase& ini) const;
+  /// The message for an unknown section, with the closest known name when there is one.
+  std::string unknownSection(const std::string& section) const;
 
  private:
   std::map<std::string, std::vector<std::string>> sections_;
+  std::vector<std::string> foreign_, foreign_prefixes_;
 };
 
 /// Levenshtein distance, case-insensitive.

@@ -19,9 +19,14 @@ class IniSection {
   bool has(const std::string& key) const;
 
   std::string readString(const std::string& key, const std::string& def) const;
+  /// A finite number in [lo, hi] (NaN and infinities are refused whatever the bounds).
   double readDouble(const std::string& key, double def,
                     double lo = -std::numeric_limits<double>::infinity(),
                     double hi = std::numeric_limits<double>::infinity()) const;
+  /// A standard deviation: finite and > 0, and within [kMinStd, kMaxStd] so that its square
+  /// (and MRPT's 32-bit float copy of it) stays a normal, invertible number.
+  double readStd(const std::string& key, double def) const;
+  static constexpr double kMinStd = 1e-12, kMaxStd = 1e12;
   long long readInt(const std::string& key, long long def,
                     long long lo = std::numeric_limits<long long>::min(),
                     long long hi = std::numeric_limits<long long>::max()) const;

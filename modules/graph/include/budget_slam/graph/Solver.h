@@ -21,6 +21,10 @@ struct SolverSettings {
   double lm_initial_lambda = 1e-5;
   double lm_lambda_factor =
       10.0;  ///< lambda multiplier on a rejected / divisor on an accepted step
+  /// Poll budget_slam::Cancellation before every iteration and throw Interrupted on a stop
+  /// request (Ctrl-C); the estimate is then the last accepted iterate. For the full solves, whose
+  /// iterations on a large graph add up to seconds.
+  bool stop_on_request = false;
 };
 
 struct SolveReport {

@@ -1,5 +1,6 @@
 #pragma once
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
@@ -37,8 +38,14 @@ struct GroundTruthErrors {
 /// short by max_steps sees more rows than steps: still k+1.)
 std::size_t groundTruthRow(StepIndex step, std::size_t path_rows, std::size_t steps);
 
+/// Throws Error "<what>: the pose of step k is not finite" (or landmark i): metrics are never
+/// computed from a diverged estimate (the caller leaves non-finite values out).
+void requireFinite(const std::vector<TrajectoryPoint>& trajectory,
+                   const std::vector<LandmarkView>& landmarks, const std::string& what);
+
 /// The estimate starts at the origin; ground truth is brought into that frame by the inverse of
 /// its start pose (the row before step 0, or row 0), which is the identity for MRPT's files.
+/// Non-finite estimates are an Error (requireFinite).
 GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajectory,
                                     const std::vector<PoseRecord>& online,
                                     const std::vector<LandmarkView>& landmarks,

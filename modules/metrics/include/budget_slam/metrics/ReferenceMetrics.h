@@ -23,7 +23,7 @@ struct ReferenceMetrics {
   std::size_t eig_rows = 0;  ///< size of the compared covariance, 0 if skipped
 };
 
-/// Trajectory and landmark metrics from the two estimates.
+/// Trajectory and landmark metrics from the two estimates. Non-finite estimates are an Error.
 ReferenceMetrics compareTrajectories(const std::vector<TrajectoryPoint>& reference,
                                      const std::vector<TrajectoryPoint>& reduced,
                                      const std::vector<LandmarkView>& reference_landmarks,

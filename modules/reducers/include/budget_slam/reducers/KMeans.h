@@ -37,7 +37,8 @@ class KMeans {
     std::size_t reseeds = 0;               ///< empty clusters refilled
   };
 
-  /// Clusters `points`; k is clamped to [1, points.size()]. No points: an empty result.
+  /// Clusters `points`; k is clamped to [1, points.size()]. No points: an empty result. A
+  /// non-finite point is an Error (a diverged estimate must not be clustered).
   static Result cluster(const std::vector<Eigen::Vector2d>& points, const Options& options);
 
   static double distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Distance d);

@@ -1,15 +1,24 @@
 #pragma once
-#include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "budget_slam/report/FileWrite.h"
+
 namespace budget_slam::report {
 
-/// A CSV file written row by row and flushed after each row, so that a run that stops early
-/// (bad data, Ctrl-C) leaves every row written so far readable. Plain header, no '#'.
+/// A CSV file with a plain header (no '#'), built a row at a time. Two ways to write it:
+///  - Stream (steps.csv, evictions.csv): each row goes to disk whole when it ends (LineFile), so
+///    that a run that stops early (bad data, Ctrl-C, a full disk) leaves every row written so far
+///    readable and no row cut in the middle;
+///  - WholeFile (landmarks.csv, comparison.csv): nothing is on disk until close(), which writes
+///    the file atomically (writeFileAtomically).
+/// Every write is checked: failures throw Error "cannot write '<path>' (<reason>)".
 class CsvWriter {
  public:
-  CsvWriter(const std::string& path, const std::vector<std::string>& columns);
+  enum class Mode { Stream, WholeFile };
+  CsvWriter(const std::string& path, const std::vector<std::string>& columns,
+            Mode mode = Mode::Stream);
 
   /// One cell each; numbers in SI units. A NaN double (a value that does not apply) is an empty
   /// field, the tidy-CSV way to say "missing"; infinities are written as inf and -inf.
@@ -19,14 +28,21 @@ class CsvWriter {
   CsvWriter& cell(int v) { return cell(static_cast<long long>(v)); }
   CsvWriter& cell(std::size_t v) { return cell(static_cast<unsigned long long>(v)); }
   CsvWriter& cell(const std::string& v);
+  /// Ends the row: Stream writes it out. Throws std::logic_error when the row does not have the
+  /// header's width (a programming error), Error when it cannot be written.
   void endRow();
+  /// Stream: flushes to disk (fsync); WholeFile: writes the file. Throws Error naming the file.
+  void close();
 
   const std::string& path() const { return path_; }
 
  private:
   void separator();
   std::string path_;
-  std::ofstream out_;
+  Mode mode_;
+  std::unique_ptr<LineFile> file_;  ///< Stream
+  std::string text_;                ///< WholeFile: the rows so far
+  std::string row_;                 ///< the row being built
   std::size_t columns_ = 0, in_row_ = 0;
 };
 

@@ -24,7 +24,8 @@ struct MapContent {
 };
 
 /// Renders `content` to a PNG `width` pixels wide and as high as the map's aspect ratio asks
-/// (between 400 and `max_height` pixels), legend on top (OpenCV). Throws Error if it cannot write.
+/// (between 400 and `max_height` pixels), legend on top (OpenCV). Written atomically. Throws Error
+/// if it cannot write, or when a position is not finite (the caller leaves such ones out).
 void writeMapPng(const std::string& path, const MapContent& content, int width = 1000,
                  int max_height = 1400);
 

@@ -9,14 +9,17 @@ namespace budget_slam::report {
 
 /// trajectory.tum: `t x y z qx qy qz qw` a pose, z = 0, rotation about z only; readable by evo and
 /// rpg_trajectory_evaluation (8 numeric columns, strictly increasing t, unit quaternions).
+/// Written atomically (FileWrite.h); a non-finite pose is an Error, never written.
 void writeTrajectoryTum(const std::string& path, const std::vector<TrajectoryPoint>& trajectory);
 
 /// landmarks.csv: id, x, y, cov_xx, cov_xy, cov_yy, n_obs, obs_mean_x, obs_mean_y, first_step,
-/// last_step — one row a landmark in the final map.
+/// last_step — one row a landmark in the final map. Written atomically; a landmark with a
+/// non-finite mean or covariance is an Error.
 void writeLandmarksCsv(const std::string& path, const std::vector<LandmarkView>& landmarks);
 
-/// summary.json, pretty-printed, written atomically (temporary file + rename) so that a reader
-/// never sees half a file.
+/// summary.json, pretty-printed, written atomically (temporary file, fsync, rename) so that a
+/// reader never sees half a file; bytes of strings that are not UTF-8 are written as U+FFFD, so
+/// the file is valid JSON whatever an error text echoes.
 void writeJson(const std::string& path, const nlohmann::json& j);
 
 /// Columns of steps.csv and evictions.csv (DESIGN.md "Outputs").

@@ -1,0 +1,26 @@
+#pragma once
+#include <cstddef>
+#include <exception>
+#include <string>
+#include <string_view>
+
+namespace budget_slam {
+
+/// True when `s` is well-formed UTF-8 (no overlong forms, surrogates or code points past
+/// U+10FFFF). Otherwise `*bad` (if given) receives the offset of the first bad byte.
+bool isValidUtf8(std::string_view s, std::size_t* bad = nullptr);
+
+/// `s` as one printable line of valid UTF-8: control characters (newlines included) and bytes
+/// that are not UTF-8 become `\xNN`, so that a message echoing file content (a corrupt class name,
+/// a binary ini line) stays one line and can go into summary.json.
+std::string printable(std::string_view s);
+
+/// The first `max_chars` bytes of printable(s), cut at a character boundary, with "..." when cut.
+std::string excerpt(std::string_view s, std::size_t max_chars = 40);
+
+/// One line for an exception: MRPT's multi-line "==== MRPT exception ====" dumps give their first
+/// "Message:" line, anything else its first line; always printable().
+std::string exceptionLine(const std::exception& e);
+std::string exceptionLine(std::string_view what);
+
+}  // namespace budget_slam

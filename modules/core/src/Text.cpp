@@ -1,0 +1,116 @@
+#include "budget_slam/core/Text.h"
+
+#include <cstdio>
+
+namespace budget_slam {
+namespace {
+
+/// Length of the UTF-8 sequence starting at s[i], 0 if it is not a valid one.
+std::size_t utf8Length(std::string_view s, std::size_t i) {
+  const auto b = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+  const unsigned char c = b(i);
+  if (c < 0x80) return 1;
+  std::size_t n;
+  unsigned lo = 0x80, hi = 0xBF;  // allowed range of the second byte
+  if (c >= 0xC2 && c <= 0xDF) {
+    n = 2;
+  } else if (c >= 0xE0 && c <= 0xEF) {
+    n = 3;
+    if (c == 0xE0) lo = 0xA0;  // overlong
+    if (c == 0xED) hi = 0x9F;  // UTF-16 surrogates
+  } else if (c >= 0xF0 && c <= 0xF4) {
+    n = 4;
+    if (c == 0xF0) lo = 0x90;  // overlong
+    if (c == 0xF4) hi = 0x8F;  // past U+10FFFF
+  } else {
+    return 0;
+  }
+  if (i + n > s.size()) return 0;
+  if (b(i + 1) < lo || b(i + 1) > hi) return 0;
+  for (std::size_t k = 2; k < n; ++k)
+    if (b(i + k) < 0x80 || b(i + k) > 0xBF) return 0;
+  return n;
+}
+
+std::string hexByte(unsigned char c) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "\\x%02x", c);
+  return buf;
+}
+
+std::string trim(std::string_view s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string_view::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return std::string(s.substr(b, e - b + 1));
+}
+
+}  // namespace
+
+bool isValidUtf8(std::string_view s, std::size_t* bad) {
+  for (std::size_t i = 0; i < s.size();) {
+    const std::size_t n = utf8Length(s, i);
+    if (n == 0) {
+      if (bad) *bad = i;
+      return false;
+    }
+    i += n;
+  }
+  return true;
+}
+
+std::string printable(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size();) {
+    const std::size_t n = utf8Length(s, i);
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (n == 0 || (n == 1 && (c < 0x20 || c == 0x7F))) {
+      out += hexByte(c);
+      ++i;
+    } else {
+      out.append(s.substr(i, n));
+      i += n;
+    }
+  }
+  return out;
+}
+
+std::string excerpt(std::string_view s, std::size_t max_chars) {
+  const std::string p = printable(s);
+  if (p.size() <= max_chars) return p;
+  std::size_t cut = max_chars;
+  // Back up to the start of a UTF-8 character (continuation bytes are 10xxxxxx).
+  while (cut > 0 && (static_cast<unsigned char>(p[cut]) & 0xC0) == 0x80) --cut;
+  while (cut > 0 && p[cut - 1] == ' ') --cut;
+  return p.substr(0, cut) + "...";
+}
+
+std::string exceptionLine(std::string_view what) {
+  constexpr std::string_view kMrpt = "==== MRPT exception ====";
+  if (what.find(kMrpt) != std::string_view::npos) {
+    // MRPT 2.x: "==== MRPT exception ====\nMessage:  <text>\nLocation: ...\nCall stack ...".
+    const auto m = what.find("Message:");
+    if (m != std::string_view::npos) {
+      const auto start = m + 8;
+      const auto end = what.find('\n', start);
+      const std::string line = trim(
+          what.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start));
+      if (!line.empty()) return printable(line);
+    }
+  }
+  std::string_view rest = what;
+  // The first non-blank line.
+  while (!rest.empty()) {
+    const auto end = rest.find('\n');
+    const std::string line = trim(rest.substr(0, end));
+    if (!line.empty() && line.find(kMrpt) == std::string::npos) return printable(line);
+    if (end == std::string_view::npos) break;
+    rest.remove_prefix(end + 1);
+  }
+  return "unknown error";
+}
+
+std::string exceptionLine(const std::exception& e) { return exceptionLine(e.what()); }
+
+}  // namespace budget_slam
