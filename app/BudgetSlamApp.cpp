@@ -331,10 +331,18 @@ int BudgetSlamApp::runRun() {
                                           rc.mapping.keep_history);
 
     dataset::RawlogReader reader(rc.rawlog);
+    // A signal ends the reading within one read of the file, even inside a large object.
+    reader.setStopCheck([] { return InterruptGuard::requested(); });
     ProgressBar bar(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
     const std::size_t limit = rc.mapping.max_steps;
     while (limit == 0 || steps_read < limit) {
       auto step = reader.next();
+      if (!step && reader.stopped()) {
+        bar.done();
+        return fail(std::string("interrupted by ") + InterruptGuard::what() +
+                        " while reading step " + std::to_string(reader.stepsRead()),
+                    "interrupted");
+      }
       if (!step) break;
       steps_read = reader.stepsRead();
       pipeline->process(*step);

@@ -144,13 +144,17 @@ int BudgetSlamApp::runCompare() {
 
     // The rawlog is parsed once; every pipeline reads the same steps.
     dataset::RawlogReader reader(rc.rawlog);
+    reader.setStopCheck([] { return InterruptGuard::requested(); });
     ProgressBar reading(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
     const std::size_t limit = rc.mapping.max_steps;
     while (limit == 0 || steps.size() < limit) {
       auto s = reader.next();
-      if (!s) break;
-      steps.push_back(std::move(*s));
-      reading.update(reader.progress(), "reading step " + std::to_string(steps.size()));
+      if (s) {
+        steps.push_back(std::move(*s));
+        reading.update(reader.progress(), "reading step " + std::to_string(steps.size()));
+      } else if (!reader.stopped()) {
+        break;
+      }
       if (InterruptGuard::requested()) {
         reading.done();
         *err << "budget-slam: interrupted by " << InterruptGuard::what()
