@@ -7,7 +7,7 @@ namespace budget_slam::graph::detail {
 // Plain loops on fixed-size tiles, so that the compiler vectorizes them for each clone; no
 // Eigen here (its kernels are chosen at compile time and must not differ between translation
 // units).
-__attribute__((target_clones("arch=haswell", "default"))) void forwardSubstitute(
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void forwardSubstitute(
     double* X, std::size_t m, std::size_t r, const int* start, const int* rows,
     const double* vals) {
   for (std::size_t a = 0; a < m; ++a) {
@@ -27,7 +27,7 @@ __attribute__((target_clones("arch=haswell", "default"))) void forwardSubstitute
   }
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void gramLowerRows(
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void gramLowerRows(
     const double* const* rows, std::size_t m, std::size_t w, double* G, std::size_t ldg,
     std::size_t lo) {
   double* g = G + lo * ldg + lo;
@@ -56,7 +56,7 @@ __attribute__((target_clones("arch=haswell", "default"))) void gramLowerRows(
   }
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void forwardSubstitutePath(
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void forwardSubstitutePath(
     double* X, std::size_t ld, const int* nodes, std::size_t m, const int* Lp, const int* Lnz,
     const int* Li, const double* Lx, const int* local, const int* lo, const int* hi) {
   for (std::size_t a = 0; a < m; ++a) {

@@ -3,7 +3,8 @@
 
 namespace budget_slam::graph::detail {
 
-// Each kernel is built twice (AVX2 + FMA and baseline) and chosen at run time.
+// Each kernel is built twice (x86-64-v3: AVX2 + FMA, and baseline) and chosen at run time by the
+// CPU's features ("arch=haswell" would dispatch on the CPU model and miss AMD processors).
 
 /// Forward substitution L X = B in place on a dense row-major X (m x r), L given column by column
 /// on local row numbers: column a has its diagonal at vals[start[a]] and its off-diagonal entries
