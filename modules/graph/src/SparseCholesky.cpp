@@ -342,7 +342,27 @@ bool SparseCholesky::factorize(const SpMat& H, std::uint64_t pattern_version) {
   return m.ok;
 }
 
-bool SparseCholesky::factorizeOrdered(const SpMat& H, const std::vector<int>& perm) {
+bool SparseCholesky::refactorize(const SpMat& H) {
+  Impl& m = *impl_;
+  if (!m.F || H.rows() != m.n)
+    throw std::logic_error("SparseCholesky: refactorize without analysis");
+  m.invalidate();
+  cholmod_sparse A = viewLower(H);
+  cholmod_factorize(&A, m.F, &m.c);
+  m.ok = m.c.status == CHOLMOD_OK && m.F->minor == m.F->n;
+  if (!m.ok) m.analysed = false;
+  return m.ok;
+}
+
+double SparseCholesky::analysedNonZeros() const { return impl_->c.lnz; }
+
+std::vector<int> SparseCholesky::ordering() const {
+  impl_->extractL();
+  return impl_->perm;
+}
+
+bool SparseCholesky::factorizeOrdered(const SpMat& H, const std::vector<int>& perm,
+                                      bool simplicial) {
   Impl& m = *impl_;
   m.invalidate();
   if (perm.size() != static_cast<std::size_t>(H.rows()))
@@ -352,7 +372,7 @@ bool SparseCholesky::factorizeOrdered(const SpMat& H, const std::vector<int>& pe
   m.c.nmethods = 1;
   m.c.method[0].ordering = CHOLMOD_GIVEN;
   m.c.postorder = 0;  // the ordering exactly as given: new columns go last
-  m.c.supernodal = CHOLMOD_SIMPLICIAL;
+  m.c.supernodal = simplicial ? CHOLMOD_SIMPLICIAL : CHOLMOD_AUTO;
   m.F = cholmod_analyze_p(&A, const_cast<int*>(perm.data()), nullptr, 0, &m.c);
   m.c.nmethods = 0;
   m.c.postorder = 1;

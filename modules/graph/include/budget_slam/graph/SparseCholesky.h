@@ -45,7 +45,17 @@ class SparseCholesky {
   /// Factorizes H as a simplicial L D L^T with the fill-reducing ordering `perm` (perm[k] = the
   /// column of H eliminated k-th), exactly as given (no postordering). Returns false when H is
   /// not positive definite.
-  bool factorizeOrdered(const Eigen::SparseMatrix<double>& H, const std::vector<int>& perm);
+  /// `simplicial` = false lets CHOLMOD pick simplicial or supernodal (faster on large factors;
+  /// not updatable in place).
+  bool factorizeOrdered(const Eigen::SparseMatrix<double>& H, const std::vector<int>& perm,
+                        bool simplicial = true);
+  /// Numeric factorization of H with the previous call's symbolic analysis (H must have the
+  /// same pattern). Returns false when H is not positive definite.
+  bool refactorize(const Eigen::SparseMatrix<double>& H);
+  /// Non-zeros of L predicted by the last symbolic analysis (CHOLMOD's lnz; no extraction).
+  double analysedNonZeros() const;
+  /// The fill-reducing ordering in use: perm[k] = the column of H eliminated k-th.
+  std::vector<int> ordering() const;
   bool ok() const;
   int size() const;
 
