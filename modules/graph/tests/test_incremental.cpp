@@ -90,7 +90,7 @@ TEST(IncrementalGraph, KeptOrderingIsReusedOnAChain) {
   RangeBearingNoise noise;
   const std::vector<Step> steps = testgraphs::victoriaParkSteps(1000, &noise);
   if (steps.empty()) GTEST_SKIP() << "rawlogs/victoria_park.rawlog not found";
-  GraphBackend b(GraphSlamOptions{}, noise);
+  GraphBackend b(withFill(1.5), noise);
   for (const Step& s : steps) b.process(s);
   // Most structure changes keep the ordering: fresh analyses are the rare case.
   EXPECT_GT(b.solverOrdering().reusedAnalyses(), 4 * b.solverOrdering().freshAnalyses());
@@ -98,7 +98,7 @@ TEST(IncrementalGraph, KeptOrderingIsReusedOnAChain) {
 
 TEST(IncrementalGraph, GainFromKeptOrderingEqualsNaiveReference) {
   const testgraphs::SyntheticRun run = testgraphs::syntheticRun(90, 20, 5);
-  GraphBackend b(GraphSlamOptions{}, noiseOf());
+  GraphBackend b(withFill(1.5), noiseOf());
   std::vector<LandmarkId> ids;
   for (const Step& s : run.steps) {
     b.process(s);

@@ -33,8 +33,10 @@ struct GraphSlamOptions : public mrpt::config::CLoadableOptions {
   double relinearize_threshold = 0;
   /// The fill-reducing ordering is kept while the structure grows (new variables eliminated
   /// last, IncrementalOrdering) until nnz(L) / nnz(H) exceeds this factor times the one of the
-  /// last fresh ordering [dimensionless]; 0: a fresh ordering at every structure change.
-  double reorder_fill_ratio = 1.5;
+  /// last fresh ordering [dimensionless]; 0: a fresh ordering at every structure change (the
+  /// default: on Victoria Park the kept ordering's extra fill costs more than the analyses it
+  /// saves, docs/PERFORMANCE.md "Incremental graph backend").
+  double reorder_fill_ratio = 0;
   /// Bounded graph for lifelong runs: when the graph holds more poses than this, the oldest
   /// ones leave (their sightings are dropped, their prior composed with the odometry into a prior
   /// on the next pose; a landmark left without sightings keeps its marginal as a prior). 0:
