@@ -22,6 +22,12 @@ void MappingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini
   logOutput_dir = s.readString("logOutput_dir", logOutput_dir);
   max_steps = static_cast<std::size_t>(s.readInt("max_steps", 0, 0));
   keep_history = s.readBool("keep_history", keep_history);
+  save_3d_scene = s.readBool("save_3d_scene", save_3d_scene);
+  // kf-slam's keys; its default SAVE_3D_SCENES = true would write a scene a step of a lifelong run,
+  // so budget-slam writes them only when the ini asks.
+  scene_every_steps = s.readBool("SAVE_3D_SCENES", false)
+                          ? static_cast<std::size_t>(s.readInt("SAVE_LOG_FREQUENCY", 1, 1))
+                          : 0;
   // kf-slam's default is the 3D filter, but an ini that does not say is taken as 2D here.
   kf_implementation = s.readChoice("kf_implementation", kf_implementation,
                                    {"CRangeBearingKFSLAM2D", "CRangeBearingKFSLAM"});
@@ -39,8 +45,12 @@ void MappingOptions::dumpToTextStream(std::ostream& out) const {
   out << "logOutput_dir            = " << logOutput_dir << "\n";
   out << "max_steps                = " << max_steps << "\n";
   out << "keep_history             = " << (keep_history ? "true" : "false") << "\n";
+  out << "save_3d_scene            = " << (save_3d_scene ? "true" : "false") << "\n";
+  out << "3D scene every [steps]   = " << scene_every_steps << " (0: never)\n";
 }
 
-std::vector<std::string> MappingOptions::keys() { return {"backend", "max_steps", "keep_history"}; }
+std::vector<std::string> MappingOptions::keys() {
+  return {"backend", "max_steps", "keep_history", "save_3d_scene"};
+}
 
 }  // namespace budget_slam::app

@@ -21,6 +21,11 @@ struct MappingOptions : public mrpt::config::CLoadableOptions {
                               ///< flat memory on lifelong runs, see docs/OUTPUTS.md)
   std::size_t max_steps = 0;  ///< stop after this many steps, 0 = the whole rawlog
   std::string kf_implementation = "CRangeBearingKFSLAM2D";  ///< only the 2D filter is supported
+  bool save_3d_scene = true;  ///< write map.3Dscene (MRPT's SceneViewer3D) beside map.png
+  /// Write kf_state_<step>.3Dscene after every step that is a multiple of this, 0 = never: from
+  /// kf-slam's SAVE_3D_SCENES (here false unless written) and SAVE_LOG_FREQUENCY (default 1)
+  /// [steps]
+  std::size_t scene_every_steps = 0;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
                           const std::string& section) override;

@@ -13,6 +13,7 @@
 #include "budget_slam/reducers/CoverageOptions.h"
 #include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/report/OutputFolder.h"
+#include "budget_slam/report/Pictures.h"
 
 namespace budget_slam::app {
 
@@ -61,11 +62,19 @@ class Pipeline {
   void logEvictions(const std::vector<reducers::Eviction>& drops);
   void writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
                            std::size_t steps_in_rawlog) const;
+  /// What map.png and map.3Dscene show.
+  report::MapContent mapContent(const std::vector<TrajectoryPoint>& trajectory,
+                                const std::vector<LandmarkView>& landmarks) const;
   void writeMap(const std::vector<TrajectoryPoint>& trajectory,
                 const std::vector<LandmarkView>& landmarks) const;
+  /// map.3Dscene, or kf_state_<step>.3Dscene during the run (MRPT's SceneViewer3D).
+  void writeScene(const std::string& name, const std::vector<TrajectoryPoint>& trajectory,
+                  const std::vector<LandmarkView>& landmarks) const;
 
   report::OutputFolder folder_;
   reducers::CoverageOptions coverage_;  ///< how map.png clusters the kept landmarks
+  bool save_3d_scene_ = true;           ///< [MappingApplication] save_3d_scene
+  std::size_t scene_every_steps_ = 0;   ///< kf-slam's SAVE_3D_SCENES / SAVE_LOG_FREQUENCY
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<reducers::BudgetManager> manager_;
   std::shared_ptr<const dataset::GroundTruth> truth_;
@@ -84,6 +93,9 @@ class Pipeline {
   std::size_t steps_done_ = 0, evictions_ = 0, peak_landmarks_ = 0, landmarks_added_ = 0;
   double total_step_s_ = 0, max_step_s_ = 0;
 };
+
+/// One line saying how a shadow reducer failed over a run (a warning on stderr).
+std::string shadowFailureLine(const reducers::ShadowFailures& f);
 
 /// Peak resident memory of this process [bytes].
 std::size_t peakResidentBytes();

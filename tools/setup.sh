@@ -11,6 +11,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib  # experiment scripts and plots
   clang-format
+  slurm-wlm munge                  # sweeps on a SLURM cluster; tools/slurm/local-cluster.sh
+  python3-dev pybind11-dev         # the budget_slam Python module
 )
 
 missing=()

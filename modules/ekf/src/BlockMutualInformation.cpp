@@ -40,7 +40,7 @@ BlockMutualInformation::BlockMutualInformation(const Eigen::MatrixXd& P) {
     for (Eigen::Index i : active) mean += P(i, i);
     load(1e-12 * mean / static_cast<double>(std::max<std::size_t>(1, m)));
     if (!detail::choleskyLowerInPlace(w_.data(), m, m))
-      throw std::runtime_error("covariance is not positive definite; mutual information undefined");
+      throw NotPositiveDefinite();
   }
   std::vector<double> scratch(64 * std::max<std::size_t>(1, m));
   detail::invertLowerInPlace(w_.data(), m, m, scratch.data());

@@ -2,6 +2,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,8 +13,11 @@ namespace budget_slam::reducers {
 struct BudgetOptions : public mrpt::config::CLoadableOptions {
   static constexpr const char* kSection = "LandmarkBudget";
 
-  std::string reducer = "none";          ///< active reducer by registry name; none = no cap
-  std::size_t max_landmarks = 50;        ///< the cap, >= 1 [landmarks]
+  std::string reducer = "none";  ///< active reducer by registry name; none = no cap
+  /// The cap: landmarks in the map after every step, >= 1 [landmarks]. Empty (ini and --cap:
+  /// `none`) = unbounded, valid only for reducer `none` and for reducers that decide the map's
+  /// size themselves (Reducer::decidesMapSize; checkCap).
+  std::optional<std::size_t> max_landmarks = 50;
   std::size_t protect_recent_steps = 5;  ///< P: landmarks seen in the last P steps are kept [steps]
   bool readmit_evicted = true;           ///< a dropped landmark seen again comes back as new
   std::vector<std::string> shadow_reducers;  ///< asked at every drop, only logged
@@ -26,6 +30,8 @@ struct BudgetOptions : public mrpt::config::CLoadableOptions {
 
   /// Keys of the section, for unknown-key checks.
   static std::vector<std::string> keys();
+  /// The cap as written in the ini and on the command line: a number, or `none`.
+  static std::string capText(const std::optional<std::size_t>& cap);
 };
 
 }  // namespace budget_slam::reducers

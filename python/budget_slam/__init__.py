@@ -1,0 +1,312 @@
+"""budget-slam from Python: runs and comparisons in this process, results as numpy arrays, and any
+registered reducer's scores on a Gaussian state (docs/PYTHON.md).
+
+    PYTHONPATH=build/python /usr/bin/python3 -c 'import budget_slam'
+
+    r = budget_slam.run("config.ini", "rawlogs/kf-slam_demo.rawlog", {"LandmarkBudget.seed": 3},
+                        reducer="mi", cap=20)
+    r["summary"]["counts"]["landmarks_final"], r["steps"]["x"], r["landmarks"]["id"]
+    c = budget_slam.compare("config.ini", "rawlogs/kf-slam_demo.rawlog", reducers=["mi", "coverage"])
+    c["comparison"]["ate_m"], c["runs"]["mi"]["trajectory"]
+    s = budget_slam.load_state("OUT/states/step_120.txt")
+    budget_slam.reducer_scores("mi", s["mean"], s["cov"], s["ids"])["scores"]
+
+The runs are budget-slam's own (BudgetSlamApp driven in-process, not a subprocess): the same
+options, checks, outputs and numbers as the command line. A refused argument raises ConfigError, a
+failed run raises Error, both carrying the application's one-line message; Ctrl-C ends the run
+cleanly and raises KeyboardInterrupt.
+"""
+import csv
+import json
+import math
+import os
+import shutil
+import tempfile
+
+import numpy as np
+
+from . import _core
+
+__all__ = ["run", "compare", "reducer_scores", "reducer_names", "load_state", "read_run", "Error",
+           "ConfigError"]
+
+_PREFIX = "budget-slam: "
+_TEXT_COLUMNS = {"reducer", "reason", "shadow_choices", "run", "backend", "status"}
+
+
+class Error(Exception):
+    """A run or comparison that failed: str(e) is the application's one-line message.
+    `exit_code` is the command line's (1 failed, 2 refused); `outdir` the output folder (its files
+    of the steps already done stay readable), or None."""
+
+    def __init__(self, message, exit_code=1, outdir=None):
+        super().__init__(message)
+        self.exit_code = exit_code
+        self.outdir = outdir
+
+
+class ConfigError(Error, ValueError):
+    """A refused argument, option value or name (the command line's exit code 2)."""
+
+    def __init__(self, message, exit_code=2, outdir=None):
+        super().__init__(message, exit_code, outdir)
+
+
+def reducer_names():
+    """Names of the registered reducers (`none` is the unreduced run)."""
+    return list(_core.reducer_names())
+
+
+# ---- reading a run's files ----
+
+def _number(text):
+    if text == "":
+        return math.nan
+    return float(text)
+
+
+def _column(values, name):
+    if name not in _TEXT_COLUMNS:
+        try:
+            if all(v.lstrip("-").isdigit() for v in values):
+                return np.array([int(v) for v in values], dtype=np.int64)
+            return np.array([_number(v) for v in values], dtype=np.float64)
+        except ValueError:
+            pass
+    return np.array(values, dtype=str)
+
+
+def read_csv(path):
+    """A CSV file of budget-slam as a numpy structured array: integer columns as int64, numbers as
+    float64 (an empty field or `nan` as NaN), text as str."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    if not rows:
+        raise Error(f"{path}: empty file")
+    header, body = rows[0], rows[1:]
+    for k, r in enumerate(body):
+        if len(r) != len(header):
+            raise Error(f"{path}: row {k + 1} has {len(r)} fields, the header {len(header)}")
+    columns = [_column([r[i] for r in body], name) for i, name in enumerate(header)]
+    dtype = [(name, c.dtype if len(body) else (np.str_ if name in _TEXT_COLUMNS else np.float64))
+             for name, c in zip(header, columns)]
+    out = np.empty(len(body), dtype=dtype)
+    for name, c in zip(header, columns):
+        if len(body):
+            out[name] = c
+    return out
+
+
+def read_tum(path):
+    """trajectory.tum / ground_truth.tum as a structured array of t [s], x, y [m], yaw [rad]."""
+    data = np.loadtxt(path, comments="#", ndmin=2)
+    out = np.empty(len(data), dtype=[("t", np.float64), ("x", np.float64), ("y", np.float64),
+                                      ("yaw", np.float64)])
+    if len(data):
+        out["t"], out["x"], out["y"] = data[:, 0], data[:, 1], data[:, 2]
+        out["yaw"] = 2 * np.arctan2(data[:, 6], data[:, 7])
+        out["yaw"] = (out["yaw"] + np.pi) % (2 * np.pi) - np.pi
+    return out
+
+
+def read_run(folder):
+    """The outputs of one run folder (docs/OUTPUTS.md) as a dict: summary (dict of summary.json),
+    steps, trajectory, ground_truth (or None), landmarks, evictions (structured arrays), outdir."""
+    def opt(name, reader):
+        p = os.path.join(folder, name)
+        return reader(p) if os.path.isfile(p) else None
+    with open(os.path.join(folder, "summary.json")) as f:
+        summary = json.load(f)
+    return {"summary": summary,
+            "steps": opt("steps.csv", read_csv),
+            "trajectory": opt("trajectory.tum", read_tum),
+            "ground_truth": opt("ground_truth.tum", read_tum),
+            "landmarks": opt("landmarks.csv", read_csv),
+            "evictions": opt("evictions.csv", read_csv),
+            "outdir": folder}
+
+
+def load_state(path):
+    """states/step_<k>.txt (written with [LandmarkBudget] dump_states = true) as a dict: step,
+    backend, ids (int64), mean (robot x, y, yaw then x, y of each landmark), cov."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    try:
+        head = lines[0].split()
+        step = int(head[head.index("step") + 1])
+        backend = lines[0].rsplit("backend ", 1)[1].rstrip(")")
+        ids_line = next(l for l in lines if l.startswith("# ids:"))
+        ids = np.array([int(v) for v in ids_line[len("# ids:"):].split()], dtype=np.int64)
+        mean = np.array(lines[lines.index("# mean") + 1].split(), dtype=np.float64)
+        start = lines.index("# covariance") + 1
+        cov = np.array([l.split() for l in lines[start:start + len(mean)]], dtype=np.float64)
+    except (ValueError, IndexError, StopIteration) as e:
+        raise Error(f"{path}: not a state dump of budget-slam ({e})") from None
+    if mean.shape != (3 + 2 * len(ids),) or cov.shape != (len(mean), len(mean)):
+        raise Error(f"{path}: {len(ids)} ids, {len(mean)} mean values, a {cov.shape} covariance")
+    return {"step": step, "backend": backend, "ids": ids, "mean": mean, "cov": cov}
+
+
+# ---- running the application ----
+
+def _ini_text(config):
+    """A dict {section: {key: value}} as ini text."""
+    lines = []
+    for section, keys in config.items():
+        if not isinstance(keys, dict):
+            raise TypeError(f"config: section '{section}' must map keys to values")
+        lines.append(f"[{section}]")
+        lines += [f"{k} = {_value(v)}" for k, v in keys.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (list, tuple)):
+        return ",".join(_value(x) for x in v)
+    return str(v)
+
+
+def _sets(overrides):
+    """{"Section.key": value} or {"Section": {"key": value}} as --set arguments."""
+    if overrides is None:
+        return []
+    if not isinstance(overrides, dict):
+        raise TypeError("overrides: expected a dict like {'LandmarkBudget.seed': 3}")
+    args = []
+    for k, v in overrides.items():
+        if isinstance(v, dict):
+            args += [a for kk, vv in v.items() for a in ("--set", f"{k}.{kk}={_value(vv)}")]
+        else:
+            args += ["--set", f"{k}={_value(v)}"]
+    return args
+
+
+def _invoke(command, config, rawlog, overrides, outdir, force, flags):
+    args, params = [command], None
+    if isinstance(config, dict):
+        params = _ini_text(config) if config else "[MappingApplication]\n"
+    elif config is not None:
+        args += ["-c", os.fspath(config)]
+    else:
+        raise TypeError("config: give an ini file path or a dict {section: {key: value}}")
+    if rawlog is not None:
+        args += ["-i", os.fspath(rawlog)]
+    temporary = outdir is None
+    folder = tempfile.mkdtemp(prefix="budget_slam_") if temporary else os.fspath(outdir)
+    args += ["-o", folder, "--quiet"] + (["--force"] if force else []) + flags + _sets(overrides)
+    try:
+        try:
+            outcome = _core.run_app(args, params)
+        except _core.ConfigError as e:
+            raise ConfigError(str(e)) from None
+        if outcome.exit_code == 130:
+            raise KeyboardInterrupt(_message(outcome.err) or "interrupted")
+        if outcome.exit_code != 0:
+            kind = ConfigError if outcome.exit_code == 2 else Error
+            raise kind(_message(outcome.err) or f"exit code {outcome.exit_code}", outcome.exit_code,
+                        None if temporary else folder)
+        return folder, temporary
+    except BaseException:
+        if temporary:
+            shutil.rmtree(folder, ignore_errors=True)
+        raise
+
+
+def _message(err):
+    """The application's last one-line message, without its `budget-slam: [error: ]` prefix."""
+    for line in reversed(err.splitlines()):
+        if line.startswith(_PREFIX):
+            text = line[len(_PREFIX):]
+            return text[len("error: "):] if text.startswith("error: ") else text
+    return err.strip().splitlines()[-1] if err.strip() else ""
+
+
+def run(config, rawlog=None, overrides=None, outdir=None, *, reducer=None, cap=None, backend=None,
+        force=False):
+    """`budget-slam run` in this process. config: an ini file path, or a dict
+    {section: {key: value}} used as the in-memory ini; rawlog: -i (default: the ini's rawlog_file);
+    overrides: {"Section.key": value} or {"Section": {"key": value}} (--set); reducer, cap, backend:
+    the flags. outdir: the output folder (kept; refused if not empty unless force), None: a
+    temporary one removed after reading. Returns read_run() of the folder (outdir None if temporary).
+    Raises ConfigError / Error with the application's message, KeyboardInterrupt on Ctrl-C."""
+    flags = []
+    if reducer is not None:
+        flags += ["--reducer", str(reducer)]
+    if cap is not None:
+        flags += ["--cap", str(int(cap))]
+    if backend is not None:
+        flags += ["--backend", str(backend)]
+    folder, temporary = _invoke("run", config, rawlog, overrides, outdir, force, flags)
+    try:
+        result = read_run(folder)
+    finally:
+        if temporary:
+            shutil.rmtree(folder, ignore_errors=True)
+    if temporary:
+        result["outdir"] = None
+    return result
+
+
+def compare(config, rawlog=None, reducers=None, overrides=None, outdir=None, *, cap=None,
+            backend=None, threads=0, force=False):
+    """`budget-slam compare` in this process: the unreduced reference and each reducer (default:
+    all registered) on one rawlog. Same arguments as run(). Returns a dict: summary (the
+    comparison's summary.json), comparison (comparison.csv as a structured array), runs
+    ({"reference": ..., reducer: ...}, each as run() returns it), outdir."""
+    flags = []
+    if reducers is not None:
+        if isinstance(reducers, str):
+            reducers = [reducers]
+        flags += ["--reducers", ",".join(reducers)]
+    if cap is not None:
+        flags += ["--cap", str(int(cap))]
+    if backend is not None:
+        flags += ["--backend", str(backend)]
+    if threads:
+        flags += ["--threads", str(int(threads))]
+    folder, temporary = _invoke("compare", config, rawlog, overrides, outdir, force, flags)
+    try:
+        with open(os.path.join(folder, "summary.json")) as f:
+            summary = json.load(f)
+        table = read_csv(os.path.join(folder, "comparison.csv"))
+        runs = {str(name): read_run(os.path.join(folder, str(name))) for name in table["run"]}
+    finally:
+        if temporary:
+            shutil.rmtree(folder, ignore_errors=True)
+    if temporary:
+        for r in runs.values():
+            r["outdir"] = None
+    return {"summary": summary, "comparison": table, "runs": runs,
+            "outdir": None if temporary else folder}
+
+
+def reducer_scores(name, mean, cov, ids, *, n_obs=None, obs_mean=None, first_step=None,
+                   last_step=None, step=0, seed=1, config=None, candidates=None):
+    """Scores a Gaussian state with reducer `name` (any of reducer_names() but `none`).
+
+    mean: robot x, y, yaw then x, y of each landmark (3 + 2N), cov: its (3 + 2N) square
+    covariance, ids: the N landmark ids — the layout of states/step_<k>.txt (load_state). What the
+    reducers also read, when given: n_obs, obs_mean (N x 2 mean observation positions, for the
+    coverage clusters; default: each landmark's own position), first_step (oldest), last_step.
+    config: the reducers' ini sections as a dict or ini text (e.g. {"CoverageReducer":
+    {"cluster_ratio": 0.5}}); seed: [LandmarkBudget] seed.
+
+    Returns a dict: ids; scores, the score the reducer gives each landmark when it is the only
+    candidate (its unit: bits for mi and coverage-mi, 1/m^2 for info-content and coverage, the first
+    step for oldest, 0 for random) — the `score` evictions.csv logs for a dropped landmark; choice,
+    the landmark it drops among `candidates` (default: all), and choice_score.
+    """
+    if isinstance(config, dict):
+        config = _ini_text(config)
+    try:
+        return _core.reducer_scores(
+            name, np.asarray(mean, dtype=np.float64), np.asarray(cov, dtype=np.float64),
+            [int(i) for i in ids], None if n_obs is None else [int(v) for v in n_obs],
+            None if obs_mean is None else np.asarray(obs_mean, dtype=np.float64),
+            None if first_step is None else [int(v) for v in first_step],
+            None if last_step is None else [int(v) for v in last_step], int(step), int(seed),
+            config or "", None if candidates is None else [int(c) for c in candidates])
+    except (_core.ConfigError, _core.Error) as e:
+        raise ConfigError(str(e)) from None

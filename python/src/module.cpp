@@ -1,0 +1,202 @@
+// budget_slam._core: the C++ half of the budget_slam Python module (python/budget_slam/__init__.py
+// is the other). It drives BudgetSlamApp in-process and scores Gaussian states with the
+// registered reducers; reading the run's files into numpy arrays is left to the Python half.
+#include <mrpt/config/CConfigFileMemory.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "BudgetSlamApp.h"
+#include "budget_slam/core/Error.h"
+#include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/reducers/GaussianStateBackend.h"
+
+namespace py = pybind11;
+
+namespace budget_slam::python {
+namespace {
+
+/// Result of one in-process `budget-slam <args>`: exit code and what it wrote on stdout/stderr.
+struct AppOutcome {
+  int exit_code = 0;
+  std::string out, err;
+};
+
+/// `args` without the program name. `params`: the ini text (in-memory config) or none (-c is
+/// then among `args`). A command line the app refuses raises ConfigError with its message.
+AppOutcome runApp(const std::vector<std::string>& args, const std::optional<std::string>& params) {
+  app::BudgetSlamApp a;
+  std::ostringstream out, err;
+  a.out = &out;
+  a.err = &err;
+  if (params) a.params.setContent(*params);
+  std::vector<std::string> argv = {"budget-slam"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  a.initialize(argv);  // throws ConfigError, translated below
+  AppOutcome r;
+  {
+    py::gil_scoped_release release;  // Ctrl-C reaches the app's own handler meanwhile
+    r.exit_code = a.run();
+  }
+  r.out = out.str();
+  r.err = err.str();
+  return r;
+}
+
+Eigen::MatrixXd toMatrix(const py::array_t<double, py::array::c_style | py::array::forcecast>& a,
+                         const char* what) {
+  if (a.ndim() != 2 || a.shape(0) != a.shape(1))
+    throw ConfigError(std::string(what) + ": expected a square 2-D array");
+  Eigen::MatrixXd m(a.shape(0), a.shape(1));
+  auto v = a.unchecked<2>();
+  for (py::ssize_t r = 0; r < a.shape(0); ++r)
+    for (py::ssize_t c = 0; c < a.shape(1); ++c) m(r, c) = v(r, c);
+  return m;
+}
+
+std::vector<double> toVector(
+    const py::array_t<double, py::array::c_style | py::array::forcecast>& a, const char* what) {
+  if (a.ndim() != 1) throw ConfigError(std::string(what) + ": expected a 1-D array");
+  return std::vector<double>(a.data(), a.data() + a.shape(0));
+}
+
+/// Scores of a Gaussian state (robot x, y, yaw, then x, y of each landmark, the layout of
+/// states/step_<k>.txt) by reducer `name`: for each landmark the score the reducer gives it when
+/// it is the only candidate, and the reducer's choice among `candidates` (default: all).
+py::dict reducerScores(const std::string& name, const py::array_t<double>& mean_in,
+                       const py::array_t<double>& cov_in, const std::vector<long long>& ids,
+                       const std::optional<std::vector<long long>>& n_obs,
+                       const std::optional<py::array_t<double>>& obs_mean,
+                       const std::optional<std::vector<long long>>& first_step,
+                       const std::optional<std::vector<long long>>& last_step, long long step,
+                       std::uint64_t seed, const std::string& config,
+                       const std::optional<std::vector<long long>>& candidates) {
+  const auto& registry = reducers::builtinReducers();
+  registry.entry(name);  // unknown name: ConfigError listing the registered ones
+  const mrpt::config::CConfigFileMemory ini(config);
+  if (!registry.create(name, ini, seed))
+    throw ConfigError("reducer '" + name + "' scores nothing: it is the unreduced run");
+
+  const std::vector<double> mean = toVector(mean_in, "mean");
+  const Eigen::MatrixXd P = toMatrix(cov_in, "cov");
+  const std::size_t n = ids.size();
+  if (mean.size() != 3 + 2 * n)
+    throw ConfigError("mean: " + std::to_string(mean.size()) + " values, expected 3 + 2 x " +
+                      std::to_string(n) + " ids = " + std::to_string(3 + 2 * n));
+  if (static_cast<std::size_t>(P.rows()) != mean.size())
+    throw ConfigError("cov: " + std::to_string(P.rows()) + " x " + std::to_string(P.cols()) +
+                      ", expected " + std::to_string(mean.size()) + " square");
+  if (!P.allFinite() ||
+      !std::all_of(mean.begin(), mean.end(), [](double v) { return std::isfinite(v); }))
+    throw ConfigError("mean, cov: values must be finite");
+  if ((P - P.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(1.0, P.cwiseAbs().maxCoeff()))
+    throw ConfigError("cov: not symmetric");
+  const auto sized = [n](const auto& v, const char* what) {
+    if (v && v->size() != n)
+      throw ConfigError(std::string(what) + ": " + std::to_string(v->size()) + " values for " +
+                        std::to_string(n) + " ids");
+  };
+  sized(n_obs, "n_obs");
+  sized(first_step, "first_step");
+  sized(last_step, "last_step");
+  std::vector<double> obs;
+  if (obs_mean) {
+    obs.assign(obs_mean->data(), obs_mean->data() + obs_mean->size());
+    if (obs_mean->ndim() != 2 || obs.size() != 2 * n)
+      throw ConfigError("obs_mean: expected an array of " + std::to_string(n) + " x 2");
+  }
+
+  std::vector<LandmarkView> landmarks(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    LandmarkView& l = landmarks[i];
+    l.id = static_cast<LandmarkId>(ids[i]);
+    l.mean = {mean[3 + 2 * i], mean[4 + 2 * i]};
+    // Without observation positions, each landmark counts as seen from where it is.
+    l.obs_mean = obs_mean ? Eigen::Vector2d(obs[2 * i], obs[2 * i + 1]) : l.mean;
+    if (n_obs) l.n_obs = static_cast<std::size_t>((*n_obs)[i]);
+    if (first_step) l.first_step = static_cast<StepIndex>((*first_step)[i]);
+    l.last_step = last_step ? static_cast<StepIndex>((*last_step)[i]) : l.first_step;
+  }
+  std::vector<std::size_t> all(n);
+  for (std::size_t i = 0; i < n; ++i) all[i] = i;
+  std::vector<std::size_t> chosen_from = all;
+  if (candidates) {
+    chosen_from.clear();
+    for (const long long c : *candidates) {
+      const auto it = std::find(ids.begin(), ids.end(), c);
+      if (it == ids.end())
+        throw ConfigError("candidates: landmark " + std::to_string(c) + " is not among the ids");
+      chosen_from.push_back(static_cast<std::size_t>(it - ids.begin()));
+    }
+  }
+  if (n == 0 || chosen_from.empty()) throw ConfigError("no landmark to score");
+
+  std::set<LandmarkId> unique;
+  for (const auto& l : landmarks)
+    if (!unique.insert(l.id).second)
+      throw ConfigError("ids: landmark " + std::to_string(l.id) + " is listed twice");
+  std::vector<double> s(n);
+  ReducerChoice choice;
+  {
+    py::gil_scoped_release release;
+    const reducers::GaussianStateBackend backend(landmarks, P, static_cast<StepIndex>(step));
+    const auto views = backend.landmarks();  // marginal covariances filled in from P
+    const auto stepIndex = static_cast<StepIndex>(step);
+    for (std::size_t i = 0; i < n; ++i) {
+      // A fresh reducer a question: each answer depends only on the state (random: its seed).
+      const std::vector<std::size_t> one = {i};
+      s[i] = registry.create(name, ini, seed)->choose({backend, views, one, stepIndex}).score;
+    }
+    choice = registry.create(name, ini, seed)->choose({backend, views, chosen_from, stepIndex});
+  }
+  py::array_t<double> scores(static_cast<py::ssize_t>(n));
+  py::array_t<long long> out_ids(static_cast<py::ssize_t>(n));
+  auto sv = scores.mutable_unchecked<1>();
+  auto iv = out_ids.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < n; ++i) sv(i) = s[i], iv(i) = ids[i];
+  py::dict d;
+  d["ids"] = out_ids;
+  d["scores"] = scores;
+  d["choice"] = static_cast<long long>(choice.id);
+  d["choice_score"] = choice.score;
+  return d;
+}
+
+}  // namespace
+}  // namespace budget_slam::python
+
+PYBIND11_MODULE(_core, m) {
+  using namespace budget_slam::python;
+  m.doc() = "C++ core of budget_slam: the app in-process and the reducer registry";
+  static py::exception<budget_slam::ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
+  static py::exception<budget_slam::Error> error(m, "Error", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const budget_slam::ConfigError& e) {
+      config_error(e.what());
+    } catch (const budget_slam::Error& e) {
+      error(e.what());
+    }
+  });
+
+  py::class_<AppOutcome>(m, "AppOutcome")
+      .def_readonly("exit_code", &AppOutcome::exit_code)
+      .def_readonly("out", &AppOutcome::out)
+      .def_readonly("err", &AppOutcome::err);
+  m.def("run_app", &runApp, py::arg("args"), py::arg("params") = py::none(),
+        "Runs `budget-slam <args>` in this process (params: in-memory ini text). Returns "
+        "exit_code, out, err; raises ConfigError when the command line is refused.");
+  m.def("reducer_names", [] { return budget_slam::reducers::builtinReducers().names(); });
+  m.def("reducer_scores", &reducerScores, py::arg("name"), py::arg("mean"), py::arg("cov"),
+        py::arg("ids"), py::arg("n_obs") = py::none(), py::arg("obs_mean") = py::none(),
+        py::arg("first_step") = py::none(), py::arg("last_step") = py::none(), py::arg("step") = 0,
+        py::arg("seed") = 1, py::arg("config") = "", py::arg("candidates") = py::none());
+}

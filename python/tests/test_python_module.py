@@ -1,0 +1,357 @@
+#!/usr/bin/python3
+"""Tests of the budget_slam Python module against the budget-slam command line on the same runs:
+run() and compare() give the CLI's numbers, reducer_scores() the scores the CLI logs in
+evictions.csv (active reducer and shadows) from its state dumps and a hand computation, and bad
+arguments raise exceptions carrying the CLI's one-line message.
+
+    PYTHONPATH=build/python test_python_module.py --budget-slam build/bin/budget-slam
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import numpy as np
+
+import budget_slam
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+CONFIG = os.path.join(ROOT, "config.ini")
+DEMO = os.path.join(ROOT, "rawlogs", "kf-slam_demo.rawlog")
+BUDGET_SLAM = None
+TIMING_COLUMNS = {"step_ms", "step_cpu_ms", "rss_bytes", "time_s"}
+
+
+def cli(*args):
+    return subprocess.run([BUDGET_SLAM, *args], capture_output=True, text=True, timeout=300)
+
+
+def csv_rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def as_value(text):
+    """A CSV cell as the module gives it: a number (empty = NaN) or the text."""
+    try:
+        return float(text) if text != "" else math.nan
+    except ValueError:
+        return text
+
+
+def assertColumnsEqual(tc, table, rows, skip=()):
+    """A structured array equals the CLI's CSV rows, column by column, exactly (NaN = NaN)."""
+    tc.assertEqual(len(table), len(rows))
+    for name in rows[0].keys() if rows else []:
+        if name in skip:
+            continue
+        for k, r in enumerate(rows):
+            want, got = as_value(r[name]), table[name][k]
+            if isinstance(want, float):
+                if math.isnan(want):
+                    tc.assertTrue(math.isnan(float(got)), f"{name} row {k}")
+                else:
+                    tc.assertEqual(float(got), want, f"{name} row {k}")
+            else:
+                tc.assertEqual(str(got), want, f"{name} row {k}")
+
+
+def without_timings(summary):
+    s = dict(summary)
+    s.pop("timings", None)
+    return s
+
+
+class RunMatchesTheCommandLine(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="test_python_module_")
+        cls.cli_dir = os.path.join(cls.tmp.name, "cli")
+        p = cli("run", "-c", CONFIG, "-i", DEMO, "-o", cls.cli_dir, "--reducer", "mi", "--cap", "20",
+                "--set", "LandmarkBudget.seed=3", "--set", "LandmarkBudget.dump_states=true", "--quiet")
+        assert p.returncode == 0, p.stderr
+        cls.py_dir = os.path.join(cls.tmp.name, "py")
+        cls.r = budget_slam.run(CONFIG, DEMO, {"LandmarkBudget.seed": 3, "LandmarkBudget": {"dump_states": True}},
+                                outdir=cls.py_dir, reducer="mi", cap=20)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_summary_is_the_cli_summary(self):
+        with open(os.path.join(self.cli_dir, "summary.json")) as f:
+            want = json.load(f)
+        self.assertEqual(without_timings(self.r["summary"]), without_timings(want))
+        self.assertEqual(self.r["summary"]["counts"]["landmarks_final"], 20)
+        self.assertEqual(self.r["outdir"], self.py_dir)
+
+    def test_steps_trajectory_landmarks_evictions_are_the_cli_numbers(self):
+        assertColumnsEqual(self, self.r["steps"], csv_rows(os.path.join(self.cli_dir, "steps.csv")),
+                           skip=TIMING_COLUMNS)
+        self.assertEqual(self.r["steps"].dtype["step"], np.int64)
+        self.assertEqual(len(self.r["steps"]), 249)
+        assertColumnsEqual(self, self.r["landmarks"], csv_rows(os.path.join(self.cli_dir, "landmarks.csv")))
+        assertColumnsEqual(self, self.r["evictions"], csv_rows(os.path.join(self.cli_dir, "evictions.csv")))
+        tum = np.loadtxt(os.path.join(self.cli_dir, "trajectory.tum"))
+        np.testing.assert_array_equal(self.r["trajectory"]["t"], tum[:, 0])
+        np.testing.assert_array_equal(self.r["trajectory"]["x"], tum[:, 1])
+        np.testing.assert_array_equal(self.r["trajectory"]["y"], tum[:, 2])
+        # yaw from the quaternion, against the online yaw of steps.csv (one EKF pose a step)
+        np.testing.assert_allclose(self.r["trajectory"]["yaw"], self.r["steps"]["yaw"], atol=1e-12)
+        self.assertEqual(len(self.r["ground_truth"]), len(tum))
+
+    def test_state_dumps_are_written_as_asked(self):
+        states = os.listdir(os.path.join(self.py_dir, "states"))
+        self.assertEqual(sorted(states), sorted(os.listdir(os.path.join(self.cli_dir, "states"))))
+        self.assertGreater(len(states), 10)
+
+    def test_in_memory_config_and_temporary_folder(self):
+        # config as a dict (BudgetSlamApp::params), no output folder: the same map as the CLI with
+        # the same ini as a file, and nothing left in the temporary folder.
+        config = {"MappingApplication": {"rawlog_file": DEMO, "max_steps": 120},
+                  "LandmarkBudget": {"reducer": "info-content", "max_landmarks": 15}}
+        ini = os.path.join(self.tmp.name, "mem.ini")
+        with open(ini, "w") as f:
+            f.write("[MappingApplication]\nrawlog_file = %s\nmax_steps = 120\n"
+                    "[LandmarkBudget]\nreducer = info-content\nmax_landmarks = 15\n" % DEMO)
+        out = os.path.join(self.tmp.name, "mem_cli")
+        p = cli("run", "-c", ini, "-o", out, "--quiet")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        scratch = os.path.join(self.tmp.name, "scratch")
+        os.makedirs(scratch)
+        saved, budget_slam.tempfile.tempdir = budget_slam.tempfile.tempdir, scratch
+        try:
+            r = budget_slam.run(config)
+        finally:
+            budget_slam.tempfile.tempdir = saved
+        self.assertIsNone(r["outdir"])
+        self.assertEqual(os.listdir(scratch), [])
+        self.assertEqual(len(r["steps"]), 120)
+        assertColumnsEqual(self, r["landmarks"], csv_rows(os.path.join(out, "landmarks.csv")))
+        self.assertEqual(r["summary"]["reducer"], "info-content")
+        self.assertEqual(r["summary"]["config"], "config")  # in-memory: no file name
+
+
+class CompareMatchesTheCommandLine(unittest.TestCase):
+    def test_comparison_and_runs(self):
+        with tempfile.TemporaryDirectory(prefix="test_python_compare_") as tmp:
+            p = cli("compare", "-c", CONFIG, "-i", DEMO, "-o", os.path.join(tmp, "cli"), "--reducers",
+                    "mi,coverage", "--cap", "20", "--quiet")
+            self.assertEqual(p.returncode, 0, p.stderr)
+            c = budget_slam.compare(CONFIG, DEMO, reducers=["mi", "coverage"], cap=20,
+                                    outdir=os.path.join(tmp, "py"))
+            rows = csv_rows(os.path.join(tmp, "cli", "comparison.csv"))
+            assertColumnsEqual(self, c["comparison"], rows, skip=TIMING_COLUMNS)
+            self.assertEqual(list(c["comparison"]["run"]), ["reference", "mi", "coverage"])
+            self.assertEqual(list(c["comparison"]["landmarks"]), [70, 20, 20])
+            self.assertEqual(set(c["runs"]), {"reference", "mi", "coverage"})
+            for name in c["runs"]:
+                assertColumnsEqual(self, c["runs"][name]["landmarks"],
+                                   csv_rows(os.path.join(tmp, "cli", name, "landmarks.csv")))
+            self.assertEqual(c["summary"]["status"], "ok")
+            self.assertEqual(c["summary"]["runs"], 3)
+
+
+def ig_bits(cov, i):
+    """Information gain of landmark i by hand: 1/2 log2(|P_LL| |Lambda_LL|) (docs/ALGORITHMS.md)."""
+    r = slice(3 + 2 * i, 5 + 2 * i)
+    lam = np.linalg.inv(cov)
+    return 0.5 * math.log2(np.linalg.det(cov[r, r]) * np.linalg.det(lam[r, r]))
+
+
+class ReducerScoresMatchTheLoggedScores(unittest.TestCase):
+    """config.ini's coverage run with the shadow reducers mi and info-content, cap 20, state dumps:
+    every drop's score, and both shadows' scores, recomputed from the dumps."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="test_python_scores_")
+        cls.dir = os.path.join(cls.tmp.name, "run")
+        p = cli("run", "-c", CONFIG, "-i", DEMO, "-o", cls.dir, "--cap", "20", "--quiet",
+                "--set", "LandmarkBudget.dump_states=true")
+        assert p.returncode == 0, p.stderr
+        cls.evictions = csv_rows(os.path.join(cls.dir, "evictions.csv"))
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_every_logged_score_is_recomputed_from_the_dumps(self):
+        by_step = {}
+        for row in self.evictions:
+            by_step.setdefault(int(row["step"]), []).append(row)
+        checked = 0
+        for step, rows in by_step.items():
+            s = budget_slam.load_state(os.path.join(self.dir, "states", f"step_{step}.txt"))
+            self.assertEqual(s["step"], step)
+            ids, mean, cov = s["ids"], s["mean"], s["cov"]
+            for row in rows:  # drops of one event, in order
+                self.assertEqual(row["reducer"], "coverage")
+                logged = {"coverage": (int(row["landmark_id"]), float(row["score"]))}
+                for shadow in row["shadow_choices"].split(";"):
+                    name, lid, score = shadow.rsplit(":", 2)
+                    logged[name] = (int(lid), float(score))
+                self.assertEqual(set(logged), {"coverage", "mi", "info-content"})
+                for name, (lid, score) in logged.items():
+                    got = budget_slam.reducer_scores(name, mean, cov, ids, step=step)
+                    self.assertEqual(list(got["ids"]), list(ids))
+                    k = list(ids).index(lid)
+                    self.assertAlmostEqual(got["scores"][k], score, delta=1e-7 * max(1.0, abs(score)),
+                                           msg=f"{name} step {step} landmark {lid}")
+                checked += 1
+                # The EKF drops a landmark by deleting its rows and columns.
+                k = list(ids).index(int(row["landmark_id"]))
+                keep = [j for j in range(len(mean)) if j not in (3 + 2 * k, 4 + 2 * k)]
+                ids, mean, cov = np.delete(ids, k), mean[keep], cov[np.ix_(keep, keep)]
+        self.assertEqual(checked, len(self.evictions))
+        self.assertGreater(checked, 300)
+
+    def test_scores_by_hand_and_choices(self):
+        # the last dump (the first ones hold the zero robot covariance of the start)
+        name = max(os.listdir(os.path.join(self.dir, "states")), key=lambda n: int(n[5:-4]))
+        s = budget_slam.load_state(os.path.join(self.dir, "states", name))
+        ids, mean, cov = s["ids"], s["mean"], s["cov"]
+        mi = budget_slam.reducer_scores("mi", mean, cov, ids)
+        for i in range(len(ids)):
+            self.assertAlmostEqual(mi["scores"][i], ig_bits(cov, i), delta=1e-9)
+        self.assertEqual(mi["choice"], ids[int(np.argmin(mi["scores"]))])
+        ic = budget_slam.reducer_scores("info-content", mean, cov, ids)
+        for i in range(len(ids)):
+            c = cov[3 + 2 * i:5 + 2 * i, 3 + 2 * i:5 + 2 * i]
+            # Dissanayake's 1/sigma_xx^2 + 1/sigma_yy^2, sigma^2 being the variances
+            self.assertAlmostEqual(ic["scores"][i], 1 / c[0, 0] + 1 / c[1, 1],
+                                   delta=1e-9 * ic["scores"][i])
+        # oldest reads first_step; candidates restrict the choice
+        first = np.arange(len(ids))[::-1] * 10
+        old = budget_slam.reducer_scores("oldest", mean, cov, ids, first_step=first)
+        np.testing.assert_array_equal(old["scores"], first)
+        self.assertEqual(old["choice"], ids[-1])
+        some = budget_slam.reducer_scores("oldest", mean, cov, ids, first_step=first, candidates=ids[:2])
+        self.assertEqual(some["choice"], ids[1])
+        # every registered reducer but none scores the state
+        for r in budget_slam.reducer_names():
+            if r != "none":
+                got = budget_slam.reducer_scores(r, mean, cov, ids, obs_mean=mean[3:].reshape(-1, 2))
+                self.assertIn(got["choice"], list(ids))
+                self.assertEqual(len(got["scores"]), len(ids))
+
+
+class CtrlC(unittest.TestCase):
+    def test_sigint_ends_the_run_cleanly_and_raises_keyboard_interrupt(self):
+        # A long run (Victoria Park, EKF) in a child Python; SIGINT once steps are being written.
+        with tempfile.TemporaryDirectory(prefix="test_python_sigint_") as tmp:
+            out = os.path.join(tmp, "out")
+            code = ("import budget_slam, sys\n"
+                    "try:\n"
+                    f"    budget_slam.run({CONFIG!r}, {os.path.join(ROOT, 'rawlogs', 'victoria_park.rawlog')!r},"
+                    f" outdir={out!r}, reducer='info-content', cap=30)\n"
+                    "except KeyboardInterrupt as e:\n"
+                    "    print('KeyboardInterrupt:', e); sys.exit(130)\n")
+            proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                    text=True, env=dict(os.environ))
+            steps = os.path.join(out, "steps.csv")
+            deadline = time.time() + 120
+            while time.time() < deadline and proc.poll() is None:
+                if os.path.isfile(steps) and os.path.getsize(steps) > 2000:
+                    break
+                time.sleep(0.05)
+            self.assertIsNone(proc.poll(), "the run ended before it could be interrupted")
+            proc.send_signal(signal.SIGINT)
+            stdout, stderr = proc.communicate(timeout=120)
+            self.assertEqual(proc.returncode, 130, stderr)
+            self.assertRegex(stdout, r"^KeyboardInterrupt: interrupted by Ctrl-C after step \d+\n$")
+            with open(os.path.join(out, "summary.json")) as f:
+                summary = json.load(f)
+            self.assertEqual(summary["status"], "interrupted")
+            last = int(stdout.split()[-1])
+            self.assertEqual(summary["counts"]["steps"], last + 1)
+            self.assertEqual(len(csv_rows(steps)), last + 1)
+            self.assertTrue(os.path.isfile(os.path.join(out, "landmarks.csv")))
+
+
+class BadArgumentsRaiseTheCliMessage(unittest.TestCase):
+    def both(self, tmp, python_call, cli_args):
+        """The CLI's last stderr line and the exception of the same call in Python."""
+        p = cli(*cli_args)
+        with self.assertRaises(budget_slam.Error) as ctx:
+            python_call()
+        return p, ctx.exception
+
+    def test_failed_runs_and_refused_command_lines(self):
+        with tempfile.TemporaryDirectory(prefix="test_python_errors_") as tmp:
+            cases = [
+                # (python call, CLI args): bad reducer, bad value, missing rawlog, missing config
+                (lambda o: budget_slam.run(CONFIG, DEMO, outdir=o, reducer="nosuch"),
+                 lambda o: ["run", "-c", CONFIG, "-i", DEMO, "-o", o, "--reducer", "nosuch", "--quiet"]),
+                (lambda o: budget_slam.run(CONFIG, DEMO, {"LandmarkBudget.max_landmarks": -3}, outdir=o),
+                 lambda o: ["run", "-c", CONFIG, "-i", DEMO, "-o", o, "--set", "LandmarkBudget.max_landmarks=-3",
+                            "--quiet"]),
+                (lambda o: budget_slam.run(CONFIG, "/nonexistent/x.rawlog", outdir=o),
+                 lambda o: ["run", "-c", CONFIG, "-i", "/nonexistent/x.rawlog", "-o", o, "--quiet"]),
+                (lambda o: budget_slam.compare(CONFIG, DEMO, reducers=["mi", "nosuch"], outdir=o),
+                 lambda o: ["compare", "-c", CONFIG, "-i", DEMO, "-o", o, "--reducers", "mi,nosuch", "--quiet"]),
+                (lambda o: budget_slam.run("/nonexistent/config.ini", DEMO, outdir=o),
+                 lambda o: ["run", "-c", "/nonexistent/config.ini", "-i", DEMO, "-o", o, "--quiet"]),
+            ]
+            for k, (python_call, cli_args) in enumerate(cases):
+                o_py, o_cli = os.path.join(tmp, f"py{k}"), os.path.join(tmp, f"cli{k}")
+                p, e = self.both(tmp, lambda: python_call(o_py), cli_args(o_cli))
+                self.assertNotEqual(p.returncode, 0)
+                self.assertEqual(e.exit_code, p.returncode, str(e))
+                lines = p.stderr.strip().splitlines()
+                self.assertEqual(len(lines), 1, p.stderr)  # one line
+                line = lines[0].replace(o_cli, o_py)
+                self.assertTrue(line.startswith("budget-slam: "), line)
+                line = line[len("budget-slam: "):]
+                self.assertEqual(line[len("error: "):] if line.startswith("error: ") else line, str(e))
+                self.assertEqual(isinstance(e, budget_slam.ConfigError), p.returncode == 2)
+                if p.returncode == 2:
+                    self.assertIsInstance(e, ValueError)
+                if os.path.isfile(os.path.join(o_cli, "summary.json")):  # the folder says why
+                    with open(os.path.join(o_py, "summary.json")) as f:
+                        self.assertEqual(json.load(f)["error"], str(e))
+                    self.assertEqual(e.outdir, o_py)
+            # a non-empty output folder is refused unless force
+            with self.assertRaises(budget_slam.Error) as ctx:
+                budget_slam.run(CONFIG, DEMO, outdir=tmp, cap=20)
+            self.assertIn("is not empty (use --force to write into it)", str(ctx.exception))
+
+    def test_reducer_scores_arguments(self):
+        mean, cov, ids = np.zeros(7), np.eye(7), [4, 9]
+        with self.assertRaises(budget_slam.ConfigError) as ctx:
+            budget_slam.reducer_scores("nosuch", mean, cov, ids)
+        with tempfile.TemporaryDirectory(prefix="test_python_errors_") as tmp:
+            p = cli("run", "-c", CONFIG, "-i", DEMO, "-o", tmp, "--reducer", "nosuch", "--quiet")
+        self.assertIn(str(ctx.exception), p.stderr)  # the registry's own message
+        self.assertTrue(str(ctx.exception).startswith("unknown reducer 'nosuch' (registered: "))
+        cases = [(("none", mean, cov, ids), "reducer 'none' scores nothing: it is the unreduced run"),
+                 (("mi", np.zeros(6), np.eye(6), ids), "mean: 6 values, expected 3 + 2 x 2 ids = 7"),
+                 (("mi", mean, np.ones((7, 6)), ids), "cov: expected a square 2-D array"),
+                 (("mi", mean, np.eye(9), ids), "cov: 9 x 9, expected 7 square"),
+                 (("mi", mean, np.eye(7), [4, 4]), "ids: landmark 4 is listed twice")]
+        for args, message in cases:
+            with self.assertRaises(budget_slam.ConfigError) as ctx:
+                budget_slam.reducer_scores(*args)
+            self.assertEqual(str(ctx.exception), message)
+        bad = np.eye(7)
+        bad[3, 4] = 0.5
+        with self.assertRaises(budget_slam.ConfigError) as ctx:
+            budget_slam.reducer_scores("mi", mean, bad, ids)
+        self.assertEqual(str(ctx.exception), "cov: not symmetric")
+        with self.assertRaises(TypeError):
+            budget_slam.run(CONFIG, DEMO, overrides=["LandmarkBudget.seed=3"])
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--budget-slam", default=os.path.join(ROOT, "build", "bin", "budget-slam"))
+    args, rest = ap.parse_known_args()
+    BUDGET_SLAM = os.path.abspath(args.budget_slam)
+    unittest.main(argv=[sys.argv[0]] + rest)
