@@ -97,10 +97,10 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
 }
 
 void Pipeline::process(const Step& raw) {
-  const auto& budget = manager_->options();
   const auto t0 = std::chrono::steady_clock::now();
   const double cpu0 = threadCpuSeconds();
-  const Step filtered = budget.readmit_evicted ? raw : withoutReadingsOf(raw, manager_->evicted());
+  // Without the readings of landmarks dropped for good and of refused newcomers still waiting.
+  const Step filtered = manager_->admissible(raw);
 
   const std::size_t before = backend_->landmarkCount();
   backend_->process(filtered);
@@ -112,7 +112,7 @@ void Pipeline::process(const Step& raw) {
   if (diverged(backend_->robotPose()))
     throw Error("step " + std::to_string(raw.index) + ": the " + backend_->name() +
                 " estimate diverged (the robot pose or its covariance is not finite)");
-  const auto drops = manager_->enforce(*backend_, raw.index);
+  const auto drops = manager_->enforce(*backend_, filtered);
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = threadCpuSeconds() - cpu0;
 
@@ -163,9 +163,11 @@ void Pipeline::process(const Step& raw) {
 }
 
 void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
-  evictions_ += drops.size();
   for (const auto& e : drops) {
-    if (dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
+    // A refused newcomer never held a place between steps: counted apart from the drops.
+    const bool refused = e.reason == "refused";
+    ++(refused ? refused_ : evictions_);
+    if (!refused && dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
     std::string shadow;
     for (const auto& [name, choice] : e.shadow)
       shadow += (shadow.empty() ? "" : ";") + name + ":" + std::to_string(choice.id) + ":" +
@@ -285,6 +287,7 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
                  {"landmarks_peak", peak_landmarks_},
                  {"landmarks_added", landmarks_added_},
                  {"evictions", evictions_},
+                 {"refused", refused_},
                  {"poses_kept", backend_->poseCount()},
                  {"poses_marginalized", manager_->posesMarginalized()}};
   j["timings"] = {
