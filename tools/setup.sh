@@ -13,6 +13,7 @@ PACKAGES=(
   clang-format
   slurm-wlm munge                  # sweeps on a SLURM cluster; tools/slurm/local-cluster.sh
   python3-dev pybind11-dev         # the budget_slam Python module
+  libglpk-dev python3-scipy        # offline coverage optimum (integer program); Wilcoxon tests
 )
 
 missing=()
