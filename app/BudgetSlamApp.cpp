@@ -80,7 +80,10 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
                                         false, "", "a,b,c");
   TCLAP::ValueArg<unsigned> threads(
       "", "threads", "runs at once (default: one a core, at most one a run)", false, 0, "N");
-  if (compare) cmd.add(reducers), cmd.add(threads);
+  TCLAP::SwitchArg offline_optimum(
+      "", "offline-optimum",
+      "adds the best place coverage any cap-sized map could give with hindsight (GLPK)");
+  if (compare) cmd.add(reducers), cmd.add(threads), cmd.add(offline_optimum);
   TCLAP::ValueArg<long long> cap("", "cap",
                                  "landmark cap; overrides [LandmarkBudget] "
                                  "max_landmarks",
@@ -116,6 +119,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   if (cap.isSet()) cli_.cap = cap.getValue();
   cli_.sets = sets.getValue();
   if (compare) cli_.reducers = splitList(reducers.getValue()), cli_.threads = threads.getValue();
+  if (compare) cli_.offline_optimum = offline_optimum.getValue();
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
 

@@ -178,6 +178,13 @@ double PlaceCoverageReducer::coverage() const {
   return f;
 }
 
+std::vector<std::vector<LandmarkId>> PlaceCoverageReducer::placeSightings() const {
+  std::vector<std::vector<LandmarkId>> out;
+  for (const Place& p : places_)
+    if (p.used) out.push_back(p.seen);
+  return out;
+}
+
 std::vector<LandmarkId> PlaceCoverageReducer::observedFrom(const mrpt::math::TPose2D& robot) const {
   const auto it = place_of_key_.find(placeOf(robot));
   return it == place_of_key_.end() ? std::vector<LandmarkId>() : places_[it->second].seen;

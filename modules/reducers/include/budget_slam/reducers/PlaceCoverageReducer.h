@@ -80,6 +80,8 @@ class PlaceCoverageReducer : public Reducer {
   std::size_t placeCount() const { return place_of_key_.size(); }
   /// Landmarks of the map observed from the place of `robot` (sorted ids).
   std::vector<LandmarkId> observedFrom(const mrpt::math::TPose2D& robot) const;
+  /// For every place remembered, the landmarks observed from it (sorted ids), in slot order.
+  std::vector<std::vector<LandmarkId>> placeSightings() const;
   double placeSize() const { return size_; }
   std::size_t headingSectors() const { return sectors_; }
 
