@@ -2,25 +2,77 @@
 
 #include <tclap/CmdLine.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include "Interrupt.h"
 #include "Pipeline.h"
 #include "ProgressBar.h"
 #include "RunConfig.h"
+#include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/dataset/RawlogReader.h"
+#include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/RunFiles.h"
 
 namespace budget_slam::app {
 namespace {
 
-constexpr const char* kUsage =
-    "usage: budget-slam run|compare -c config.ini [-i in.rawlog] [-o outdir] [options]\n"
-    "       budget-slam <command> --help";
+/// `budget-slam --help`: the commands, and the reducers from the registry.
+std::string topLevelHelp() {
+  std::string text =
+      "budget-slam: landmark SLAM on an MRPT rawlog under a landmark budget\n\n"
+      "USAGE:\n\n"
+      "   budget-slam run     -c config.ini [-i in.rawlog] [-o outdir] [--reducer NAME]\n"
+      "                       [--cap N|none] [--backend ekf|graph] [--set Section.key=value]...\n"
+      "   budget-slam compare -c config.ini [-i in.rawlog] [-o outdir] [--reducers a,b,c]\n"
+      "                       [--cap N|none] [--threads N] [...]\n"
+      "   budget-slam <command> --help    every option of a command\n"
+      "   budget-slam --version\n\n"
+      "Reducers:\n\n";
+  for (const auto* e : reducers::builtinReducers().entries())
+    text += "   " + e->name + std::string(e->name.size() < 14 ? 14 - e->name.size() : 1, ' ') +
+            e->summary + "\n";
+  return text + "\nExit codes: 0 ok, 1 failed run, 2 bad command line, 130 interrupted.\n";
+}
+
+constexpr const char* kVersion = "0.1";
+
+/// --cap: a number of landmarks >= 1, or none (no cap).
+void checkCapFlag(const std::string& v) {
+  if (v == "none") return;
+  char* end = nullptr;
+  errno = 0;
+  const long long n = std::strtoll(v.c_str(), &end, 10);
+  if (v.empty() || end != v.c_str() + v.size() || errno == ERANGE)
+    throw UsageError("--cap '" + v + "': not a number of landmarks, nor none");
+  if (n < 1) throw UsageError("--cap " + v + ": must be at least 1 (or none for no cap)");
+}
+
+/// --reducer and --reducers name registered reducers; compare's list holds each once and never
+/// `none` (its reference run is always there).
+void checkReducerFlags(const std::string& reducer, const std::vector<std::string>& compared) {
+  const auto known = [](const std::string& flag, const std::string& name) {
+    try {
+      reducers::builtinReducers().entry(name);
+    } catch (const ConfigError& e) {
+      throw UsageError(flag + ": " + e.what());
+    }
+  };
+  if (!reducer.empty()) known("--reducer", reducer);
+  for (const auto& n : compared) {
+    known("--reducers", n);
+    if (n == "none") throw UsageError("--reducers: 'none' is the reference run, always included");
+  }
+  if (std::set<std::string>(compared.begin(), compared.end()).size() != compared.size())
+    throw UsageError("--reducers: a reducer is listed twice");
+}
 
 std::vector<std::string> splitList(const std::string& s) {
   std::vector<std::string> out;
@@ -44,6 +96,18 @@ std::string fixed(double v, int digits) {
   return o.str();
 }
 
+/// The values of run's and compare's flags (TCLAP checked their types).
+void checkFlagValues(const CommandLine& cli) {
+  if (cli.cap) checkCapFlag(*cli.cap);
+  if (!cli.backend.empty()) {
+    const auto& b = MappingOptions::backends();
+    if (std::find(b.begin(), b.end(), cli.backend) == b.end())
+      throw UsageError("--backend " + cli.backend + ": must be one of ekf, graph");
+  }
+  checkReducerFlags(cli.reducer, cli.reducers);
+  for (const auto& set : cli.sets) checkSet(set);
+}
+
 }  // namespace
 
 void BudgetSlamApp::initialize(int argc, const char* const* argv) {
@@ -51,19 +115,32 @@ void BudgetSlamApp::initialize(int argc, const char* const* argv) {
 }
 
 void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
-  if (args.size() < 2 || (args[1] != "run" && args[1] != "compare")) {
-    if (args.size() >= 2 && (args[1] == "--help" || args[1] == "-h")) throw ConfigError(kUsage);
-    throw ConfigError(std::string("expected a command, run or compare\n") + kUsage);
-  }
   cli_ = CommandLine();
-  cli_.command = args[1];
+  help_.clear();
+  const std::string command = args.size() >= 2 ? args[1] : "";
+  if (command == "--help" || command == "-h") {
+    help_ = topLevelHelp();
+    return;
+  }
+  if (command == "--version") {
+    help_ = std::string("budget-slam version ") + kVersion + "\n";
+    return;
+  }
+  if (command != "run" && command != "compare")
+    throw UsageError((command.empty()
+                          ? std::string("expected a command, run or compare")
+                          : "unknown command '" + command + "' (expected run or compare)") +
+                     "; see budget-slam --help");
+  cli_.command = command;
   const bool compare = cli_.command == "compare";
 
+  CapturedUsage usage;  // outlives cmd, which only borrows it
   TCLAP::CmdLine cmd(compare ? "Runs every reducer and the unreduced reference on one rawlog and "
                                "compares them"
                              : "Runs landmark SLAM on a rawlog under a landmark budget",
-                     ' ', "0.1", true);
+                     ' ', kVersion, true);
   cmd.setExceptionHandling(false);
+  cmd.setOutput(&usage);
   TCLAP::ValueArg<std::string> config("c", "config", "ini file (MRPT style)", false, "", "file",
                                       cmd);
   TCLAP::ValueArg<std::string> rawlog("i", "input",
@@ -84,10 +161,11 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
       "", "offline-optimum",
       "adds the best place coverage any cap-sized map could give with hindsight (GLPK)");
   if (compare) cmd.add(reducers), cmd.add(threads), cmd.add(offline_optimum);
-  TCLAP::ValueArg<long long> cap("", "cap",
-                                 "landmark cap; overrides [LandmarkBudget] "
-                                 "max_landmarks",
-                                 false, 0, "N", cmd);
+  TCLAP::ValueArg<std::string> cap("", "cap",
+                                   "landmark cap, or none for no cap (reducer none, mi in "
+                                   "objective or incremental mode); overrides [LandmarkBudget] "
+                                   "max_landmarks",
+                                   false, "", "N|none", cmd);
   TCLAP::ValueArg<std::string> backend("", "backend",
                                        "ekf or graph; overrides "
                                        "[MappingApplication] backend",
@@ -99,16 +177,15 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
                          cmd);
 
   std::vector<std::string> argv;
-  argv.push_back(args[0] + " " + args[1]);
+  argv.push_back("budget-slam " + args[1]);  // the usage names the program, not its path
   argv.insert(argv.end(), args.begin() + 2, args.end());
   try {
     cmd.parse(argv);
   } catch (const TCLAP::ArgException& e) {
-    throw ConfigError(
-        "command line: " + e.error() +
-        (e.argId().empty() || e.argId() == " " ? std::string() : " (" + e.argId() + ")"));
+    throw UsageError(describe(e) + "; see budget-slam " + cli_.command + " --help");
   } catch (const TCLAP::ExitException&) {
-    throw ConfigError(kUsage);
+    help_ = usage.text;  // --help or --version
+    return;
   }
 
   cli_.config = config.getValue();
@@ -122,6 +199,12 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   if (compare) cli_.offline_optimum = offline_optimum.getValue();
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
+  // Flag values are part of the command line: a bad one exits 2 before anything is written.
+  try {
+    checkFlagValues(cli_);
+  } catch (const ConfigError& e) {
+    throw UsageError(e.what() + std::string("; see budget-slam ") + cli_.command + " --help");
+  }
 
   if (!cli_.config.empty() || params.getContent().empty()) {
     const std::string path = cli_.config.empty() ? "config.ini" : cli_.config;
@@ -137,6 +220,10 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
 int BudgetSlamApp::run() {
   if (!out) out = &std::cout;
   if (!err) err = &std::cerr;
+  if (!help_.empty()) {
+    *out << help_ << std::flush;
+    return kExitOk;
+  }
   InterruptGuard guard;
   InterruptGuard::clear();
   return cli_.command == "compare" ? runCompare() : runRun();
@@ -147,13 +234,18 @@ int BudgetSlamApp::runRun() {
   std::unique_ptr<Pipeline> pipeline;
   std::size_t steps_read = 0;
 
+  // What the run was given, in summary.json whether it ends ok or not.
+  nlohmann::json given = {{"config", config_label_}};
+  if (!cli_.rawlog.empty()) given["rawlog"] = cli_.rawlog;
   const auto fail = [&](const std::string& msg, const std::string& status) {
     *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ") << msg << std::endl;
     try {
       if (pipeline) {
-        pipeline->finish(status, msg, steps_read);
+        pipeline->finish(status, msg, steps_read, given);
       } else if (folder) {
-        report::writeJson(folder->file("summary.json"), {{"status", status}, {"error", msg}});
+        nlohmann::json j = {{"status", status}, {"error", msg}};
+        j.update(given);
+        report::writeJson(folder->file("summary.json"), j);
       }
     } catch (const std::exception& e) {
       *err << "budget-slam: error: while saving outputs: " << e.what() << std::endl;
@@ -174,6 +266,7 @@ int BudgetSlamApp::runRun() {
     return fail(e.what(), "failed");
   }
 
+  given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", config_label_}};
   try {
     folder.emplace(rc.outdir, cli_.force);
   } catch (const Error& e) {
@@ -211,14 +304,15 @@ int BudgetSlamApp::runRun() {
       throw InputError("rawlog '" + rc.rawlog + "' holds no CObservationBearingRange (it holds: " +
                        joined(reader.observationClasses()) + ")");
 
-    const auto summary = pipeline->finish(
-        "ok", "", steps_read,
-        {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", config_label_}});
+    const auto summary = pipeline->finish("ok", "", steps_read, given);
+    // Shadow reducers are only logged; their failures end nothing, but are never silent.
+    for (const auto& f : pipeline->budget().shadowFailures())
+      *err << "budget-slam: warning: " << shadowFailureLine(f) << std::endl;
     if (!cli_.quiet) {
       const auto pose = pipeline->backend().robotPose().mean;
       *out << "budget-slam run: " << steps_read << " steps, backend " << rc.mapping.backend
            << ", reducer " << rc.budget.reducer;
-      if (pipeline->budget().capped()) *out << ", cap " << rc.budget.max_landmarks;
+      if (pipeline->budget().capped()) *out << ", cap " << *rc.budget.max_landmarks;
       *out << ": " << pipeline->backend().landmarkCount() << " landmarks kept, "
            << pipeline->evictions() << " dropped\n"
            << "final pose x=" << fixed(pose.x, 3) << " m y=" << fixed(pose.y, 3)

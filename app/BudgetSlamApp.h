@@ -18,7 +18,7 @@ struct CommandLine {
   std::string command;  ///< run | compare
   std::string config;   ///< -c; "" = keep params as set by the caller, or ./config.ini
   std::string rawlog, outdir, reducer, backend;
-  std::optional<long long> cap;
+  std::optional<std::string> cap;     ///< --cap as given: a number >= 1, or none
   std::vector<std::string> sets;      ///< --set Section.key=value
   std::vector<std::string> reducers;  ///< compare: --reducers a,b,c
   unsigned threads = 0;               ///< compare: --threads, 0 = one a core
@@ -31,12 +31,14 @@ struct CommandLine {
 class BudgetSlamApp {
  public:
   /// Parses the command line (args[0] = program name). Loads -c into `params`.
-  /// Throws ConfigError on bad usage.
+  /// Throws UsageError on a bad command line (main exits 2), ConfigError when -c cannot be read.
+  /// --help and --version only keep their text for run().
   void initialize(const std::vector<std::string>& args);
   void initialize(int argc, const char* const* argv);
 
   /// Runs the command. Returns the process exit code (0 ok, 1 failed, 130 interrupted); never
   /// throws: errors become one line on `err` and, when the output folder exists, summary.json.
+  /// After --help or --version: prints that text once on `out` and returns 0.
   int run();
 
   mrpt::config::CConfigFileMemory params;  ///< the ini, before sidecar, --set and flags
@@ -52,6 +54,7 @@ class BudgetSlamApp {
 
   CommandLine cli_;
   std::string config_label_ = "config";
+  std::string help_;  ///< usage or version text to print instead of running
 };
 
 }  // namespace budget_slam::app

@@ -98,16 +98,11 @@ int BudgetSlamApp::runCompare() {
   std::vector<std::string> names = cli_.reducers;
   try {
     rc = loadRunConfig(params, cli_, config_label_);
+    // --reducers was checked with the command line (BudgetSlamApp::initialize).
     if (names.empty())
       for (const auto& n : reducers::builtinReducers().names())
         if (n != "none") names.push_back(n);
-    for (const auto& n : names) {
-      reducers::builtinReducers().entry(n);
-      if (n == "none" || n == kReference)
-        throw ConfigError("--reducers: '" + n + "' is the reference run, always included");
-    }
-    if (std::set<std::string>(names.begin(), names.end()).size() != names.size())
-      throw ConfigError("--reducers: a reducer is listed twice");
+    for (const auto& n : names) checkCapFor(rc, cli_, n, config_label_);
   } catch (const Error& e) {
     if (!cli_.outdir.empty()) try {
         top.emplace(cli_.outdir, cli_.force);
@@ -220,8 +215,12 @@ int BudgetSlamApp::runCompare() {
   const std::size_t ref_poses = ref.pipeline->backend().poseCount();
   int exit_code = 0;
   std::string first_error;
+  std::vector<std::string> failures;  ///< one stderr line a run that did not end ok
   for (const auto& r : runs) {
-    nlohmann::json extra = {{"rawlog", rc.rawlog}, {"config", config_label_}, {"run", r->name}};
+    nlohmann::json extra = {{"rawlog", rc.rawlog},
+                            {"sidecar_ini", rc.sidecar},
+                            {"config", config_label_},
+                            {"run", r->name}};
     metrics::ReferenceMetrics m;
     if (ref.status == "ok" && r->status == "ok") {
       m = metrics::compareWithReference(ref.pipeline->backend(), r->pipeline->backend(),
@@ -237,8 +236,12 @@ int BudgetSlamApp::runCompare() {
     }
     if (r->status != "ok") {
       exit_code = r->status == "interrupted" && exit_code != 1 ? 130 : 1;
-      if (first_error.empty()) first_error = "run '" + r->name + "': " + r->error;
+      const std::string line = "run '" + r->name + "': " + r->error;
+      if (first_error.empty()) first_error = line;
+      failures.push_back((r->status == "interrupted" ? "" : "error: ") + line);
     }
+    for (const auto& f : r->pipeline->budget().shadowFailures())
+      failures.push_back("warning: run '" + r->name + "': " + shadowFailureLine(f));
 
     report::ComparisonRow row;
     row.run = r->name;
@@ -246,7 +249,7 @@ int BudgetSlamApp::runCompare() {
     row.backend = r->pipeline->backend().name();
     row.status = r->status;
     row.cap = r->pipeline->budget().capped()
-                  ? static_cast<long long>(r->pipeline->budget().options().max_landmarks)
+                  ? static_cast<long long>(*r->pipeline->budget().options().max_landmarks)
                   : -1;
     row.landmarks = r->pipeline->backend().landmarkCount();
     row.poses = r->pipeline->backend().poseCount();
@@ -266,11 +269,14 @@ int BudgetSlamApp::runCompare() {
 
   try {
     report::writeComparisonCsv(top->file("comparison.csv"), rows);
-    const std::string title =
-        "budget-slam compare: " + rc.rawlog + ", backend " + rc.mapping.backend + ", cap " +
-        std::to_string(rc.budget.max_landmarks) + ", " + std::to_string(steps.size()) + " steps";
+    const std::string title = "budget-slam compare: " + rc.rawlog + ", backend " +
+                              rc.mapping.backend + ", cap " +
+                              reducers::BudgetOptions::capText(rc.budget.max_landmarks) + ", " +
+                              std::to_string(steps.size()) + " steps";
     std::string md = report::writeComparisonMarkdown(top->file("comparison.md"), title, rows);
     if (cli_.offline_optimum) {
+      if (!rc.budget.max_landmarks)
+        throw InputError("--offline-optimum needs a cap (not --cap none)");
       std::vector<FinalMap> maps;
       for (const auto& r : runs) {
         FinalMap m{r->name, {}};
@@ -279,7 +285,7 @@ int BudgetSlamApp::runCompare() {
       }
       const std::string table =
           writeOfflineOptimum(top->file("offline_optimum.csv"), rc.ini, steps,
-                              ref.pipeline->onlinePoses(), maps, rc.budget.max_landmarks);
+                              ref.pipeline->onlinePoses(), maps, *rc.budget.max_landmarks);
       std::ofstream(top->file("comparison.md"), std::ios::app) << table;
       md += table;
     }
@@ -305,6 +311,9 @@ int BudgetSlamApp::runCompare() {
         top->file("summary.json"),
         {{"status", exit_code == 0 ? "ok" : (exit_code == 130 ? "interrupted" : "failed")},
          {"error", first_error},
+         {"rawlog", rc.rawlog},
+         {"sidecar_ini", rc.sidecar},
+         {"config", config_label_},
          {"runs", names.size() + 1},
          {"steps", steps.size()},
          {"threads", threads}});
@@ -312,8 +321,9 @@ int BudgetSlamApp::runCompare() {
   } catch (const std::exception& e) {
     return fail(std::string("while saving outputs: ") + e.what());
   }
-  if (exit_code != 0)
-    *err << "budget-slam: " << (exit_code == 130 ? "" : "error: ") << first_error << std::endl;
+  // One line a run that failed or was interrupted (the reference's failure fails every
+  // comparison, but the others' errors are their own), and a warning a failed shadow reducer.
+  for (const auto& line : failures) *err << "budget-slam: " << line << std::endl;
   return exit_code;
 }
 

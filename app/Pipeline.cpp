@@ -4,6 +4,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iomanip>
 
@@ -48,7 +49,44 @@ double nanIfEmpty(std::size_t n, double v) {
 /// JSON has no NaN: write null instead.
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
+bool finite(const LandmarkView& l) {
+  return l.mean.allFinite() && l.cov.allFinite() && l.obs_mean.allFinite();
+}
+
+/// A cell of evictions.csv's shadow_choices: `name:id:score` a shadow, `;`-separated; a shadow
+/// that failed at this drop has empty id and score (`name::`).
+std::string shadowChoices(const reducers::Eviction& e) {
+  std::string out;
+  for (const auto& [name, choice] : e.shadow) {
+    out += (out.empty() ? "" : ";") + name + ":";
+    if (choice.id != kNoLandmarkId)
+      out += std::to_string(choice.id) + ":" +
+             (std::isnan(choice.score) ? std::string() : report::formatDouble(choice.score));
+    else
+      out += ":";
+  }
+  return out;
+}
+
+/// A cell of evictions.csv's shadow_errors: `name: why` a failed shadow, `;`-separated (a `;`
+/// inside a message reads as `,`).
+std::string shadowErrors(const reducers::Eviction& e) {
+  std::string out;
+  for (auto [name, why] : e.shadow_errors) {
+    std::replace(why.begin(), why.end(), ';', ',');
+    out += (out.empty() ? "" : ";") + name + ": " + why;
+  }
+  return out;
+}
+
 }  // namespace
+
+std::string shadowFailureLine(const reducers::ShadowFailures& f) {
+  return "shadow reducer '" + f.shadow + "' failed at " + std::to_string(f.failures) +
+         " drop decision" + (f.failures == 1 ? "" : "s") + " from step " +
+         std::to_string(f.first_step) + " to " + std::to_string(f.last_step) +
+         " (first: " + f.first_error + "); the active reducer's drops stand";
+}
 
 std::unique_ptr<Backend> makeBackend(const std::string& name,
                                      const mrpt::config::CConfigFileBase& ini) {
@@ -168,10 +206,6 @@ void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
     const bool refused = e.reason == "refused";
     ++(refused ? refused_ : evictions_);
     if (!refused && dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
-    std::string shadow;
-    for (const auto& [name, choice] : e.shadow)
-      shadow += (shadow.empty() ? "" : ";") + name + ":" + std::to_string(choice.id) + ":" +
-                report::formatDouble(choice.score);
     evictions_csv_.cell(e.step)
         .cell(static_cast<long long>(e.id))
         .cell(e.reducer)
@@ -179,7 +213,8 @@ void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
         .cell(e.n_before)
         .cell(e.n_after)
         .cell(e.reason)
-        .cell(shadow);
+        .cell(shadowChoices(e))
+        .cell(shadowErrors(e));
     evictions_csv_.endRow();
   }
 }
@@ -189,7 +224,7 @@ report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& traj
   report::MapContent map;
   const auto& budget = manager_->options();
   map.title = backend_->name() + ", reducer " + budget.reducer +
-              (manager_->capped() ? ", cap " + std::to_string(budget.max_landmarks) : "") + ": " +
+              (manager_->capped() ? ", cap " + std::to_string(*budget.max_landmarks) : "") + ": " +
               std::to_string(landmarks.size()) + " landmarks kept, " + std::to_string(evictions_) +
               " dropped";
   for (const auto& p : trajectory) map.trajectory.push_back(p.pose);
@@ -268,7 +303,13 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
                                 std::size_t steps_in_rawlog, const nlohmann::json& extra) {
   if (status == "ok") complete();
   const auto trajectory = backend_->trajectory();
-  const auto landmarks = backend_->landmarks();
+  // A run that failed (e.g. diverged) may hold landmarks with non-finite estimates: they are
+  // left out of landmarks.csv, map.png and the metrics, and counted in summary.json.
+  std::vector<LandmarkView> landmarks = backend_->landmarks();
+  const std::size_t held = landmarks.size();
+  landmarks.erase(std::remove_if(landmarks.begin(), landmarks.end(),
+                                 [](const LandmarkView& l) { return !finite(l); }),
+                  landmarks.end());
   report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory);
   report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks);
   writeMap(trajectory, landmarks);
@@ -281,9 +322,10 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   j["error"] = error;
   j["backend"] = backend_->name();
   j["reducer"] = budget.reducer;
-  j["cap"] = manager_->capped() ? nlohmann::json(budget.max_landmarks) : nlohmann::json();
+  j["cap"] = manager_->capped() ? nlohmann::json(*budget.max_landmarks) : nlohmann::json();
   j["counts"] = {{"steps", steps_done_},
                  {"landmarks_final", landmarks.size()},
+                 {"landmarks_not_finite", held - landmarks.size()},
                  {"landmarks_peak", peak_landmarks_},
                  {"landmarks_added", landmarks_added_},
                  {"evictions", evictions_},
@@ -304,6 +346,14 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
                          {"total", a.total},
                          {"rate", number(a.total ? a.rate() : NAN)}});
   j["agreement"] = agreement;
+  nlohmann::json shadow_failures = nlohmann::json::array();
+  for (const auto& f : manager_->shadowFailures())
+    shadow_failures.push_back({{"shadow", f.shadow},
+                               {"failures", f.failures},
+                               {"first_step", f.first_step},
+                               {"last_step", f.last_step},
+                               {"first_error", f.first_error}});
+  j["shadow_failures"] = shadow_failures;
 
   if (truth_ && !truth_->empty()) {
     const auto e = metrics::groundTruthErrors(trajectory, {}, landmarks, *truth_, steps_in_rawlog);

@@ -98,6 +98,9 @@ class Pipeline {
   double total_step_s_ = 0, max_step_s_ = 0;
 };
 
+/// One line saying how a shadow reducer failed over a run (a warning on stderr).
+std::string shadowFailureLine(const reducers::ShadowFailures& f);
+
 /// Peak resident memory of this process [bytes].
 std::size_t peakResidentBytes();
 /// Resident memory of this process now [bytes] (/proc/self/statm; 0 where unavailable).

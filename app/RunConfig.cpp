@@ -10,6 +10,7 @@
 #include "budget_slam/ekf/MrptIniKeys.h"
 #include "budget_slam/graph/GraphOptions.h"
 #include "budget_slam/metrics/MetricsOptions.h"
+#include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 
 namespace fs = std::filesystem;
@@ -41,9 +42,8 @@ void overlay(mrpt::config::CConfigFileMemory& to, const mrpt::config::CConfigFil
 }
 
 void applySet(mrpt::config::CConfigFileMemory& ini, const std::string& set) {
+  checkSet(set);
   const auto dot = set.find('.'), eq = set.find('=');
-  if (dot == std::string::npos || eq == std::string::npos || dot == 0 || dot > eq || eq == dot + 1)
-    throw ConfigError("--set '" + set + "': expected Section.key=value");
   ini.write(set.substr(0, dot), set.substr(dot + 1, eq - dot - 1), set.substr(eq + 1));
 }
 
@@ -57,6 +57,31 @@ std::string resolveRawlog(const std::string& from_ini, const std::string& config
 }
 
 }  // namespace
+
+void checkSet(const std::string& set) {
+  const auto dot = set.find('.'), eq = set.find('=');
+  if (dot == std::string::npos || eq == std::string::npos || dot == 0 || dot > eq || eq == dot + 1)
+    throw ConfigError("--set '" + set + "': expected Section.key=value");
+}
+
+void checkCapFor(const RunConfig& rc, const CommandLine& cli, const std::string& reducer,
+                 const std::string& config_label) {
+  if (rc.budget.max_landmarks) return;
+  std::unique_ptr<Reducer> r;
+  try {
+    r = reducers::builtinReducers().create(reducer, rc.ini, rc.budget.seed);
+  } catch (const ConfigError& e) {
+    throw ConfigError(config_label + ": " + e.what());
+  }
+  try {
+    reducers::checkCap(rc.budget, r.get());
+  } catch (const ConfigError& e) {
+    // Name where the "none" came from: the flag, or the ini key in its file.
+    const std::string msg = e.what(), key = "[LandmarkBudget] max_landmarks = none";
+    if (cli.cap) throw ConfigError("--cap none" + msg.substr(key.size()));
+    throw ConfigError(config_label + ": " + msg);
+  }
+}
 
 RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const CommandLine& cli,
                         const std::string& config_label) {
@@ -84,11 +109,7 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
     for (const auto& s : cli.sets) applySet(rc.ini, s);
     if (!cli.reducer.empty())
       rc.ini.write(reducers::BudgetOptions::kSection, "reducer", cli.reducer);
-    if (cli.cap) {
-      if (*cli.cap < 1)
-        throw ConfigError("--cap " + std::to_string(*cli.cap) + ": must be at least 1");
-      rc.ini.write(reducers::BudgetOptions::kSection, "max_landmarks", std::to_string(*cli.cap));
-    }
+    if (cli.cap) rc.ini.write(reducers::BudgetOptions::kSection, "max_landmarks", *cli.cap);
     if (!cli.backend.empty()) {
       const auto& b = MappingOptions::backends();
       if (std::find(b.begin(), b.end(), cli.backend) == b.end())
@@ -111,6 +132,8 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
     throw ConfigError(prefix + msg);
   }
   rc.outdir = cli.outdir.empty() ? rc.mapping.logOutput_dir : cli.outdir;
+  // compare checks the cap against each reducer it runs (not the ini's reducer).
+  if (cli.command != "compare") checkCapFor(rc, cli, rc.budget.reducer, config_label);
   return rc;
 }
 

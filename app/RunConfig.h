@@ -25,4 +25,12 @@ struct RunConfig {
 RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const CommandLine& cli,
                         const std::string& config_label);
 
+/// Throws ConfigError unless `set` reads Section.key=value (--set).
+void checkSet(const std::string& set);
+
+/// Throws ConfigError, naming --cap or the ini key, when the run's cap is `none` and `reducer`
+/// (with its options from rc.ini) needs a cap (reducers::checkCap).
+void checkCapFor(const RunConfig& rc, const CommandLine& cli, const std::string& reducer,
+                 const std::string& config_label);
+
 }  // namespace budget_slam::app

@@ -1,7 +1,8 @@
-// budget-slam: landmark SLAM under a landmark budget. See DESIGN.md "Command line".
+// budget-slam: landmark SLAM under a landmark budget. Exit codes: core/CommandLine.h.
 #include <iostream>
 
 #include "BudgetSlamApp.h"
+#include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
 
 int main(int argc, char** argv) {
@@ -9,8 +10,9 @@ int main(int argc, char** argv) {
   try {
     app.initialize(argc, argv);
   } catch (const budget_slam::Error& e) {
+    // A bad command line or an unreadable -c file: nothing was written.
     std::cerr << "budget-slam: " << e.what() << std::endl;
-    return 2;
+    return budget_slam::kExitBadCommandLine;
   }
   return app.run();
 }

@@ -33,18 +33,32 @@ inline nlohmann::json readJson(const std::filesystem::path& p) {
   return nlohmann::json::parse(slurp(p));
 }
 
+/// The cells of one CSV line, empty ones included ("a,,b," is {"a", "", "b", ""}); a cell in
+/// double quotes may hold commas and "" for a quote (RFC 4180, no line breaks inside).
+inline std::vector<std::string> csvCells(const std::string& line) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"')
+      cells.back().push_back('"'), ++i;
+    else if (c == '"')
+      quoted = !quoted;
+    else if (c == ',' && !quoted)
+      cells.emplace_back();
+    else
+      cells.back().push_back(c);
+  }
+  return cells;
+}
+
 /// Rows of a CSV file with a header, as strings.
 inline std::vector<std::vector<std::string>> readCsv(const std::filesystem::path& p) {
   std::vector<std::vector<std::string>> rows;
   std::istringstream in(slurp(p));
   std::string line;
   std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ls(line);
-    for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
-    rows.push_back(cells);
-  }
+  while (std::getline(in, line)) rows.push_back(csvCells(line));
   return rows;
 }
 

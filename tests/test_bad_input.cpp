@@ -31,6 +31,13 @@ AppResult runOn(const std::string& rawlog, const fs::path& out,
   return runApp(args);
 }
 
+/// A bad command line: exit 2, one line naming the flag, nothing written.
+void expectBadCommandLine(const AppResult& r, const fs::path& out, const std::string& message) {
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "budget-slam: " + message + "\n");
+  EXPECT_FALSE(fs::exists(out)) << out;
+}
+
 void expectFailed(const AppResult& r, const fs::path& out, const std::string& message) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.err, "budget-slam: error: " + message + "\n");
@@ -99,20 +106,31 @@ TEST(BadInput, RawlogWithoutBearingRangeSaysWhatItHolds) {
 }
 
 TEST(BadInput, UnknownReducerListsRegistered) {
-  const auto out = freshDir("unknown_reducer");
   std::string list;
   for (const auto& n : reducers::builtinReducers().names()) list += (list.empty() ? "" : ", ") + n;
-  expectFailed(runOn(kDemo, out, {"--reducer", "bogus"}), out,
+  // On the command line: a bad command line. In the ini: a failed run.
+  const auto flag = freshDir("unknown_reducer_flag");
+  expectBadCommandLine(
+      runOn(kDemo, flag, {"--reducer", "bogus"}), flag,
+      "--reducer: unknown reducer 'bogus' (registered: " + list + "); see budget-slam run --help");
+  const auto out = freshDir("unknown_reducer");
+  expectFailed(runOn(kDemo, out, {"--set", "LandmarkBudget.reducer=bogus"}), out,
                "unknown reducer 'bogus' (registered: " + list + ")");
 }
 
 TEST(BadInput, CapBelowOne) {
   const auto out = freshDir("cap0");
-  expectFailed(runOn(kDemo, out, {"--reducer", "oldest", "--cap", "0"}), out,
-               "--cap 0: must be at least 1");
+  expectBadCommandLine(runOn(kDemo, out, {"--reducer", "oldest", "--cap", "0"}), out,
+                       "--cap 0: must be at least 1 (or none for no cap); see budget-slam run "
+                       "--help");
+  expectBadCommandLine(runOn(kDemo, out, {"--cap", "lots"}), out,
+                       "--cap 'lots': not a number of landmarks, nor none; see budget-slam run "
+                       "--help");
   const auto out2 = freshDir("cap0_ini");
   expectFailed(runOn(kDemo, out2, {"--set", "LandmarkBudget.max_landmarks=-3"}), out2,
-               kMrptIni + ": [LandmarkBudget] max_landmarks = -3: must be at least 1");
+               kMrptIni +
+                   ": [LandmarkBudget] max_landmarks = -3: must be at least 1 (or none for no "
+                   "cap)");
 }
 
 TEST(BadInput, UnknownIniKeySuggestsTheClosest) {
@@ -193,8 +211,8 @@ TEST(BadInput, MissingConfigFileAndBadSetSyntax) {
             "budget-slam: config file '/nonexistent/config.ini': no such file or not "
             "readable\n");
   const auto out = freshDir("bad_set");
-  expectFailed(runOn(kDemo, out, {"--set", "nodot=3"}), out,
-               "--set 'nodot=3': expected Section.key=value");
+  expectBadCommandLine(runOn(kDemo, out, {"--set", "nodot=3"}), out,
+                       "--set 'nodot=3': expected Section.key=value; see budget-slam run --help");
 }
 
 TEST(BadInput, SigtermEndsLikeCtrlC) {

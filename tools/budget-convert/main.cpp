@@ -5,12 +5,14 @@
 #include <iostream>
 #include <set>
 
+#include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/dataset/Converters.h"
 #include "budget_slam/dataset/DatasetFiles.h"
 
 int main(int argc, char** argv) {
   using namespace budget_slam;
+  CapturedUsage usage;  // outlives cmd, which only borrows it
   try {
     TCLAP::CmdLine cmd(
         "Converts a planar landmark-SLAM dataset into a gzip MRPT rawlog, its ground-truth files "
@@ -20,15 +22,28 @@ int main(int argc, char** argv) {
     TCLAP::ValuesConstraint<std::string> format_values(formats);
     TCLAP::ValueArg<std::string> format("f", "format", "input format", true, "", &format_values,
                                         cmd);
-    TCLAP::ValueArg<int> robot("r", "robot", "UTIAS MRCLAM robot number (1-5)", false, 1, "N", cmd);
+    std::vector<int> robots = {1, 2, 3, 4, 5};
+    TCLAP::ValuesConstraint<int> robot_values(robots);
+    TCLAP::ValueArg<int> robot("r", "robot", "UTIAS MRCLAM robot number", false, 1, &robot_values,
+                               cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "output rawlog (name ends in .rawlog)", true, "",
                                      "out.rawlog", cmd);
     TCLAP::UnlabeledMultiArg<std::string> inputs("INPUT", "input file(s) or folder (see --format)",
                                                  true, "INPUT", cmd);
     cmd.setExceptionHandling(false);
-    cmd.parse(argc, argv);
+    cmd.setOutput(&usage);
+    std::vector<std::string> args(argv, argv + argc);
+    args[0] = "budget-convert";  // the usage names the program, not the path it was run by
+    cmd.parse(args);
+    // INPUT takes every unlabeled word: a word that looks like a flag is an unknown flag.
+    for (const auto& in : inputs.getValue())
+      if (in.size() > 1 && in[0] == '-') throw UsageError("unknown flag '" + in + "'");
 
-    dataset::checkRawlogName(out.getValue());  // before a long conversion
+    try {
+      dataset::checkRawlogName(out.getValue());  // before a long conversion
+    } catch (const Error& e) {
+      throw UsageError(e.what());
+    }
     const auto dataset =
         dataset::convertByFormat(format.getValue(), inputs.getValue(), robot.getValue());
     dataset::saveDataset(dataset, out.getValue());
@@ -45,16 +60,21 @@ int main(int argc, char** argv) {
               << (dataset.ground_truth.empty() ? "" : ", with ground truth") << "\n";
     return 0;
   } catch (const TCLAP::ExitException& e) {
-    return e.getExitStatus();
+    std::cout << usage.text;  // --help or --version, once
+    return kExitOk;
   } catch (const TCLAP::ArgException& e) {
-    std::cerr << "budget-convert: " << e.error() << " (" << e.argId() << "); see --help\n";
-    return 2;
+    std::cerr << "budget-convert: " << describe(e) << "; see budget-convert --help\n";
+    return kExitBadCommandLine;
+  } catch (const budget_slam::ConfigError& e) {
+    // Every option comes from the command line: a bad one is a bad command line.
+    std::cerr << "budget-convert: " << e.what() << "; see budget-convert --help\n";
+    return kExitBadCommandLine;
   } catch (const budget_slam::Error& e) {
     std::cerr << "budget-convert: " << e.what() << "\n";
-    return 1;
+    return kExitFailed;
   } catch (const std::exception& e) {
     std::string what = e.what();
     std::cerr << "budget-convert: internal error: " << what.substr(0, what.find('\n')) << "\n";
-    return 3;
+    return kExitFailed;
   }
 }

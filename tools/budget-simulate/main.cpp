@@ -2,13 +2,33 @@
 // in budget_slam::dataset (Simulator.h).
 #include <tclap/CmdLine.h>
 
+#include <cmath>
 #include <iostream>
+#include <sstream>
 
+#include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/dataset/DatasetFiles.h"
 #include "budget_slam/dataset/Simulator.h"
+
+namespace {
+
+/// A noise flag, when given, is a finite number >= 0 (not given: the scenario's default).
+double noiseFlag(const TCLAP::ValueArg<double>& flag) {
+  const double v = flag.getValue();
+  if (flag.isSet() && !(std::isfinite(v) && v >= 0)) {
+    std::ostringstream text;
+    text << "--" << flag.getName() << " " << v << ": must be a finite number >= 0";
+    throw budget_slam::UsageError(text.str());
+  }
+  return v;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace budget_slam;
+  CapturedUsage usage;  // outlives cmd, which only borrows it
   try {
     TCLAP::CmdLine cmd(
         "Simulates 2D landmark SLAM data (odometry + range-bearing readings) in one of the "
@@ -36,32 +56,47 @@ int main(int argc, char** argv) {
     TCLAP::ValueArg<std::string> out("o", "out", "output rawlog (name ends in .rawlog)", true, "",
                                      "out.rawlog", cmd);
     cmd.setExceptionHandling(false);
-    cmd.parse(argc, argv);
+    cmd.setOutput(&usage);
+    std::vector<std::string> args(argv, argv + argc);
+    args[0] = "budget-simulate";  // the usage names the program, not the path it was run by
+    cmd.parse(args);
 
     dataset::SimulationOptions o;
     o.scenario = scenario.getValue();
     o.seed = seed.getValue();
     o.with_ids = !no_ids.getValue();
-    if (laps.getValue() < 0) throw ConfigError("--laps must be at least 1");
+    if (laps.getValue() < 0)
+      throw UsageError("--laps " + std::to_string(laps.getValue()) +
+                       ": must be at least 1 (0: the scenario's default)");
     o.laps = laps.getValue();
-    o.odo_std_xy = zero_noise.getValue() ? 0 : odo_xy.getValue();
-    o.odo_std_yaw_deg = zero_noise.getValue() ? 0 : odo_yaw.getValue();
-    o.sensor_std_range = zero_noise.getValue() ? 0 : std_range.getValue();
-    o.sensor_std_yaw_deg = zero_noise.getValue() ? 0 : std_yaw.getValue();
+    o.odo_std_xy = zero_noise.getValue() ? 0 : noiseFlag(odo_xy);
+    o.odo_std_yaw_deg = zero_noise.getValue() ? 0 : noiseFlag(odo_yaw);
+    o.sensor_std_range = zero_noise.getValue() ? 0 : noiseFlag(std_range);
+    o.sensor_std_yaw_deg = zero_noise.getValue() ? 0 : noiseFlag(std_yaw);
+    try {
+      dataset::checkRawlogName(out.getValue());
+    } catch (const Error& e) {
+      throw UsageError(e.what());
+    }
     const auto steps = dataset::simulateToFiles(o, out.getValue());
     std::cout << out.getValue() << ": " << steps << " steps of scenario " << o.scenario << "\n";
     return 0;
   } catch (const TCLAP::ExitException& e) {
-    return e.getExitStatus();
+    std::cout << usage.text;  // --help or --version, once
+    return kExitOk;
   } catch (const TCLAP::ArgException& e) {
-    std::cerr << "budget-simulate: " << e.error() << " (" << e.argId() << "); see --help\n";
-    return 2;
+    std::cerr << "budget-simulate: " << describe(e) << "; see budget-simulate --help\n";
+    return kExitBadCommandLine;
+  } catch (const budget_slam::ConfigError& e) {
+    // Every option comes from the command line: a bad one is a bad command line.
+    std::cerr << "budget-simulate: " << e.what() << "; see budget-simulate --help\n";
+    return kExitBadCommandLine;
   } catch (const budget_slam::Error& e) {
     std::cerr << "budget-simulate: " << e.what() << "\n";
-    return 1;
+    return kExitFailed;
   } catch (const std::exception& e) {
     std::string what = e.what();
     std::cerr << "budget-simulate: internal error: " << what.substr(0, what.find('\n')) << "\n";
-    return 3;
+    return kExitFailed;
   }
 }

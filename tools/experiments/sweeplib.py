@@ -65,8 +65,8 @@ def parse_seeds(text):
 def parse_caps(text):
     caps = []
     for item in split_list(text):
-        if not re.fullmatch(r"\d+(\.\d+)?%|\d+", item):
-            raise ExperimentError(f"caps: '{item}' is neither a number of landmarks nor a percentage like 25%")
+        if not re.fullmatch(r"\d+(\.\d+)?%|\d+|none", item):
+            raise ExperimentError(f"caps: '{item}' is neither a number of landmarks, a percentage like 25%, nor none")
         if (item.endswith("%") and not 0 < float(item[:-1]) <= 100) or item == "0":
             raise ExperimentError(f"caps: '{item}' is out of range")
         caps.append(item)
@@ -78,7 +78,10 @@ def cap_label(cap):
 
 
 def resolve_cap(cap, unreduced_landmarks):
-    """'25%' of the landmarks the unreduced run keeps (rounded half up, at least 1); '40' is 40."""
+    """'25%' of the landmarks the unreduced run keeps (rounded half up, at least 1); '40' is 40;
+    'none' (no cap: mi's objective and incremental modes decide the map size) stays 'none'."""
+    if cap == "none":
+        return cap
     if not cap.endswith("%"):
         return int(cap)
     return max(1, int(math.floor(float(cap[:-1]) / 100.0 * unreduced_landmarks + 0.5)))
@@ -230,7 +233,7 @@ class Experiment:
                                                                     g["set"], g["config"], self.outdir)
                                 job.baseline = self.baselines[bkey]
                             else:
-                                job.cap_landmarks = int(cap)
+                                job.cap_landmarks = resolve_cap(cap, None)
                             self.jobs.append(job)
 
     # ---- command lines (the same lines are run here and written to prepare.txt / jobs.txt) ----
@@ -453,7 +456,7 @@ def job_rows(job):
         key = dict(rawlog=job.rawlog.label, backend=job.backend, reducer=job.reducer_label(reducer),
                    cap=job.cap, seed=job.seed)
         metrics = [("status_ok", 1.0 if r["status"] == "ok" else 0.0)]
-        if reducer != "none":
+        if reducer != "none" and job.cap_landmarks != "none":
             metrics.append(("cap_landmarks", float(job.cap_landmarks)))
         metrics += [(c, as_number(r[c])) for c in r if c not in NON_METRIC_COLUMNS]
         summary = read_json(os.path.join(job.folder, r["run"], "summary.json"))

@@ -54,16 +54,17 @@ TEST(Tools, ConvertReportsBadInputOnOneLine) {
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.err, "budget-convert: " + f + ":2: y is not a number: 'oops'\n");
   EXPECT_FALSE(fileExists(tmp.file("o.rawlog")));
+  // Bad command lines (wrong number of inputs, an output that is no .rawlog): exit 2.
   r = runTool(tmp, bin("budget-convert") + " --format isam a b -o '" + tmp.file("o.rawlog") + "'");
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.err,
             "budget-convert: --format isam takes one file (victoria_park.txt), got 2 "
-            "input(s)\n");
+            "input(s); see budget-convert --help\n");
   r = runTool(tmp,
               bin("budget-convert") + " --format isam '" + f + "' -o '" + tmp.file("o.txt") + "'");
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.err, "budget-convert: output '" + tmp.file("o.txt") +
-                       "': the rawlog name must end in .rawlog\n");
+                       "': the rawlog name must end in .rawlog; see budget-convert --help\n");
   r = runTool(tmp, bin("budget-convert") + " --format csv x -o y.rawlog");
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

@@ -30,8 +30,7 @@ BlockMutualInformation::BlockMutualInformation(const Eigen::MatrixXd& P) : P_(P)
     // below any physical variance restores the factorization.
     Pa.diagonal().array() += 1e-12 * Pa.diagonal().mean();
     llt.compute(Pa);
-    if (llt.info() != Eigen::Success)
-      throw std::runtime_error("covariance is not positive definite; mutual information undefined");
+    if (llt.info() != Eigen::Success) throw NotPositiveDefinite();
   }
   lambda_ = llt.solve(Eigen::MatrixXd::Identity(m, m));
   lambda_ = 0.5 * (lambda_ + lambda_.transpose()).eval();

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "budget_slam/core/Error.h"
+
 namespace budget_slam::ekf {
 
 EkfBackend::EkfBackend(const mrpt::config::CConfigFileBase& ini) {
@@ -88,7 +90,15 @@ void EkfBackend::removeLandmark(LandmarkId id) {
 }
 
 std::vector<double> EkfBackend::informationGain(const std::vector<LandmarkId>& ids) const {
-  if (!mi_) mi_.emplace(kf_.covariance().asEigen());
+  if (!mi_) try {
+      mi_.emplace(kf_.covariance().asEigen());
+    } catch (const BlockMutualInformation::NotPositiveDefinite&) {
+      // A property of the data and the filter's numerics (e.g. sensor noise far below what the
+      // readings carry), not of the program: a one-line error naming the step.
+      throw Error("step " + std::to_string(last_step_) +
+                  ": the ekf filter's covariance lost positive definiteness, so the mutual "
+                  "information of its landmarks is undefined");
+    }
   std::vector<double> out;
   out.reserve(ids.size());
   for (const LandmarkId id : ids) out.push_back(mi_->gain(stateRow(id)));

@@ -1,8 +1,12 @@
 #include "budget_slam/reducers/BudgetManager.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 
+#include "budget_slam/core/Error.h"
 #include "budget_slam/core/StepFilter.h"
 
 namespace budget_slam::reducers {
@@ -52,35 +56,68 @@ BudgetOptions inForce(BudgetOptions options, const Reducer* active) {
 
 }  // namespace
 
+void checkCap(const BudgetOptions& options, const Reducer* active) {
+  if (options.max_landmarks || !active || active->decidesMapSize()) return;
+  throw ConfigError("[LandmarkBudget] max_landmarks = none: reducer '" + active->name() +
+                    "' drops landmarks only to keep the map under a cap, so it needs a number "
+                    "(no cap suits reducer none, and mi in objective or incremental mode)");
+}
+
 BudgetManager::BudgetManager(const BudgetOptions& options, std::unique_ptr<Reducer> active,
                              std::vector<std::unique_ptr<Reducer>> shadows)
     : options_(inForce(options, active.get())),
       active_(std::move(active)),
       shadows_(std::move(shadows)),
       refusals_(options_.refusal_memory, options_.retry_after_steps) {
+  checkCap(options_, active_.get());
   if (active_ && active_->wantsObservations()) observers_.push_back(active_.get());
   for (const auto& s : shadows_)
     if (s->wantsObservations()) observers_.push_back(s.get());
   std::vector<std::string> names;
   if (active_) names.push_back(active_->name());
-  for (const auto& s : shadows_) names.push_back(s->name());
+  for (const auto& s : shadows_) {
+    names.push_back(s->name());
+    shadow_failures_.push_back({s->name(), 0, 0, 0, ""});
+  }
   for (std::size_t i = 0; i < names.size(); ++i)
     for (std::size_t j = i + 1; j < names.size(); ++j) agreements_.push_back({names[i], names[j]});
 }
 
-std::vector<std::pair<std::string, ReducerChoice>> BudgetManager::askShadows(
-    const DropContext& ctx, const ReducerChoice& active) {
-  std::vector<ReducerChoice> choices = {active};
-  for (auto& s : shadows_) choices.push_back(s->choose(ctx));
+void BudgetManager::askShadows(const DropContext& ctx, const ReducerChoice& active, Eviction& e) {
+  // choices[0] is the active reducer's; a failed shadow leaves its slot empty.
+  std::vector<std::optional<ReducerChoice>> choices = {active};
+  for (std::size_t k = 0; k < shadows_.size(); ++k) {
+    try {
+      choices.push_back(shadows_[k]->choose(ctx));
+    } catch (const std::exception& ex) {
+      // A shadow is only logged: its failure (e.g. mi on a covariance that lost positive
+      // definiteness) never stops the run the active reducer is making.
+      choices.emplace_back();
+      const std::string why = ex.what();
+      e.shadow_errors.emplace_back(shadows_[k]->name(), why.substr(0, why.find('\n')));
+      ShadowFailures& f = shadow_failures_[k];
+      if (f.failures++ == 0) f.first_step = ctx.step, f.first_error = e.shadow_errors.back().second;
+      f.last_step = ctx.step;
+    }
+  }
+  // Agreement counts the decisions at which both reducers of a pair answered.
   std::size_t pair = 0;
   for (std::size_t i = 0; i < choices.size(); ++i)
     for (std::size_t j = i + 1; j < choices.size(); ++j, ++pair) {
+      if (!choices[i] || !choices[j]) continue;
       agreements_[pair].total++;
-      agreements_[pair].agree += choices[i].id == choices[j].id;
+      agreements_[pair].agree += choices[i]->id == choices[j]->id;
     }
-  std::vector<std::pair<std::string, ReducerChoice>> out;
   for (std::size_t k = 0; k < shadows_.size(); ++k)
-    out.emplace_back(shadows_[k]->name(), choices[k + 1]);
+    e.shadow.emplace_back(shadows_[k]->name(),
+                          choices[k + 1].value_or(ReducerChoice{
+                              kNoLandmarkId, std::numeric_limits<double>::quiet_NaN()}));
+}
+
+std::vector<ShadowFailures> BudgetManager::shadowFailures() const {
+  std::vector<ShadowFailures> out;
+  for (const auto& f : shadow_failures_)
+    if (f.failures) out.push_back(f);
   return out;
 }
 
@@ -96,7 +133,7 @@ Eviction BudgetManager::dropLandmark(Backend& backend, const DropContext& ctx,
              return l.id == victim.id;
            })->mean;
   e.reason = std::move(reason);
-  e.shadow = askShadows(ctx, victim);
+  askShadows(ctx, victim, e);
   backend.removeLandmark(victim.id);
   e.n_after = backend.landmarkCount();
   if (!options_.readmit_evicted) evicted_.insert(victim.id);  // only needed to filter
@@ -182,7 +219,8 @@ std::vector<Eviction> BudgetManager::enforceAt(Backend& backend, StepIndex step,
   const bool compete = options_.admission == BudgetOptions::Admission::Compete;
   bool event_started = false;
   std::vector<LandmarkId> newcomers;  // compete: those that entered at this step
-  while (active_->enforcesCap() && backend.landmarkCount() > options_.max_landmarks) {
+  // The cap holds in every mode: after the reducer's own scheduled drops, the cap-mode rule.
+  while (options_.max_landmarks && backend.landmarkCount() > *options_.max_landmarks) {
     if (!event_started && before_drop_event_) before_drop_event_(backend, step);
 
     const auto landmarks = backend.landmarks();

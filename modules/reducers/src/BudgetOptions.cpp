@@ -2,6 +2,7 @@
 
 #include <ostream>
 
+#include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSection.h"
 
 namespace budget_slam::reducers {
@@ -18,8 +19,15 @@ void BudgetOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
                                        const std::string& section) {
   const IniSection s(ini, section);
   reducer = s.readString("reducer", reducer);
-  max_landmarks = static_cast<std::size_t>(
-      s.readInt("max_landmarks", static_cast<long long>(max_landmarks), 1));
+  if (s.readString("max_landmarks", "") == "none") {
+    max_landmarks.reset();
+  } else if (s.has("max_landmarks")) {
+    try {
+      max_landmarks = static_cast<std::size_t>(s.readInt("max_landmarks", 50, 1));
+    } catch (const ConfigError& e) {
+      throw ConfigError(std::string(e.what()) + " (or none for no cap)");
+    }
+  }
   protect_recent_steps = static_cast<std::size_t>(
       s.readInt("protect_recent_steps", static_cast<long long>(protect_recent_steps), 0));
   protect = s.readChoice("protect", toString(protect), {"recently_seen", "newly_added"}) ==
@@ -42,7 +50,7 @@ void BudgetOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
 void BudgetOptions::dumpToTextStream(std::ostream& out) const {
   out << "\n----------- [" << kSection << "] ------------\n";
   out << "reducer                  = " << reducer << "\n";
-  out << "max_landmarks            = " << max_landmarks << "\n";
+  out << "max_landmarks            = " << capText(max_landmarks) << "\n";
   out << "protect_recent_steps     = " << protect_recent_steps << "\n";
   out << "protect                  = " << toString(protect) << "\n";
   out << "admission                = " << toString(admission) << "\n";
@@ -54,6 +62,10 @@ void BudgetOptions::dumpToTextStream(std::ostream& out) const {
     out << (i ? "," : "") << shadow_reducers[i];
   out << "\nseed                     = " << seed << "\n";
   out << "dump_states              = " << (dump_states ? "true" : "false") << "\n";
+}
+
+std::string BudgetOptions::capText(const std::optional<std::size_t>& cap) {
+  return cap ? std::to_string(*cap) : "none";
 }
 
 std::vector<std::string> BudgetOptions::keys() {

@@ -93,7 +93,9 @@ std::size_t refillEmpty(const std::vector<Eigen::Vector2d>& points,
       const double di = KMeans::distance(points[i], centres[label[i]], d);
       if (di > far_d) far = i, far_d = di;
     }
-    // k <= N guarantees a cluster with two or more points while one is empty.
+    // k <= N guarantees a cluster with two or more points while one is empty; only non-finite
+    // points (a diverged estimate) leave none farther than -1: leave the cluster empty then.
+    if (far == points.size()) break;
     --size[label[far]];
     label[far] = c;
     size[c] = 1;

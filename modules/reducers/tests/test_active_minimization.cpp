@@ -68,7 +68,7 @@ MutualInformationOptions objective(double lambda = 0.4) {
 
 BudgetOptions noCap() {
   BudgetOptions o;
-  o.max_landmarks = 1000;
+  o.max_landmarks.reset();  // [LandmarkBudget] max_landmarks = none
   return o;
 }
 
@@ -289,10 +289,60 @@ TEST(ActiveMinimization, IncrementalModeEveryPsiStepsAndNoReadmission) {
   EXPECT_TRUE(manager.finish(b, 8).empty());  // incremental: nothing extra at the end
 }
 
+TEST(ActiveMinimization, IncrementalModeHoldsTheCapAfterItsOwnDrops) {
+  // As above (Alg. 5 every 3 steps), with a cap of 3: after every step the map holds at most 3;
+  // the scheduled drops of a minimization come first, then the cap with the cap-mode rule (the
+  // lowest gain among the unprotected candidates).
+  MutualInformationOptions o = objective();
+  o.mode = MutualInformationOptions::Mode::Incremental;
+  o.psi = 3;
+  o.pose_lag = 0;
+  BudgetOptions cap;
+  cap.max_landmarks = 3;
+  cap.protect_recent_steps = 1;
+  ScriptedBackend b(std::vector<LandmarkView>{});
+  BudgetManager manager(cap, std::make_unique<MutualInformationReducer>(o));
+  manager.setScratchFactory([](const Backend& x) {
+    return std::make_unique<ScriptedBackend>(static_cast<const ScriptedBackend&>(x));
+  });
+  EXPECT_TRUE(manager.capped());
+  std::size_t scheduled = 0, over_cap = 0;
+  for (StepIndex s = 0; s < 9; ++s) {
+    // Two new landmarks a step; gains grow with the id, so the cap drops the oldest.
+    for (const LandmarkId id : {LandmarkId(2 * s), LandmarkId(2 * s + 1)}) {
+      b.add(landmark(id, 1, 1, s, s));
+      b.base[id] = 0.1 * static_cast<double>((id + 1) * (id + 1));
+    }
+    const auto drops = manager.enforce(b, s);
+    EXPECT_LE(b.landmarkCount(), 3u) << "step " << s;
+    bool cap_started = false;
+    for (const auto& e : drops) {
+      if (e.reason == "incremental") {
+        EXPECT_FALSE(cap_started) << "scheduled drops come first, step " << s;
+        EXPECT_EQ((s + 1) % 3, 0u) << s;
+        ++scheduled;
+        continue;
+      }
+      cap_started = true;
+      ++over_cap;
+      EXPECT_EQ(e.reason, "over_cap") << s;
+      // Cap-mode rule: the lowest gain among the landmarks not seen at this step.
+      for (const auto& l : b.landmarks())
+        if (l.last_step < s) EXPECT_LE(e.score, b.base.at(l.id)) << s;
+    }
+  }
+  EXPECT_GT(scheduled, 0u);
+  EXPECT_GT(over_cap, 0u);
+  EXPECT_FALSE(manager.options().readmit_evicted);
+  EXPECT_EQ(manager.evicted().size(), scheduled + over_cap);  // cap drops never return either
+}
+
 TEST(ActiveMinimization, CapModeSchedulesNothing) {
   ScriptedBackend b = handMade();
   MutualInformationOptions o;
-  BudgetManager manager(noCap(), std::make_unique<MutualInformationReducer>(o));
+  BudgetOptions cap;
+  cap.max_landmarks = 5;  // the map's size: the cap does not bite
+  BudgetManager manager(cap, std::make_unique<MutualInformationReducer>(o));
   EXPECT_TRUE(manager.enforce(b, 100).empty());
   EXPECT_TRUE(manager.finish(b, 100).empty());
   EXPECT_TRUE(b.marginalize_calls.empty());

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <cmath>
 #include <random>
 
 #include "FakeBackend.h"
@@ -118,5 +119,95 @@ TEST(BuiltinReducers, UnknownNameListsRegistered) {
   } catch (const ConfigError& e) {
     EXPECT_EQ(std::string(e.what()).rfind("unknown reducer 'bogus' (registered: ", 0), 0u);
     EXPECT_NE(std::string(e.what()).find("info-content"), std::string::npos);
+  }
+}
+
+namespace {
+/// A shadow that fails at its second and third decisions, as mi does on a covariance that lost
+/// positive definiteness; otherwise it picks the lowest id.
+class FailingReducer : public Reducer {
+ public:
+  std::string name() const override { return "failing"; }
+  ReducerChoice choose(const DropContext& ctx) override {
+    ++calls;
+    if (calls == 2 || calls == 3)
+      throw std::runtime_error("covariance lost positive definiteness at call " +
+                               std::to_string(calls) + "\nsecond line");
+    LandmarkId best = ctx.landmarks[ctx.candidates[0]].id;
+    for (const auto i : ctx.candidates) best = std::min(best, ctx.landmarks[i].id);
+    return {best, 1.5};
+  }
+  int calls = 0;
+};
+}  // namespace
+
+TEST(BudgetManager, AFailingShadowIsLoggedAndTheActiveDropsStand) {
+  FakeBackend backend({});
+  std::vector<std::unique_ptr<Reducer>> shadows;
+  shadows.push_back(std::make_unique<FailingReducer>());
+  shadows.push_back(make("oldest"));
+  BudgetManager manager(options(2, 0), make("oldest"), std::move(shadows));
+  std::vector<Eviction> all;
+  for (StepIndex step = 0; step < 5; ++step) {
+    backend.add(landmark(static_cast<LandmarkId>(10 + step), 1, 1, step, step));
+    for (auto& e : manager.enforce(backend, step)) all.push_back(e);
+    EXPECT_LE(backend.landmarkCount(), 2u);
+  }
+  // Steps 2, 3, 4 drop one landmark each, the oldest: the failing shadow changes nothing.
+  ASSERT_EQ(all.size(), 3u);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    EXPECT_EQ(all[i].id, static_cast<LandmarkId>(10 + i));
+    ASSERT_EQ(all[i].shadow.size(), 2u);
+    EXPECT_EQ(all[i].shadow[0].first, "failing");
+    EXPECT_EQ(all[i].shadow[1].second.id, all[i].id);  // oldest agrees with itself
+  }
+  // Decision 1 answered; decisions 2 and 3 failed: no choice, NaN score, the error's first line.
+  EXPECT_EQ(all[0].shadow[0].second.id, 10);
+  EXPECT_TRUE(all[0].shadow_errors.empty());
+  for (const std::size_t i : {1, 2}) {
+    EXPECT_EQ(all[i].shadow[0].second.id, kNoLandmarkId);
+    EXPECT_TRUE(std::isnan(all[i].shadow[0].second.score));
+    ASSERT_EQ(all[i].shadow_errors.size(), 1u);
+    EXPECT_EQ(all[i].shadow_errors[0].first, "failing");
+    EXPECT_EQ(all[i].shadow_errors[0].second,
+              "covariance lost positive definiteness at call " + std::to_string(i + 1));
+  }
+  const auto failures = manager.shadowFailures();
+  ASSERT_EQ(failures.size(), 1u);
+  EXPECT_EQ(failures[0].shadow, "failing");
+  EXPECT_EQ(failures[0].failures, 2u);
+  EXPECT_EQ(failures[0].first_step, 3u);
+  EXPECT_EQ(failures[0].last_step, 4u);
+  EXPECT_EQ(failures[0].first_error, "covariance lost positive definiteness at call 2");
+  // Agreement counts only the decisions at which both answered.
+  const auto agreements = manager.agreements();
+  ASSERT_EQ(agreements.size(), 3u);  // oldest~failing, oldest~oldest, failing~oldest
+  EXPECT_EQ(agreements[0].total, 1u);
+  EXPECT_EQ(agreements[1].total, 3u);
+  EXPECT_EQ(agreements[2].total, 1u);
+}
+
+TEST(BudgetManager, NoCapOnlyForReducersThatDecideTheMapSize) {
+  BudgetOptions none = options(1, 0);
+  none.max_landmarks.reset();
+  try {
+    BudgetManager manager(none, make("random"));
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(),
+                 "[LandmarkBudget] max_landmarks = none: reducer 'random' drops landmarks only to "
+                 "keep the map under a cap, so it needs a number (no cap suits reducer none, and "
+                 "mi in objective or incremental mode)");
+  }
+  EXPECT_THROW(BudgetManager(none, make("mi")), ConfigError);  // mi's default mode is cap
+  BudgetManager reference(none, make("none"));
+  EXPECT_FALSE(reference.capped());
+  mrpt::config::CConfigFileMemory ini;
+  for (const std::string mode : {"objective", "incremental"}) {
+    ini.write("MutualInformationReducer", "mode", mode);
+    BudgetManager mi(none, builtinReducers().create("mi", ini, 1));
+    EXPECT_FALSE(mi.capped()) << mode;
+    BudgetManager capped(options(4, 0), builtinReducers().create("mi", ini, 1));
+    EXPECT_TRUE(capped.capped()) << mode;
   }
 }

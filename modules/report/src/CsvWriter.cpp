@@ -30,7 +30,9 @@ void CsvWriter::separator() {
 
 CsvWriter& CsvWriter::cell(double v) {
   separator();
-  out_ << formatDouble(v);
+  // NaN means "does not apply" (e.g. no ground truth): an empty field, which pandas and
+  // numpy.genfromtxt read as missing.
+  if (!std::isnan(v)) out_ << formatDouble(v);
   return *this;
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "budget_slam/core/Error.h"
@@ -158,8 +159,14 @@ void writeMapPng(const std::string& path, const MapContent& c, int width, int ma
   if (!cv::imwrite(path, img)) throw Error("cannot write '" + path + "'");
 }
 
-void writeChartPng(const std::string& path, const std::vector<ChartPanel>& panels, int width,
-                   int panel_height) {
+std::vector<LegendMark> writeChartPng(const std::string& path,
+                                      const std::vector<ChartPanel>& panels, int width,
+                                      int panel_height) {
+  // One palette slot a series name, in the order names first appear over the panels.
+  std::map<std::string, std::size_t> colour_of;
+  for (const auto& panel : panels)
+    for (const auto& s : panel.series) colour_of.emplace(s.name, colour_of.size());
+  std::vector<LegendMark> legend;
   const int n = std::max<int>(1, static_cast<int>(panels.size()));
   cv::Mat img(n * panel_height, width, CV_8UC3, kWhite);
   for (int k = 0; k < static_cast<int>(panels.size()); ++k) {
@@ -201,7 +208,7 @@ void writeChartPng(const std::string& path, const std::vector<ChartPanel>& panel
     int ly = top + 15;
     for (std::size_t si = 0; si < panel.series.size(); ++si) {
       const auto& s = panel.series[si];
-      const cv::Scalar colour = palette(si);
+      const cv::Scalar colour = palette(colour_of.at(s.name));
       cv::Point prev;
       bool have = false;
       for (std::size_t i = 0; i < s.x.size(); ++i) {
@@ -214,10 +221,19 @@ void writeChartPng(const std::string& path, const std::vector<ChartPanel>& panel
         prev = p;
         have = true;
       }
+      // legendRow draws the line from x to x + 22 at y - 4 (marker 0).
+      legend.push_back(
+          {static_cast<std::size_t>(k),
+           s.name,
+           right + 15 + 11,
+           ly - 4,
+           {static_cast<unsigned char>(colour[0]), static_cast<unsigned char>(colour[1]),
+            static_cast<unsigned char>(colour[2])}});
       legendRow(img, ly, right + 15, s.name, colour, 0);
     }
   }
   if (!cv::imwrite(path, img)) throw Error("cannot write '" + path + "'");
+  return legend;
 }
 
 }  // namespace budget_slam::report

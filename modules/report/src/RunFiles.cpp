@@ -59,8 +59,9 @@ const std::vector<std::string>& stepsCsvColumns() {
 }
 
 const std::vector<std::string>& evictionsCsvColumns() {
-  static const std::vector<std::string> c = {
-      "step", "landmark_id", "reducer", "score", "n_before", "n_after", "reason", "shadow_choices"};
+  static const std::vector<std::string> c = {"step",   "landmark_id",    "reducer",
+                                             "score",  "n_before",       "n_after",
+                                             "reason", "shadow_choices", "shadow_errors"};
   return c;
 }
 

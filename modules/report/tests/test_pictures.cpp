@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 
 #include "budget_slam/report/Pictures.h"
@@ -59,4 +60,36 @@ TEST(Pictures, ChartDrawsEverySeriesAndSkipsNan) {
   EXPECT_EQ(img.rows, 600);
   EXPECT_GT(count(img, cv::Vec3b(180, 119, 31)), 50);  // series a
   EXPECT_GT(count(img, cv::Vec3b(14, 127, 255)), 50);  // series b
+}
+
+TEST(Pictures, ChartKeepsOneColourARunAcrossPanels) {
+  // compare without ground truth: the upper panel has every run, the lower one no reference
+  // (it shows the difference to the reference). mi must keep its colour in both panels.
+  const auto dir = fs::temp_directory_path() / "budget_slam_pictures";
+  fs::create_directories(dir);
+  ChartPanel count_panel{"landmarks", "step", "landmarks", {}, false};
+  ChartPanel error_panel{"difference to the reference", "step", "m", {}, false};
+  for (const std::string run : {"reference", "mi", "oldest"})
+    count_panel.series.push_back({run, {0, 1, 2}, {1, 2, 3}});
+  for (const std::string run : {"mi", "oldest"})
+    error_panel.series.push_back({run, {0, 1}, {0, 1}});
+  const std::string path = (dir / "runs.png").string();
+  const auto legend = writeChartPng(path, {count_panel, error_panel});
+  ASSERT_EQ(legend.size(), 5u);
+  std::map<std::string, std::array<unsigned char, 3>> colour;
+  for (const auto& m : legend) {
+    // One colour a run over every panel, distinct between runs...
+    const auto [it, first] = colour.emplace(m.name, m.bgr);
+    EXPECT_TRUE(first || it->second == m.bgr) << m.name << " in panel " << m.panel;
+    // ...and it is what the picture shows at the legend entry.
+    const cv::Mat img = cv::imread(path);
+    const auto px = img.at<cv::Vec3b>(m.y, m.x);
+    EXPECT_EQ(px, cv::Vec3b(m.bgr[0], m.bgr[1], m.bgr[2])) << m.name << " in panel " << m.panel;
+  }
+  ASSERT_EQ(colour.size(), 3u);
+  EXPECT_NE(colour["reference"], colour["mi"]);
+  EXPECT_NE(colour["mi"], colour["oldest"]);
+  // The first series takes the palette's first colour (blue), as before.
+  EXPECT_EQ(colour["reference"], (std::array<unsigned char, 3>{180, 119, 31}));
+  EXPECT_EQ(colour["mi"], (std::array<unsigned char, 3>{14, 127, 255}));
 }

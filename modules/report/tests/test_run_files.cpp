@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "budget_slam/core/Error.h"
@@ -59,6 +60,24 @@ TEST(CsvWriter, WritesHeaderRowsAndQuotesAndChecksWidth) {
   }
   EXPECT_EQ(slurp(p), "a,b,c\n0.1,-3,\"x,y\"\n1e-300,7,\"q\"\"t\"\n1");
   EXPECT_EQ(formatDouble(std::nan("")), "nan");
+}
+
+TEST(CsvWriter, ANumberThatDoesNotApplyIsAnEmptyField) {
+  // NaN is "does not apply": an empty field, as pandas and numpy.genfromtxt read missing values;
+  // infinities are values and stay.
+  const auto d = tempDir("csv_missing");
+  fs::create_directories(d);
+  const std::string p = (d / "m.csv").string();
+  {
+    CsvWriter csv(p, {"run", "ate_m", "nees_mean", "time_s"});
+    csv.cell(std::string("mi")).cell(0.5).cell(std::nan("")).cell(std::nan("")).endRow();
+    csv.cell(std::string("x"))
+        .cell(std::numeric_limits<double>::infinity())
+        .cell(-std::numeric_limits<double>::infinity())
+        .cell(2.0)
+        .endRow();
+  }
+  EXPECT_EQ(slurp(p), "run,ate_m,nees_mean,time_s\nmi,0.5,,\nx,inf,-inf,2\n");
 }
 
 TEST(RunFiles, TumHasEightColumnsAndUnitQuaternions) {

@@ -198,6 +198,35 @@ class ExperimentFile(unittest.TestCase):
             self.assertIn("--laps 2", exp.simulation_command(
                 os.path.join(tmp, "o", "rawlogs", "sim-lifelong-2laps-seed7.rawlog")))
 
+    def test_no_cap_is_passed_as_none_and_empty_fields_are_missing_values(self):
+        self.assertEqual(sweeplib.resolve_cap("none", 70), "none")
+        with tempfile.TemporaryDirectory() as tmp:
+            path = self.write(tmp, """\
+                [sweep]
+                rawlogs = rawlogs/paper_synthetic.rawlog
+                backends = graph
+                reducers = mi
+                caps = none
+                set = MutualInformationReducer.mode=objective
+                """)
+            exp = sweeplib.Experiment(path, os.path.join(tmp, "o"), "/bin/true", "/bin/true")
+            self.assertEqual(len(exp.jobs), 1)
+            self.assertEqual(exp.baselines, {})
+            job = exp.jobs[0]
+            self.assertTrue(job.rel.endswith(os.path.join("graph", "capnone", "seed1")), job.rel)
+            self.assertIn("--cap none --backend graph", exp.job_command(job))
+            # comparison.csv as budget-slam writes it without ground truth: a metric that does not
+            # apply is an empty field, and no row of results.csv.
+            os.makedirs(job.folder)
+            header = "run,reducer,backend,status,cap,landmarks,ate_m,gt_trajectory_rmse_m,time_s\n"
+            with open(os.path.join(job.folder, "comparison.csv"), "w") as f:
+                f.write(header + "reference,none,graph,ok,,23,0,,0.5\nmi,mi,graph,ok,,14,0.15,,0.7\n")
+            rows = sweeplib.job_rows(job)
+            metrics = {(r["reducer"], r["metric"]): r["value"] for r in rows}
+            self.assertEqual(metrics[("mi", "ate_m")], "0.15")
+            self.assertEqual(metrics[("none", "landmarks")], "23")
+            self.assertFalse(any(m in ("gt_trajectory_rmse_m", "cap_landmarks") for _, m in metrics))
+
     def test_bad_files_are_refused_with_the_key_named(self):
         with tempfile.TemporaryDirectory() as tmp:
             cases = [("[sweep]\nrawlogs = rawlogs/rooms.rawlog\nreducers = mi\ncaps = 10\nreducer = mi\n",

@@ -17,6 +17,13 @@ class ConfigError : public Error {
   using Error::Error;
 };
 
+/// A bad command line: an unknown flag, or a flag value that is not of the flag's type, not one
+/// of its choices or out of its range. The executables exit with 2 (core/CommandLine.h).
+class UsageError : public ConfigError {
+ public:
+  using ConfigError::ConfigError;
+};
+
 /// Bad input data: a missing, unreadable, truncated or malformed rawlog or data file.
 class InputError : public Error {
  public:

@@ -76,9 +76,10 @@ class Reducer {
   /// is asked; the BudgetManager removes them, logs them and asks the shadows at each one.
   virtual ScheduledDrops scheduled(const ScheduleContext& ctx) { return {}; }
 
-  /// False when the reducer decides on its own schedule how many landmarks to keep (Choudhary et
-  /// al.'s objective and incremental modes): the BudgetManager then does not apply the cap.
-  virtual bool enforcesCap() const { return true; }
+  /// True when the reducer's own scheduled drops decide how many landmarks stay (Choudhary et
+  /// al.'s objective and incremental modes), so that it may run without a cap
+  /// ([LandmarkBudget] max_landmarks = none). A cap given still bounds the map after every step.
+  virtual bool decidesMapSize() const { return false; }
 
   /// True when the reducer keeps its own record of where landmarks were observed from; the
   /// BudgetManager then calls observe() after every step and forget() for every landmark that

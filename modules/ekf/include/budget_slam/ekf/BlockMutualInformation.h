@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <stdexcept>
 #include <vector>
 
 namespace budget_slam::ekf {
@@ -16,6 +17,12 @@ namespace budget_slam::ekf {
 /// deterministic: they carry no information and are left out of Lambda.
 class BlockMutualInformation {
  public:
+  /// Thrown by the constructor when P is not positive definite (beyond round-off): I(L; rest)
+  /// is then undefined.
+  struct NotPositiveDefinite : std::runtime_error {
+    NotPositiveDefinite() : std::runtime_error("covariance is not positive definite") {}
+  };
+
   explicit BlockMutualInformation(const Eigen::MatrixXd& P);
 
   /// I(block starting at row `first_row`; rest) [bits]. The block has 2 rows.

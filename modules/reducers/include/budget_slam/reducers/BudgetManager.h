@@ -27,8 +27,21 @@ struct Eviction {
   std::string reason;
   /// Where the landmark was when dropped [m] (for map pictures).
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  /// What each shadow reducer would have dropped at this decision.
+  /// What each shadow reducer would have dropped at this decision, in the order of
+  /// [LandmarkBudget] shadow_reducers; a shadow that failed here has id kNoLandmarkId and a NaN
+  /// score, and its error is in `shadow_errors`.
   std::vector<std::pair<std::string, ReducerChoice>> shadow;
+  /// The shadows that failed at this decision and why (one line each). The active reducer's drop
+  /// stands: shadows are only logged.
+  std::vector<std::pair<std::string, std::string>> shadow_errors;
+};
+
+/// How one shadow reducer failed over a run (summary.json "shadow_failures").
+struct ShadowFailures {
+  std::string shadow;
+  std::size_t failures = 0;  ///< drop decisions at which it failed
+  StepIndex first_step = 0, last_step = 0;
+  std::string first_error;  ///< the error at first_step
 };
 
 /// How often two reducers picked the same landmark over all drop decisions.
@@ -38,18 +51,24 @@ struct Agreement {
   double rate() const { return total ? static_cast<double>(agree) / total : 0.0; }
 };
 
+/// Throws the ConfigError of a cap that cannot go with the active reducer: no cap
+/// (max_landmarks = none) with a reducer that drops landmarks only to keep the map under a cap.
+/// `active` null is reducer `none`.
+void checkCap(const BudgetOptions& options, const Reducer* active);
+
 /// Keeps the map within [LandmarkBudget] max_landmarks after every step (docs/ALGORITHMS.md
 /// "Common to every reducer").
 class BudgetManager {
  public:
   /// `active` may be null: reducer `none`, the unreduced reference run (nothing is dropped).
+  /// Throws ConfigError when the cap and the reducer cannot go together (checkCap).
   BudgetManager(const BudgetOptions& options, std::unique_ptr<Reducer> active,
                 std::vector<std::unique_ptr<Reducer>> shadows = {});
 
   /// Called after backend.process(step): first the drop event the active reducer schedules
-  /// itself, if any (Reducer::scheduled; e.g. mi incremental every psi steps), then the cap: asks
-  /// the active reducer for a victim and removes it until the map holds at most max_landmarks.
-  /// Returns the drops made, in order.
+  /// itself, if any (Reducer::scheduled; e.g. mi incremental every psi steps), then the cap, in
+  /// every mode: while the map holds more than max_landmarks, asks the active reducer for a
+  /// victim among the candidates and removes it. Returns the drops made, in order.
   std::vector<Eviction> enforce(Backend& backend, StepIndex step);
   /// The same, told the step itself (its sensor's range and field of view reach the reducers
   /// that keep a record of where landmarks were observed from; Reducer::observe).
@@ -91,8 +110,10 @@ class BudgetManager {
   /// never re-admits (Reducer::readmitsEvicted, mi incremental mode).
   const BudgetOptions& options() const { return options_; }
   bool reduces() const { return active_ != nullptr; }
-  /// True when max_landmarks bounds the map (a reducer that does not schedule its own drops).
-  bool capped() const { return active_ && active_->enforcesCap(); }
+  /// True when max_landmarks bounds the map: a reducer is active and a cap is given.
+  bool capped() const { return active_ && options_.max_landmarks.has_value(); }
+  /// Shadow reducers that failed at one or more drop decisions, in shadow order.
+  std::vector<ShadowFailures> shadowFailures() const;
   const Reducer* activeReducer() const { return active_.get(); }
 
  private:
@@ -106,18 +127,19 @@ class BudgetManager {
   std::size_t poses_marginalized_ = 0;
   RefusalMemory refusals_;
   std::vector<Reducer*> observers_;  ///< the active and shadow reducers that want observations
+  std::vector<ShadowFailures> shadow_failures_;  ///< one a shadow, in shadow order
 
   std::vector<Eviction> enforceAt(Backend& backend, StepIndex step, const Step* raw);
   /// Tells the observing reducers what step `step` observed (Reducer::observe).
   void tellObservations(const Backend& backend, StepIndex step, const Step* raw);
   std::vector<Eviction> runScheduled(Backend& backend, StepIndex step, bool final);
-  /// Asks the shadows about the current map and counts agreement with the active choice.
   /// Drops `victim` (a landmark of ctx.landmarks) from the backend: asks the shadows, removes
   /// it, remembers it when readmission is off, and returns its log record.
   Eviction dropLandmark(Backend& backend, const DropContext& ctx, const ReducerChoice& victim,
                         std::string reason);
-  std::vector<std::pair<std::string, ReducerChoice>> askShadows(const DropContext& ctx,
-                                                                const ReducerChoice& active);
+  /// Asks the shadows about the current map (filling e.shadow and e.shadow_errors) and counts
+  /// their agreement with the active choice. A shadow that throws is logged, never fatal.
+  void askShadows(const DropContext& ctx, const ReducerChoice& active, Eviction& e);
 };
 
 /// Indices of the landmarks that may be dropped after `step`: those not seen in the last

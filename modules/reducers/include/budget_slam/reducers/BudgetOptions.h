@@ -2,6 +2,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,8 +26,11 @@ struct BudgetOptions : public mrpt::config::CLoadableOptions {
               ///< reducer would rather drop a kept landmark; refused ids wait before a retry
   };
 
-  std::string reducer = "none";             ///< active reducer by registry name; none = no cap
-  std::size_t max_landmarks = 50;           ///< the cap, >= 1 [landmarks]
+  std::string reducer = "none";  ///< active reducer by registry name; none = no cap
+  /// The cap: landmarks in the map after every step, >= 1 [landmarks]. Empty (ini and --cap:
+  /// `none`) = unbounded, valid only for reducer `none` and for reducers that decide the map's
+  /// size themselves (Reducer::decidesMapSize; checkCap).
+  std::optional<std::size_t> max_landmarks = 50;
   std::size_t protect_recent_steps = 5;     ///< P: landmarks protected by `protect` [steps]
   Protect protect = Protect::RecentlySeen;  ///< recently_seen | newly_added
   Admission admission = Admission::Always;  ///< always | compete
@@ -46,6 +50,8 @@ struct BudgetOptions : public mrpt::config::CLoadableOptions {
 
   /// Keys of the section, for unknown-key checks.
   static std::vector<std::string> keys();
+  /// The cap as written in the ini and on the command line: a number, or `none`.
+  static std::string capText(const std::optional<std::size_t>& cap);
 
   static std::string toString(Protect p);
   static std::string toString(Admission a);

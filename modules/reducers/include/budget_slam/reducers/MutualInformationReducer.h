@@ -19,8 +19,11 @@ class MutualInformationReducer : public Reducer {
   /// paper's "active minimization" of its Table II). incremental: Alg. 3 after every `psi` steps
   /// counted from the previous minimization (Alg. 5). cap: nothing.
   ScheduledDrops scheduled(const ScheduleContext& ctx) override;
-  /// In objective and incremental modes the objective rho, not the cap, decides how many stay.
-  bool enforcesCap() const override { return options_.mode == MutualInformationOptions::Mode::Cap; }
+  /// In objective and incremental modes the objective rho decides how many stay (Alg. 3); a cap,
+  /// when one is given, still holds after every step.
+  bool decidesMapSize() const override {
+    return options_.mode != MutualInformationOptions::Mode::Cap;
+  }
   /// Alg. 5: "dropped landmarks are not re-admitted" in incremental mode.
   bool readmitsEvicted() const override {
     return options_.mode != MutualInformationOptions::Mode::Incremental;

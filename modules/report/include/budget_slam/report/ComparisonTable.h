@@ -5,8 +5,8 @@
 
 namespace budget_slam::report {
 
-/// One run of `compare` (DESIGN.md "Outputs": comparison.csv / comparison.md). SI units; NaN where
-/// a value does not apply (e.g. no ground truth).
+/// One run of `compare` (docs/OUTPUTS.md: comparison.csv / comparison.md). SI units; NaN where
+/// a value does not apply (e.g. no ground truth): an empty field in the CSV, "-" in the table.
 struct ComparisonRow {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   std::string run;      ///< folder name: reference or the reducer's name

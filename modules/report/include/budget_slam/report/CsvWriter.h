@@ -11,7 +11,8 @@ class CsvWriter {
  public:
   CsvWriter(const std::string& path, const std::vector<std::string>& columns);
 
-  /// One cell each; numbers in SI units.
+  /// One cell each; numbers in SI units. A NaN double (a value that does not apply) is an empty
+  /// field, the tidy-CSV way to say "missing"; infinities are written as inf and -inf.
   CsvWriter& cell(double v);
   CsvWriter& cell(long long v);
   CsvWriter& cell(unsigned long long v);

@@ -45,8 +45,20 @@ struct ChartPanel {
   bool log_y = false;
 };
 
-/// Renders the panels stacked vertically, with a shared legend (OpenCV).
-void writeChartPng(const std::string& path, const std::vector<ChartPanel>& panels, int width = 1200,
-                   int panel_height = 420);
+/// Where writeChartPng drew one legend entry, and in which colour.
+struct LegendMark {
+  std::size_t panel = 0;
+  std::string name;
+  int x = 0, y = 0;                    ///< a pixel in the middle of the entry's line [px]
+  std::array<unsigned char, 3> bgr{};  ///< its colour, blue green red
+};
+
+/// Renders the panels stacked vertically, each with its legend (OpenCV). A series keeps one
+/// colour in every panel, chosen by its name in the order names first appear over the panels,
+/// so a series missing from one panel shifts no other. Returns the legend entries it drew.
+/// Throws Error if it cannot write.
+std::vector<LegendMark> writeChartPng(const std::string& path,
+                                      const std::vector<ChartPanel>& panels, int width = 1200,
+                                      int panel_height = 420);
 
 }  // namespace budget_slam::report
