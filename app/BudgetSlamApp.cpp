@@ -173,8 +173,12 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
       "", "reference-trajectory",
       "with --relocalize: trajectory.tum to measure traversals without ground truth against", false,
       "", "file.tum");
+  TCLAP::SwitchArg offline_optimum(
+      "", "offline-optimum",
+      "adds the best place coverage any cap-sized map could give with hindsight (GLPK)");
   if (compare)
-    cmd.add(reducers), cmd.add(threads), cmd.add(relocalize), cmd.add(reference_trajectory);
+    cmd.add(reducers), cmd.add(threads), cmd.add(relocalize), cmd.add(reference_trajectory),
+        cmd.add(offline_optimum);
   TCLAP::ValueArg<std::string> cap("", "cap",
                                    "landmark cap, or none for no cap (reducer none, mi in "
                                    "objective or incremental mode); overrides [LandmarkBudget] "
@@ -212,6 +216,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   if (compare) cli_.reducers = splitList(reducers.getValue()), cli_.threads = threads.getValue();
   if (compare) cli_.relocalize = splitList(relocalize.getValue());
   if (compare) cli_.reference_trajectory = reference_trajectory.getValue();
+  if (compare) cli_.offline_optimum = offline_optimum.getValue();
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
   // Flag values are part of the command line: a bad one exits 2 before anything is written.

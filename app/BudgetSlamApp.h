@@ -22,6 +22,7 @@ struct CommandLine {
   std::vector<std::string> sets;      ///< --set Section.key=value
   std::vector<std::string> reducers;  ///< compare: --reducers a,b,c
   unsigned threads = 0;               ///< compare: --threads, 0 = one a core
+  bool offline_optimum = false;       ///< compare: --offline-optimum
   bool quiet = false, force = false;
   std::string map_dir;                   ///< localize: --map RUN_DIR
   std::string start_pose;                ///< localize: --start-pose x,y,yaw_deg ("" = derive)

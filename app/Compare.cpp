@@ -10,6 +10,7 @@
 
 #include "BudgetSlamApp.h"
 #include "Interrupt.h"
+#include "OfflineOptimum.h"
 #include "Pipeline.h"
 #include "ProgressBar.h"
 #include "Relocalize.h"
@@ -352,7 +353,22 @@ int BudgetSlamApp::runCompare() {
                               rc.mapping.backend + ", cap " +
                               reducers::BudgetOptions::capText(rc.budget.max_landmarks) + ", " +
                               std::to_string(steps.size()) + " steps";
-    const std::string md = report::writeComparisonMarkdown(top->file("comparison.md"), title, rows);
+    std::string md = report::writeComparisonMarkdown(top->file("comparison.md"), title, rows);
+    if (cli_.offline_optimum) {
+      if (!rc.budget.max_landmarks)
+        throw InputError("--offline-optimum needs a cap (not --cap none)");
+      std::vector<FinalMap> maps;
+      for (const auto& r : runs) {
+        FinalMap m{r->name, {}};
+        for (const auto& l : r->pipeline->backend().landmarks()) m.kept.push_back(l.id);
+        maps.push_back(std::move(m));
+      }
+      const std::string table =
+          writeOfflineOptimum(top->file("offline_optimum.csv"), rc.ini, steps,
+                              ref.pipeline->onlinePoses(), maps, *rc.budget.max_landmarks);
+      std::ofstream(top->file("comparison.md"), std::ios::app) << table;
+      md += table;
+    }
 
     std::vector<report::ChartPanel> panels;
     report::ChartPanel count{"landmarks in the map", "step", "landmarks", {}, false};

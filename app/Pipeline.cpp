@@ -153,10 +153,10 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
 }
 
 void Pipeline::process(const Step& raw) {
-  const auto& budget = manager_->options();
   const auto t0 = std::chrono::steady_clock::now();
   const double cpu0 = threadCpuSeconds();
-  const Step filtered = budget.readmit_evicted ? raw : withoutReadingsOf(raw, manager_->evicted());
+  // Without the readings of landmarks dropped for good and of refused newcomers still waiting.
+  const Step filtered = manager_->admissible(raw);
 
   const std::size_t before = backend_->landmarkCount();
   backend_->process(filtered);
@@ -171,7 +171,7 @@ void Pipeline::process(const Step& raw) {
   if (diverged(backend_->robotPose()))
     throw Error("step " + std::to_string(raw.index) + ": the " + backend_->name() +
                 " estimate diverged (the robot pose or its covariance is not finite)");
-  const auto drops = manager_->enforce(*backend_, raw.index);
+  const auto drops = manager_->enforce(*backend_, filtered);
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = threadCpuSeconds() - cpu0;
   const std::size_t reloc_landmarks = trackCoverage(raw, filtered, assoc);
@@ -257,10 +257,12 @@ Pipeline::FinalCoverage Pipeline::finalCoverage() const {
 }
 
 void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
-  evictions_ += drops.size();
   for (const auto& e : drops) {
     reloc_.landmarkRemoved(e.id);
-    if (dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
+    // A refused newcomer never held a place between steps: counted apart from the drops.
+    const bool refused = e.reason == "refused";
+    ++(refused ? refused_ : evictions_);
+    if (!refused && dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
     evictions_csv_.cell(e.step)
         .cell(static_cast<long long>(e.id))
         .cell(e.reducer)
@@ -452,6 +454,7 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
                  {"landmarks_peak", peak_landmarks_},
                  {"landmarks_added", landmarks_added_},
                  {"evictions", evictions_},
+                 {"refused", refused_},
                  {"poses_kept", backend_->poseCount()},
                  {"poses_marginalized", manager_->posesMarginalized()}};
   j["timings"] = {

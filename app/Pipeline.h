@@ -69,7 +69,10 @@ class Pipeline {
   const reducers::BudgetManager& budget() const { return *manager_; }
   const report::OutputFolder& folder() const { return folder_; }
   std::size_t stepsDone() const { return steps_done_; }
+  /// Landmarks dropped after holding a place in the map (evictions.csv rows but the refusals).
   std::size_t evictions() const { return evictions_; }
+  /// Newcomers refused at admission (evictions.csv rows with reason refused).
+  std::size_t refused() const { return refused_; }
   /// The online robot pose after each step (for NEES and the metrics against the reference).
   const std::vector<metrics::PoseRecord>& onlinePoses() const { return online_; }
   const std::vector<std::size_t>& landmarkCounts() const { return counts_; }
@@ -138,7 +141,8 @@ class Pipeline {
   bool completed_ = false;
   std::string write_error_, summary_error_;
   StepIndex last_step_ = 0;
-  std::size_t steps_done_ = 0, evictions_ = 0, peak_landmarks_ = 0, landmarks_added_ = 0;
+  std::size_t steps_done_ = 0, evictions_ = 0, refused_ = 0, peak_landmarks_ = 0,
+              landmarks_added_ = 0;
   double total_step_s_ = 0, max_step_s_ = 0;
 };
 

@@ -15,6 +15,7 @@ PACKAGES=(
   slurm-wlm munge                  # sweeps on a SLURM cluster; tools/slurm/local-cluster.sh
   python3-dev pybind11-dev         # the budget_slam Python module
   clang-14 libclang-rt-14-dev      # libFuzzer targets and sanitizer runtimes (tools/fuzz.sh)
+  libglpk-dev                      # offline coverage optimum (integer program)
 )
 
 missing=()

@@ -1,5 +1,6 @@
 #include "budget_slam/ekf/EkfBackend.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "budget_slam/core/Error.h"
@@ -73,6 +74,14 @@ std::vector<LandmarkView> EkfBackend::landmarks() const {
     }
     out.push_back(v);
   }
+  return out;
+}
+
+std::vector<LandmarkId> EkfBackend::observedAt(StepIndex step) const {
+  std::vector<LandmarkId> out;
+  for (const auto& [id, t] : tracks_)
+    if (t.last_step == step && t.n > 0) out.push_back(id);
+  std::sort(out.begin(), out.end());
   return out;
 }
 

@@ -308,6 +308,13 @@ std::vector<LandmarkView> GraphBackend::landmarks() const {
   return out;
 }
 
+std::vector<LandmarkId> GraphBackend::observedAt(StepIndex step) const {
+  std::vector<LandmarkId> out;
+  for (const auto& [id, t] : tracks_)  // a std::map: already sorted by id
+    if (t.last_step == step && t.n > 0) out.push_back(id);
+  return out;
+}
+
 PoseEstimate GraphBackend::robotPose() const {
   PoseEstimate p;
   if (graph_.poses().empty()) return p;

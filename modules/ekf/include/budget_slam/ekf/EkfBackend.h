@@ -20,6 +20,8 @@ class EkfBackend : public Backend {
   void process(const Step& step) override;
   std::vector<LandmarkView> landmarks() const override;
   std::size_t landmarkCount() const override { return kf_.landmarkCount(); }
+  /// From the sighting bookkeeping (no covariance blocks), sorted by id.
+  std::vector<LandmarkId> observedAt(StepIndex step) const override;
   PoseEstimate robotPose() const override;
   std::vector<TrajectoryPoint> trajectory() const override { return trajectory_; }
   std::size_t poseCount() const override { return 1; }

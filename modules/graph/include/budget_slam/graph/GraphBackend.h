@@ -28,6 +28,8 @@ class GraphBackend : public Backend {
   /// landmarks, then runs the incremental schedule (GraphSlamOptions).
   void process(const Step& step) override;
   std::vector<LandmarkView> landmarks() const override;
+  /// From the sighting bookkeeping, without the marginals landmarks() computes; sorted by id.
+  std::vector<LandmarkId> observedAt(StepIndex step) const override;
   std::size_t landmarkCount() const override { return graph_.landmarks().size(); }
   PoseEstimate robotPose() const override;
   std::vector<TrajectoryPoint> trajectory() const override;
