@@ -39,7 +39,10 @@ std::string topLevelHelp() {
       builtinBackends().joinedNames("|") +
       "] [--set Section.key=value]...\n"
       "   budget-slam compare -c config.ini [-i in.rawlog] [-o outdir] [--reducers a,b,c]\n"
-      "                       [--cap N|none] [--threads N] [...]\n"
+      "                       [--cap N|none] [--threads N] [--relocalize a.rawlog,b.rawlog]\n"
+      "                       [--reference-trajectory ref.tum] [...]\n"
+      "   budget-slam localize -c config.ini --map RUN_DIR -i other.rawlog [-o outdir]\n"
+      "                       [--start-pose x,y,yaw] [--reference-trajectory ref.tum] [...]\n"
       "   budget-slam <command> --help    every option of a command\n"
       "   budget-slam --version\n\n"
       "Reducers:\n\n";
@@ -134,10 +137,11 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
     help_ = std::string("budget-slam version ") + kVersion + "\n";
     return;
   }
+  if (command == "localize") return initializeLocalize(args);
   if (command != "run" && command != "compare")
-    throw UsageError((command.empty()
-                          ? std::string("expected a command, run or compare")
-                          : "unknown command '" + command + "' (expected run or compare)") +
+    throw UsageError((command.empty() ? std::string("expected a command, run, compare or localize")
+                                      : "unknown command '" + command +
+                                            "' (expected run, compare or localize)") +
                      "; see budget-slam --help");
   cli_.command = command;
   const bool compare = cli_.command == "compare";
@@ -165,7 +169,20 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
                                         false, "", "a,b,c");
   TCLAP::ValueArg<unsigned> threads(
       "", "threads", "runs at once (default: one a core, at most one a run)", false, 0, "N");
-  if (compare) cmd.add(reducers), cmd.add(threads);
+  TCLAP::ValueArg<std::string> relocalize(
+      "", "relocalize",
+      "comma-separated rawlogs: every run's final map localizes each one (budget-slam localize)",
+      false, "", "a.rawlog,b.rawlog");
+  TCLAP::ValueArg<std::string> reference_trajectory(
+      "", "reference-trajectory",
+      "with --relocalize: trajectory.tum to measure traversals without ground truth against", false,
+      "", "file.tum");
+  TCLAP::SwitchArg offline_optimum(
+      "", "offline-optimum",
+      "adds the best place coverage any cap-sized map could give with hindsight (GLPK)");
+  if (compare)
+    cmd.add(reducers), cmd.add(threads), cmd.add(relocalize), cmd.add(reference_trajectory),
+        cmd.add(offline_optimum);
   TCLAP::ValueArg<std::string> cap("", "cap",
                                    "landmark cap, or none for no cap (reducer none, mi in "
                                    "objective or incremental mode); overrides [LandmarkBudget] "
@@ -201,6 +218,9 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   if (cap.isSet()) cli_.cap = cap.getValue();
   cli_.sets = sets.getValue();
   if (compare) cli_.reducers = splitList(reducers.getValue()), cli_.threads = threads.getValue();
+  if (compare) cli_.relocalize = splitList(relocalize.getValue());
+  if (compare) cli_.reference_trajectory = reference_trajectory.getValue();
+  if (compare) cli_.offline_optimum = offline_optimum.getValue();
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
   // Flag values are part of the command line: a bad one exits 2 before anything is written.
@@ -209,7 +229,10 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   } catch (const ConfigError& e) {
     throw UsageError(e.what() + std::string("; see budget-slam ") + cli_.command + " --help");
   }
+  loadConfigFile();
+}
 
+void BudgetSlamApp::loadConfigFile() {
   config_text_.reset();
   if (!cli_.config.empty() || params.getContent().empty()) {
     const std::string path = cli_.config.empty() ? "config.ini" : cli_.config;
@@ -235,6 +258,7 @@ int BudgetSlamApp::run() {
   }
   InterruptGuard guard;
   InterruptGuard::clear();
+  if (cli_.command == "localize") return runLocalize();
   return cli_.command == "compare" ? runCompare() : runRun();
 }
 
@@ -316,10 +340,18 @@ int BudgetSlamApp::runRun() {
                                           rc.mapping.keep_history);
 
     dataset::RawlogReader reader(rc.rawlog);
+    // A signal ends the reading within one read of the file, even inside a large object.
+    reader.setStopCheck([] { return InterruptGuard::requested(); });
     ProgressBar bar(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
     const std::size_t limit = rc.mapping.max_steps;
     while (limit == 0 || steps_read < limit) {
       auto step = reader.next();
+      if (!step && reader.stopped()) {
+        bar.done();
+        return fail(std::string("interrupted by ") + InterruptGuard::what() +
+                        " while reading step " + std::to_string(reader.stepsRead()),
+                    "interrupted");
+      }
       if (!step) break;
       steps_read = reader.stepsRead();
       pipeline->process(*step);

@@ -15,14 +15,19 @@ namespace budget_slam::app {
 
 /// What the command line asked for (docs/ARCHITECTURE.md "Command line").
 struct CommandLine {
-  std::string command;  ///< run | compare
+  std::string command;  ///< run | compare | localize
   std::string config;   ///< -c; "" = keep params as set by the caller, or ./config.ini
   std::string rawlog, outdir, reducer, backend;
   std::optional<std::string> cap;     ///< --cap as given: a number >= 1, or none
   std::vector<std::string> sets;      ///< --set Section.key=value
   std::vector<std::string> reducers;  ///< compare: --reducers a,b,c
   unsigned threads = 0;               ///< compare: --threads, 0 = one a core
+  bool offline_optimum = false;       ///< compare: --offline-optimum
   bool quiet = false, force = false;
+  std::string map_dir;                   ///< localize: --map RUN_DIR
+  std::string start_pose;                ///< localize: --start-pose x,y,yaw_deg ("" = derive)
+  std::string reference_trajectory;      ///< localize, compare: --reference-trajectory
+  std::vector<std::string> relocalize;   ///< compare: --relocalize a.rawlog,b.rawlog
 };
 
 /// The budget-slam application: a thin main() calls initialize() and run(); tests drive it with an
@@ -59,6 +64,12 @@ class BudgetSlamApp {
   /// Checks and parses the -c text read by initialize() into `params` (core/IniText.h): a
   /// binary file, prose, a duplicated key or a failed ${...} is a ConfigError naming the line.
   void loadConfig();
+  int runLocalize();
+  /// localize's command line (Localize.cpp).
+  void initializeLocalize(const std::vector<std::string>& args);
+  /// Reads -c (or ./config.ini when params is empty) for loadConfig(): missing, a folder or over
+  /// 1 MiB is a command-line error.
+  void loadConfigFile();
 
   CommandLine cli_;
   std::string config_label_ = "config";

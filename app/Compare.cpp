@@ -10,8 +10,10 @@
 
 #include "BudgetSlamApp.h"
 #include "Interrupt.h"
+#include "OfflineOptimum.h"
 #include "Pipeline.h"
 #include "ProgressBar.h"
+#include "Relocalize.h"
 #include "RunConfig.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
@@ -24,6 +26,7 @@
 #include "budget_slam/report/ComparisonTable.h"
 #include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/Pictures.h"
+#include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/report/RunFiles.h"
 
 namespace budget_slam::app {
@@ -130,20 +133,29 @@ int BudgetSlamApp::runCompare() {
   std::vector<std::unique_ptr<CompareRun>> runs;
   std::shared_ptr<dataset::GroundTruth> truth;
   std::vector<Step> steps;
+  std::vector<Traversal> traversals;           // --relocalize
+  std::vector<TrajectoryPoint> reference_tum;  // --reference-trajectory
   try {
+    traversals = loadTraversals(params, cli_, config_label_);
+    if (!cli_.reference_trajectory.empty())
+      reference_tum = report::readTrajectoryTum(cli_.reference_trajectory, 50'000'000);
     report::writeFileAtomically(top->file("config_used.ini"), rc.ini.getContent());
     truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
 
     // The rawlog is parsed once; every pipeline reads the same steps.
     dataset::RawlogReader reader(rc.rawlog);
+    reader.setStopCheck([] { return InterruptGuard::requested(); });
     ProgressBar reading(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
     const std::size_t limit = rc.mapping.max_steps;
     while (limit == 0 || steps.size() < limit) {
       auto s = reader.next();
-      if (!s) break;
-      steps.push_back(std::move(*s));
-      reading.update(reader.progress(), "reading step " + std::to_string(steps.size()));
+      if (s) {
+        steps.push_back(std::move(*s));
+        reading.update(reader.progress(), "reading step " + std::to_string(steps.size()));
+      } else if (!reader.stopped()) {
+        break;
+      }
       if (InterruptGuard::requested()) {
         reading.done();
         *err << "budget-slam: interrupted by " << InterruptGuard::what()
@@ -242,6 +254,13 @@ int BudgetSlamApp::runCompare() {
   int exit_code = 0;
   std::string first_error;
   std::vector<std::string> failures;  ///< one stderr line a run that did not end ok
+  // Without sensor IDs, a final map's coverage goes through the reference run's association
+  // (docs/OUTPUTS.md, "Relocalization coverage").
+  if (ref.status == "ok" && withoutLandmarkIds(steps))
+    for (const auto& r : runs)
+      if (r->status == "ok")
+        r->pipeline->setFinalCoverage(
+            coverageThroughReference(*ref.pipeline, *r->pipeline, metric_options.reloc_match_chi2));
   for (const auto& r : runs) {
     nlohmann::json extra = {{"rawlog", rc.rawlog},
                             {"sidecar_ini", rc.sidecar},
@@ -300,16 +319,56 @@ int BudgetSlamApp::runCompare() {
     row.gt_landmark_rmse_m = jsonNumber(summary, "ground_truth", "landmark_rmse_m");
     row.nees_mean = jsonNumber(summary, "ground_truth", "nees_mean");
     row.time_s = r->pipeline->totalStepSeconds();
+    row.reloc_coverage_pct = jsonNumber(summary, "relocalization", "coverage_pct");
+    row.reloc_mean_landmarks = jsonNumber(summary, "relocalization", "mean_landmarks");
     rows.push_back(row);
+  }
+
+  // --relocalize: every final map (the reference's too) localizes each traversal.
+  std::vector<RelocalizationResult> relocalized;
+  if (!traversals.empty()) {
+    std::vector<MapOfRun> maps;
+    for (const auto& r : runs)
+      if (r->status == "ok")
+        maps.push_back({r->name, r->pipeline->folder().path(), r->pipeline->backend().landmarks(),
+                        r->pipeline->mapAlignment()});
+    relocalized = relocalizeAll(maps, traversals,
+                                cli_.reference_trajectory.empty() ? nullptr : &reference_tum,
+                                cli_.reference_trajectory, cli_.threads, cli_.force);
+    addRelocalizationColumns(rows, relocalized, kReference);
+    for (const auto& r : relocalized)
+      if (r.status != "ok") {
+        if (exit_code == 0) exit_code = r.status == "interrupted" ? 130 : 1;
+        const std::string line =
+            "run '" + r.run + "', --relocalize '" + r.traversal + "': " + r.error;
+        if (first_error.empty()) first_error = line;
+        failures.push_back((r.status == "interrupted" ? "" : "error: ") + line);
+      }
   }
 
   try {
     report::writeComparisonCsv(top->file("comparison.csv"), rows);
+    if (!traversals.empty()) writeRelocalizationCsv(top->file("relocalization.csv"), relocalized);
     const std::string title = "budget-slam compare: " + rc.rawlog + ", backend " +
                               rc.mapping.backend + ", cap " +
                               reducers::BudgetOptions::capText(rc.budget.max_landmarks) + ", " +
                               std::to_string(steps.size()) + " steps";
-    const std::string md = report::writeComparisonMarkdown(top->file("comparison.md"), title, rows);
+    std::string md = report::writeComparisonMarkdown(top->file("comparison.md"), title, rows);
+    if (cli_.offline_optimum) {
+      if (!rc.budget.max_landmarks)
+        throw InputError("--offline-optimum needs a cap (not --cap none)");
+      std::vector<FinalMap> maps;
+      for (const auto& r : runs) {
+        FinalMap m{r->name, {}};
+        for (const auto& l : r->pipeline->backend().landmarks()) m.kept.push_back(l.id);
+        maps.push_back(std::move(m));
+      }
+      const std::string table =
+          writeOfflineOptimum(top->file("offline_optimum.csv"), rc.ini, steps,
+                              ref.pipeline->onlinePoses(), maps, *rc.budget.max_landmarks);
+      std::ofstream(top->file("comparison.md"), std::ios::app) << table;
+      md += table;
+    }
 
     std::vector<report::ChartPanel> panels;
     report::ChartPanel count{"landmarks in the map", "step", "landmarks", {}, false};

@@ -9,6 +9,8 @@
 #include <functional>
 #include <iomanip>
 #include <sstream>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "BuiltinBackends.h"
 #include "MappingOptions.h"
@@ -16,6 +18,7 @@
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/StepFilter.h"
 #include "budget_slam/core/Text.h"
+#include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/MapScene.h"
@@ -45,6 +48,15 @@ double threadCpuSeconds() {
 
 /// map.png marks at most this many dropped landmarks (a lifelong run drops millions).
 constexpr std::size_t kMaxDroppedMarks = 20000;
+/// Without per-step history, the relocalization coverage follows at most this many evenly spread
+/// steps (bounded memory on lifelong runs; docs/OUTPUTS.md).
+constexpr std::size_t kMaxCoverageSteps = 4096;
+
+std::size_t relocMinLandmarks(const mrpt::config::CConfigFileBase& ini) {
+  metrics::MetricsOptions m;
+  m.loadFromConfigFile(ini, metrics::MetricsOptions::kSection);
+  return m.reloc_min_landmarks;
+}
 
 double nanIfEmpty(std::size_t n, double v) {
   return n ? v : std::numeric_limits<double>::quiet_NaN();
@@ -116,7 +128,8 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
       truth_(std::move(truth)),
       steps_csv_(folder_.file("steps.csv"), report::stepsCsvColumns()),
       evictions_csv_(folder_.file("evictions.csv"), report::evictionsCsvColumns()),
-      keep_history_(keep_history) {
+      keep_history_(keep_history),
+      reloc_(relocMinLandmarks(ini), keep_history ? 0 : kMaxCoverageSteps) {
   if (truth_ && !truth_->path.empty()) truth_frame_ = metrics::toEstimateFrame(*truth_);
   // map.png colours the kept landmarks by the coverage clusters ([CoverageReducer], run's seed).
   coverage_.seed = budget.seed;
@@ -130,13 +143,16 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
 }
 
 void Pipeline::process(const Step& raw) {
-  const auto& budget = manager_->options();
   const auto t0 = std::chrono::steady_clock::now();
   const double cpu0 = threadCpuSeconds();
-  const Step filtered = budget.readmit_evicted ? raw : withoutReadingsOf(raw, manager_->evicted());
+  // Without the readings of landmarks dropped for good and of refused newcomers still waiting.
+  const Step filtered = manager_->admissible(raw);
 
   const std::size_t before = backend_->landmarkCount();
   backend_->process(filtered);
+  // The landmarks the step's readings went to are in the map now (new ones included).
+  const std::vector<LandmarkId> assoc = backend_->lastAssociation();
+  for (const LandmarkId id : assoc) reloc_.landmarkAdded(id);
   const std::size_t added = backend_->landmarkCount() - before;
   const auto diverged = [](const PoseEstimate& p) {
     return !std::isfinite(p.mean.x) || !std::isfinite(p.mean.y) || !std::isfinite(p.mean.phi) ||
@@ -145,9 +161,10 @@ void Pipeline::process(const Step& raw) {
   if (diverged(backend_->robotPose()))
     throw Error("step " + std::to_string(raw.index) + ": the " + backend_->name() +
                 " estimate diverged (the robot pose or its covariance is not finite)");
-  const auto drops = manager_->enforce(*backend_, raw.index);
+  const auto drops = manager_->enforce(*backend_, filtered);
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = threadCpuSeconds() - cpu0;
+  const std::size_t reloc_landmarks = trackCoverage(raw, filtered, assoc);
   const std::size_t n = backend_->landmarkCount();
   const PoseEstimate pose = backend_->robotPose();
 
@@ -167,7 +184,9 @@ void Pipeline::process(const Step& raw) {
       .cell(pose.cov(2, 2))
       .cell(1e3 * dt)
       .cell(1e3 * cpu)
-      .cell(residentBytes());
+      .cell(residentBytes())
+      .cell(reloc_landmarks)
+      .cell(reloc_.coverageSoFarPct());
   steps_csv_.endRow();
 
   ++steps_done_;
@@ -193,14 +212,47 @@ void Pipeline::process(const Step& raw) {
     char name[48];
     std::snprintf(name, sizeof name, "kf_state_%05llu.3Dscene",
                   static_cast<unsigned long long>(raw.index));
-    writeScene(name, backend_->trajectory(), backend_->landmarks());
+    writeScene(name, backend_->trajectory(), backend_->landmarks(), nullptr);
   }
 }
 
+std::size_t Pipeline::trackCoverage(const Step& raw, const Step& filtered,
+                                    const std::vector<LandmarkId>& assoc) {
+  // A reading with a sensor ID observes that landmark (whether the map holds it or not); one
+  // without is known only through the backend's association.
+  std::vector<LandmarkId> observed;
+  if (raw.scan)
+    for (const auto& r : raw.scan->readings)
+      if (r.id != kNoLandmarkId) observed.push_back(r.id), saw_ids_ = true;
+  if (filtered.scan)
+    for (std::size_t r = 0; r < filtered.scan->readings.size(); ++r)
+      if (filtered.scan->readings[r].id == kNoLandmarkId) {
+        saw_idless_ = true;
+        if (r < assoc.size()) observed.push_back(assoc[r]);
+      }
+  return reloc_.addStep(raw.index, observed);
+}
+
+Pipeline::FinalCoverage Pipeline::finalCoverage() const {
+  FinalCoverage c;
+  std::unordered_set<LandmarkId> ids;
+  for (const auto& l : backend_->landmarks()) ids.insert(l.id);
+  c.steps = reloc_.steps();
+  c.coverage = metrics::coverageOf(
+      c.steps, [&](LandmarkId id) { return ids.count(id) > 0; }, reloc_.minLandmarks(),
+      reloc_.sampled());
+  c.source = saw_idless_ ? (saw_ids_ ? "landmark_ids_and_own_association" : "own_association")
+                         : "landmark_ids";
+  return c;
+}
+
 void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
-  evictions_ += drops.size();
   for (const auto& e : drops) {
-    if (dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
+    reloc_.landmarkRemoved(e.id);
+    // A refused newcomer never held a place between steps: counted apart from the drops.
+    const bool refused = e.reason == "refused";
+    ++(refused ? refused_ : evictions_);
+    if (!refused && dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
     evictions_csv_.cell(e.step)
         .cell(static_cast<long long>(e.id))
         .cell(e.reducer)
@@ -215,7 +267,8 @@ void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
 }
 
 report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& trajectory,
-                                        const std::vector<LandmarkView>& landmarks) const {
+                                        const std::vector<LandmarkView>& landmarks,
+                                        const FinalCoverage* coverage) const {
   report::MapContent map;
   const auto& budget = manager_->options();
   map.title = backend_->name() + ", reducer " + budget.reducer +
@@ -230,6 +283,20 @@ report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& traj
        reducers::KMeans::cluster(obs_means, coverage_.kmeans(obs_means.size())).label)
     map.cluster_of_kept.push_back(static_cast<int>(c));
   map.dropped = dropped_;
+  // The path coloured by the final map's landmarks in view, when every pose's step is known.
+  if (coverage) {
+    std::unordered_map<StepIndex, std::size_t> in_view;
+    for (const auto& st : coverage->steps) in_view[st.step] = st.in_map;
+    map.min_landmarks = coverage->coverage.min_landmarks;
+    for (const auto& p : trajectory) {
+      const auto it = in_view.find(p.step);
+      if (it == in_view.end()) {
+        map.trajectory_landmarks.clear();
+        break;
+      }
+      map.trajectory_landmarks.push_back(it->second);
+    }
+  }
   if (truth_ && !truth_->empty()) {
     const auto gt = metrics::toEstimateFrame(*truth_);
     map.ground_truth_path = gt.path;
@@ -239,13 +306,15 @@ report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& traj
 }
 
 void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
-                        const std::vector<LandmarkView>& landmarks) const {
-  report::writeMapPng(folder_.file("map.png"), mapContent(trajectory, landmarks));
+                        const std::vector<LandmarkView>& landmarks,
+                        const FinalCoverage& coverage) const {
+  report::writeMapPng(folder_.file("map.png"), mapContent(trajectory, landmarks, &coverage));
 }
 
 void Pipeline::writeScene(const std::string& name, const std::vector<TrajectoryPoint>& trajectory,
-                          const std::vector<LandmarkView>& landmarks) const {
-  report::writeMapScene(folder_.file(name), mapContent(trajectory, landmarks),
+                          const std::vector<LandmarkView>& landmarks,
+                          const FinalCoverage* coverage) const {
+  report::writeMapScene(folder_.file(name), mapContent(trajectory, landmarks, coverage),
                         backend_->robotPose().mean);
 }
 
@@ -343,9 +412,11 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
           [&] { report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory); });
   attempt("landmarks.csv",
           [&] { report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks); });
-  attempt("map.png", [&] { writeMap(trajectory, landmarks); });
+  const FinalCoverage coverage = final_coverage_ ? *final_coverage_ : finalCoverage();
+  attempt("map.png", [&] { writeMap(trajectory, landmarks, coverage); });
   if (save_3d_scene_)
-    attempt("map.3Dscene", [&] { writeScene("map.3Dscene", trajectory, landmarks); });
+    attempt("map.3Dscene",
+            [&] { writeScene("map.3Dscene", trajectory, landmarks, &coverage); });
   if (truth_ && !truth_->path.empty())
     attempt("ground_truth.tum", [&] { writeGroundTruthTum(trajectory, steps_in_rawlog); });
 
@@ -373,6 +444,7 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
                  {"landmarks_peak", peak_landmarks_},
                  {"landmarks_added", landmarks_added_},
                  {"evictions", evictions_},
+                 {"refused", refused_},
                  {"poses_kept", backend_->poseCount()},
                  {"poses_marginalized", manager_->posesMarginalized()}};
   j["timings"] = {
@@ -422,6 +494,27 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
                          {"landmark_rmse_m", number(e.landmark_rmse)},
                          {"nees_mean", number(nees_mean)},
                          {"nees_samples", nees_n_[offset]}};
+    // Where the ground truth's frame sits in the map's (budget-slam localize starts another
+    // traversal's robot there; docs/OUTPUTS.md).
+    alignment_ = metrics::mapAlignment(landmarks, trajectory, *truth_, steps_in_rawlog);
+    if (alignment_)
+      j["ground_truth"]["map_alignment"] = {{"x", alignment_->transform.t.x()},
+                                            {"y", alignment_->transform.t.y()},
+                                            {"yaw", alignment_->yaw()},
+                                            {"source", alignment_->source},
+                                            {"points", alignment_->points}};
+  }
+  {
+    const auto& c = coverage.coverage;
+    nlohmann::json r = {{"min_landmarks", c.min_landmarks},
+                        {"coverage_pct", number(c.coverage_pct)},
+                        {"mean_landmarks", number(c.mean_landmarks)},
+                        {"steps", c.steps},
+                        {"steps_covered", c.steps_covered},
+                        {"sampled", c.sampled},
+                        {"source", coverage.source}};
+    for (const auto& [k, v] : coverage.details.items()) r[k] = v;
+    j["relocalization"] = r;
   }
   for (const auto& [k, v] : extra.items()) j[k] = v;
   try {

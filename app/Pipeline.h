@@ -9,6 +9,8 @@
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
+#include "budget_slam/metrics/MapAlignment.h"
+#include "budget_slam/metrics/RelocalizationCoverage.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/CoverageOptions.h"
 #include "budget_slam/report/CsvWriter.h"
@@ -62,11 +64,31 @@ class Pipeline {
   const reducers::BudgetManager& budget() const { return *manager_; }
   const report::OutputFolder& folder() const { return folder_; }
   std::size_t stepsDone() const { return steps_done_; }
+  /// Landmarks dropped after holding a place in the map (evictions.csv rows but the refusals).
   std::size_t evictions() const { return evictions_; }
+  /// Newcomers refused at admission (evictions.csv rows with reason refused).
+  std::size_t refused() const { return refused_; }
   /// The online robot pose after each step (for NEES and the metrics against the reference).
   const std::vector<metrics::PoseRecord>& onlinePoses() const { return online_; }
   const std::vector<std::size_t>& landmarkCounts() const { return counts_; }
   double totalStepSeconds() const { return total_step_s_; }
+
+  /// Relocalization coverage of the final map (docs/OUTPUTS.md): the coverage, the steps with
+  /// their counts against the final map, and where the observations came from.
+  struct FinalCoverage {
+    metrics::RelocalizationCoverage coverage;
+    std::vector<metrics::ObservedAtStep> steps;
+    std::string source;  ///< landmark_ids | own_association | reference_association | ...
+    nlohmann::json details = nlohmann::json::object();  ///< extra fields for summary.json
+  };
+  /// The tracker's steps against the backend's landmarks now (call after complete()).
+  FinalCoverage finalCoverage() const;
+  /// Replaces what finish() reports (compare on ID-less rawlogs: through the reference run).
+  void setFinalCoverage(FinalCoverage coverage) { final_coverage_ = std::move(coverage); }
+  /// Which landmarks each step observed, and the coverage so far.
+  const metrics::RelocalizationTracker& relocalization() const { return reloc_; }
+  /// Set by finish() when the rawlog has ground truth: the ground truth's frame in the map's.
+  const std::optional<metrics::MapAlignment>& mapAlignment() const { return alignment_; }
 
  private:
   void dumpState(const Backend& backend, StepIndex step) const;
@@ -74,14 +96,21 @@ class Pipeline {
   void logEvictions(const std::vector<reducers::Eviction>& drops);
   void writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
                            std::size_t steps_in_rawlog) const;
-  /// What map.png and map.3Dscene show.
+  /// What map.png and map.3Dscene show; with `coverage`, the path coloured by the final map's
+  /// landmarks in view.
   report::MapContent mapContent(const std::vector<TrajectoryPoint>& trajectory,
-                                const std::vector<LandmarkView>& landmarks) const;
+                                const std::vector<LandmarkView>& landmarks,
+                                const FinalCoverage* coverage) const;
   void writeMap(const std::vector<TrajectoryPoint>& trajectory,
-                const std::vector<LandmarkView>& landmarks) const;
+                const std::vector<LandmarkView>& landmarks, const FinalCoverage& coverage) const;
+  /// Gives the coverage tracker the landmarks the step observed (`assoc`: the backend's
+  /// association of `filtered`'s readings), after the step's map changes; returns how many
+  /// landmarks of the map held after the step it observed.
+  std::size_t trackCoverage(const Step& raw, const Step& filtered,
+                            const std::vector<LandmarkId>& assoc);
   /// map.3Dscene, or kf_state_<step>.3Dscene during the run (MRPT's SceneViewer3D).
   void writeScene(const std::string& name, const std::vector<TrajectoryPoint>& trajectory,
-                  const std::vector<LandmarkView>& landmarks) const;
+                  const std::vector<LandmarkView>& landmarks, const FinalCoverage* coverage) const;
 
   report::OutputFolder folder_;
   reducers::CoverageOptions coverage_;  ///< how map.png clusters the kept landmarks
@@ -100,10 +129,15 @@ class Pipeline {
   std::size_t nees_n_[2] = {0, 0};
   std::vector<std::size_t> counts_;
   std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
+  metrics::RelocalizationTracker reloc_;
+  bool saw_ids_ = false, saw_idless_ = false;  ///< readings with / without sensor IDs
+  std::optional<FinalCoverage> final_coverage_;
+  std::optional<metrics::MapAlignment> alignment_;
   bool completed_ = false;
   std::string write_error_, summary_error_;
   StepIndex last_step_ = 0;
-  std::size_t steps_done_ = 0, evictions_ = 0, peak_landmarks_ = 0, landmarks_added_ = 0;
+  std::size_t steps_done_ = 0, evictions_ = 0, refused_ = 0, peak_landmarks_ = 0,
+              landmarks_added_ = 0;
   double total_step_s_ = 0, max_step_s_ = 0;
 };
 

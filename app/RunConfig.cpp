@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "BuiltinBackends.h"
+#include "LocalizationOptions.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSchema.h"
 #include "budget_slam/core/IniText.h"
@@ -32,6 +33,7 @@ IniSchema knownKeys() {
   schema.addSection(MappingOptions::kSection, MappingOptions::keys());
   schema.addSection(reducers::BudgetOptions::kSection, reducers::BudgetOptions::keys());
   schema.addSection(metrics::MetricsOptions::kSection, metrics::MetricsOptions::keys());
+  schema.addSection(LocalizationOptions::kSection, LocalizationOptions::keys());
   for (const auto* e : reducers::builtinReducers().entries())
     if (!e->section.empty()) schema.addSection(e->section, e->keys);
   // An MRPT ini shared with MRPT's other applications (simul-landmarks...) keeps their sections.
@@ -138,6 +140,7 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
     rc.mapping.loadFromConfigFile(rc.ini, MappingOptions::kSection);
     rc.budget.loadFromConfigFile(rc.ini, reducers::BudgetOptions::kSection);
     checkValues(rc.ini, rc.budget.seed);
+    rc.localization.loadFromConfigFile(rc.ini, LocalizationOptions::kSection);
     reducers::builtinReducers().entry(rc.budget.reducer);  // unknown name: error now
     for (const auto& s : rc.budget.shadow_reducers) reducers::builtinReducers().entry(s);
   } catch (const ConfigError& e) {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "BudgetSlamApp.h"
+#include "LocalizationOptions.h"
 #include "MappingOptions.h"
 #include "budget_slam/reducers/BudgetOptions.h"
 
@@ -16,6 +17,7 @@ struct RunConfig {
   mrpt::config::CConfigFileMemory ini;  ///< merged; written as config_used.ini
   MappingOptions mapping;
   reducers::BudgetOptions budget;
+  LocalizationOptions localization;  ///< [Localization] (localize, compare --relocalize)
   std::string rawlog;   ///< resolved path of the input rawlog
   std::string sidecar;  ///< sidecar ini applied, "" if none
   std::string outdir;

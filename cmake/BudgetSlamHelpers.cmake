@@ -10,11 +10,12 @@ function(budget_slam_module)
   target_compile_features(budget_slam_${M_NAME} PUBLIC cxx_std_17)
 endfunction()
 
-# budget_slam_test(NAME <name> SOURCES ... LIBS ...)
+# budget_slam_test(NAME <name> SOURCES ... LIBS ... [LABELS ...] [TIMEOUT seconds])
 #   A GoogleTest executable registered with CTest; BUDGET_SLAM_SOURCE_DIR points tests at
-#   rawlogs/ and the public datasets.
+#   rawlogs/ and the public datasets. LABELS go on every test of the executable (`slow`: over
+#   20 s; `sanitize`: fast enough to run again under the sanitizers, tools/sanitize.sh).
 function(budget_slam_test)
-  cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(T "" "NAME;TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
   if(NOT BUILD_TESTING)
     return()
   endif()
@@ -24,8 +25,15 @@ function(budget_slam_test)
   target_compile_definitions(${T_NAME} PRIVATE
     BUDGET_SLAM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     BUDGET_SLAM_BINARY_DIR="${CMAKE_BINARY_DIR}")
+  set(labels "")
+  if(T_LABELS)
+    set(labels LABELS "${T_LABELS}")
+  endif()
+  if(T_TIMEOUT)
+    list(APPEND labels TIMEOUT ${T_TIMEOUT})
+  endif()
   gtest_discover_tests(${T_NAME} DISCOVERY_TIMEOUT 120
-    PROPERTIES ENVIRONMENT "BUDGET_SLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+    PROPERTIES ENVIRONMENT "BUDGET_SLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}" ${labels})
 endfunction()
 
 # budget_slam_benchmark(NAME <name> SOURCES ... LIBS ...): Google Benchmark executable in bin/.

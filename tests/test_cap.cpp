@@ -37,7 +37,9 @@ TEST(Cap, HeldAtEveryStepInIncrementalMode) {
   const auto s = readJson(dir / "summary.json");
   EXPECT_EQ(s["cap"], 8);
   EXPECT_EQ(s["counts"]["landmarks_peak"], 8);
-  for (const auto& e : readCsv(dir / "evictions.csv")) EXPECT_EQ(e.at(6), "over_cap");
+  // Cap decisions only (config.ini's admission = compete refuses some newcomers at the cap).
+  for (const auto& e : readCsv(dir / "evictions.csv"))
+    EXPECT_TRUE(e.at(6) == "over_cap" || e.at(6) == "refused") << e.at(6);
   EXPECT_NE(slurp(dir / "config_used.ini").find("max_landmarks = 8"), std::string::npos);
 }
 

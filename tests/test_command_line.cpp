@@ -45,9 +45,10 @@ std::size_t count(const std::string& text, const std::string& what) {
 TEST(CommandLine, HelpPrintsTheUsageOnceAndExitsZero) {
   const auto cwd = freshDir("help");
   fs::create_directories(cwd);
-  for (const std::string c : {"budget-slam' --help", "budget-slam' -h", "budget-slam' run --help",
-                              "budget-slam' compare --help", "budget-slam' run -h",
-                              "budget-simulate' --help", "budget-convert' --help"}) {
+  for (const std::string c :
+       {"budget-slam' --help", "budget-slam' -h", "budget-slam' run --help",
+        "budget-slam' compare --help", "budget-slam' run -h", "budget-slam' localize --help",
+        "budget-simulate' --help", "budget-convert' --help"}) {
     const auto p = run(c, cwd);
     EXPECT_EQ(p.exit_code, 0) << c;
     EXPECT_EQ(p.err, "") << c;
@@ -56,6 +57,8 @@ TEST(CommandLine, HelpPrintsTheUsageOnceAndExitsZero) {
   // Each command's own flags.
   EXPECT_NE(run("budget-slam' compare --help", cwd).out.find("--reducers"), std::string::npos);
   EXPECT_EQ(run("budget-slam' run --help", cwd).out.find("--reducers"), std::string::npos);
+  EXPECT_NE(run("budget-slam' localize --help", cwd).out.find("--start-pose"), std::string::npos);
+  EXPECT_NE(run("budget-slam' compare --help", cwd).out.find("--relocalize"), std::string::npos);
   EXPECT_NE(run("budget-slam' --help", cwd).out.find("coverage-mi"), std::string::npos);
   for (const std::string tool : {"budget-slam", "budget-simulate", "budget-convert"}) {
     const auto p = run(tool + "' --version", cwd);
@@ -70,9 +73,14 @@ TEST(CommandLine, ABadCommandLineIsOneLineNamingTheFlagAndExitTwo) {
   fs::create_directories(cwd);
   const std::string demo = "'" + kDemo + "'";
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"budget-slam'", "budget-slam: expected a command, run or compare; see budget-slam --help"},
+      {"budget-slam'",
+       "budget-slam: expected a command, run, compare or localize; see budget-slam --help"},
       {"budget-slam' bogus",
-       "budget-slam: unknown command 'bogus' (expected run or compare); see budget-slam --help"},
+       "budget-slam: unknown command 'bogus' (expected run, compare or localize); see budget-slam "
+       "--help"},
+      {"budget-slam' localize --map m -i " + demo + " -o out --start-pose 1,2",
+       "budget-slam: --start-pose '1,2': expected x,y,yaw (metres, metres, degrees); see "
+       "budget-slam localize --help"},
       {"budget-slam' run -i " + demo + " -o out --bogus",
        "budget-slam: Couldn't find match for argument (Argument: --bogus); see budget-slam run "
        "--help"},

@@ -10,9 +10,12 @@ PACKAGES=(
   libtclap-dev nlohmann-json3-dev  # command line, JSON output
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib  # experiment scripts and plots
+  python3-scipy                    # experiment statistics (Wilcoxon signed-rank test)
   clang-format
   slurm-wlm munge                  # sweeps on a SLURM cluster; tools/slurm/local-cluster.sh
   python3-dev pybind11-dev         # the budget_slam Python module
+  clang-14 libclang-rt-14-dev      # libFuzzer targets and sanitizer runtimes (tools/fuzz.sh)
+  libglpk-dev                      # offline coverage optimum (integer program)
 )
 
 missing=()

@@ -175,6 +175,8 @@ class ReducerScoresMatchTheLoggedScores(unittest.TestCase):
         cls.tmp = tempfile.TemporaryDirectory(prefix="test_python_scores_")
         cls.dir = os.path.join(cls.tmp.name, "run")
         p = cli("run", "-c", CONFIG, "-i", DEMO, "-o", cls.dir, "--cap", "20", "--quiet",
+                "--reducer", "coverage", "--set", "LandmarkBudget.protect=recently_seen",
+                "--set", "LandmarkBudget.admission=always",
                 "--set", "LandmarkBudget.dump_states=true")
         assert p.returncode == 0, p.stderr
         cls.evictions = csv_rows(os.path.join(cls.dir, "evictions.csv"))

@@ -3,6 +3,7 @@
 #include <tclap/CmdLine.h>
 
 #include <iostream>
+#include <limits>
 #include <set>
 
 #include "budget_slam/core/CommandLine.h"
@@ -26,6 +27,16 @@ int main(int argc, char** argv) {
     TCLAP::ValuesConstraint<int> robot_values(robots);
     TCLAP::ValueArg<int> robot("r", "robot", "UTIAS MRCLAM robot number", false, 1, &robot_values,
                                cmd);
+    TCLAP::ValueArg<int> frame_robot(
+        "", "frame-robot",
+        "UTIAS: ground truth in the frame of this robot's true start pose, so that the robots of "
+        "one dataset share a world frame (default: the converted robot's own)",
+        false, 0, "N", cmd);
+    TCLAP::ValueArg<std::string> steps(
+        "", "steps",
+        "keep steps FROM (inclusive) to TO (exclusive) of the conversion, renumbered from 0, "
+        "with their times and ground truth; either end may be left out (e.g. 3500:)",
+        false, "", "FROM:TO", cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "output rawlog (name ends in .rawlog)", true, "",
                                      "out.rawlog", cmd);
     TCLAP::UnlabeledMultiArg<std::string> inputs("INPUT", "input file(s) or folder (see --format)",
@@ -44,8 +55,26 @@ int main(int argc, char** argv) {
     } catch (const Error& e) {
       throw UsageError(e.what());
     }
-    const auto dataset =
-        dataset::convertByFormat(format.getValue(), inputs.getValue(), robot.getValue());
+    std::size_t from = 0, to = std::numeric_limits<std::size_t>::max();
+    if (steps.isSet()) {
+      const std::string& s = steps.getValue();
+      const auto colon = s.find(':');
+      const auto number = [&](const std::string& part, std::size_t def) {
+        if (part.empty()) return def;
+        if (part.find_first_not_of("0123456789") != std::string::npos || part.size() > 15)
+          throw TCLAP::ArgParseException("expected FROM:TO, non-negative integers, got '" + s + "'",
+                                         "--steps");
+        return static_cast<std::size_t>(std::stoull(part));
+      };
+      if (colon == std::string::npos)
+        throw TCLAP::ArgParseException("expected FROM:TO, non-negative integers, got '" + s + "'",
+                                       "--steps");
+      from = number(s.substr(0, colon), 0);
+      to = number(s.substr(colon + 1), to);
+    }
+    auto dataset = dataset::convertByFormat(format.getValue(), inputs.getValue(), robot.getValue(),
+                                            frame_robot.getValue());
+    if (steps.isSet()) dataset = dataset::selectSteps(std::move(dataset), from, to);
     dataset::saveDataset(dataset, out.getValue());
     std::size_t sightings = 0;
     std::set<LandmarkId> ids;

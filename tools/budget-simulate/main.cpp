@@ -52,6 +52,13 @@ int main(int argc, char** argv) {
                                       cmd);
     TCLAP::ValueArg<double> std_yaw("", "sensor-std-yaw-deg", "bearing noise [deg]", false, -1,
                                     "DEG", cmd);
+    std::vector<std::string> routes = {"default", "revisit"};
+    TCLAP::ValuesConstraint<std::string> route_values(routes);
+    TCLAP::ValueArg<std::string> route(
+        "", "route",
+        "revisit (rooms, park): the same world from another start along another route through "
+        "every room or region, other noise (default: default)",
+        false, "default", &route_values, cmd);
     TCLAP::SwitchArg zero_noise("", "zero-noise", "no odometry or sensor noise at all", cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "output rawlog (name ends in .rawlog)", true, "",
                                      "out.rawlog", cmd);
@@ -69,6 +76,7 @@ int main(int argc, char** argv) {
       throw UsageError("--laps " + std::to_string(laps.getValue()) +
                        ": must be at least 1 (0: the scenario's default)");
     o.laps = laps.getValue();
+    o.route = route.getValue();
     o.odo_std_xy = zero_noise.getValue() ? 0 : noiseFlag(odo_xy);
     o.odo_std_yaw_deg = zero_noise.getValue() ? 0 : noiseFlag(odo_yaw);
     o.sensor_std_range = zero_noise.getValue() ? 0 : noiseFlag(std_range);

@@ -1,6 +1,4 @@
 """Plots of the experiment scripts (matplotlib, Agg backend, small PNGs)."""
-import os
-
 import matplotlib
 
 matplotlib.use("Agg")

@@ -18,10 +18,13 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 
+from reportlib import write_atomic
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
-GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs"}
-GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config"}
+GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics"}
+GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config", "relocalize",
+              "reference_trajectory"}
 BACKENDS = ("ekf", "graph")
 
 
@@ -73,6 +76,15 @@ def parse_caps(text):
     return caps
 
 
+def parse_metrics(text, where):
+    """Metric names (results.csv's metric column) to compare pairwise besides the main error."""
+    metrics = split_list(text)
+    for m in metrics:
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", m):
+            raise ExperimentError(f"{where} metrics: '{m}' is not a metric name like reloc_coverage_pct")
+    return metrics
+
+
 def cap_label(cap):
     return cap[:-1] + "pct" if cap.endswith("%") else cap
 
@@ -113,10 +125,43 @@ class Rawlog:
     def simulated(self):
         return self.scenario is not None
 
-    def file_for_seed(self, outdir, seed):
+    def file_for_seed(self, outdir, seed, route=None):
+        """The rawlog file of a seed; with a route, the simulation of the same world along that
+        route (`budget-simulate --route`), which only a simulated rawlog has."""
         if not self.simulated:
             return self.path
-        return os.path.join(outdir, "rawlogs", f"{self.name}-seed{seed}.rawlog")
+        return os.path.join(outdir, "rawlogs", f"{self.name}{'-' + route if route else ''}-seed{seed}.rawlog")
+
+
+class Traversal:
+    """One entry of a group's `relocalize` key: a rawlog file that every run's final map
+    localizes, or `route:<name>`, the group's simulated rawlog simulated again with the job's seed
+    along another route (`budget-simulate --route <name>`: same world, another path)."""
+
+    def __init__(self, spec, base_dirs, where):
+        self.spec = spec
+        m = re.fullmatch(r"route:([A-Za-z0-9_-]+)", spec)
+        if m:
+            self.route, self.path = m.group(1), None
+        elif spec.startswith("route:"):
+            raise ExperimentError(f"{where} relocalize: '{spec}' is not route:<name> (letters, digits, _ -)")
+        else:
+            self.route = None
+            self.path = resolve_path(spec, base_dirs)
+            if not os.path.isfile(self.path):
+                raise ExperimentError(f"{where} relocalize: '{spec}' not found (looked for {self.path})")
+            if "," in self.path:
+                raise ExperimentError(f"{where} relocalize: '{self.path}' has a comma, which "
+                                      "--relocalize takes as a separator")
+
+    def label(self, rawlog):
+        """Name of the traversal in the results: the file's stem, or sim:<scenario>[:laps]:<route>."""
+        if self.route:
+            return f"{rawlog.label}:{self.route}"
+        return re.sub(r"\.rawlog$", "", os.path.basename(self.path))
+
+    def file(self, rawlog, outdir, seed):
+        return rawlog.file_for_seed(outdir, seed, self.route) if self.route else self.path
 
 
 class Job:
@@ -126,6 +171,8 @@ class Job:
         self.group, self.rawlog, self.backend, self.reducers = group, rawlog, backend, reducers
         self.cap, self.seed, self.sets, self.config = cap, seed, sets, config
         self.rawlog_file = rawlog.file_for_seed(outdir, seed)
+        # [(label, rawlog file)] that every final map of the job localizes (compare --relocalize)
+        self.traversals = [(t.label(rawlog), t.file(rawlog, outdir, seed)) for t in group.get("relocalize", [])]
         self.rel = os.path.join("runs", group["name"], rawlog.name, backend, "cap" + cap_label(cap), f"seed{seed}")
         self.folder = os.path.join(outdir, self.rel)
         self.cap_landmarks = None  # resolved before the job runs
@@ -168,6 +215,7 @@ class Experiment:
         self.budget_slam = os.path.abspath(budget_slam or top.get("budget_slam") and resolve_path(top["budget_slam"], base_dirs) or default_binary("budget-slam"))
         self.budget_simulate = os.path.abspath(budget_simulate or top.get("budget_simulate") and resolve_path(top["budget_simulate"], base_dirs) or default_binary("budget-simulate"))
         self.default_jobs = int(top.get("jobs", "0") or 0)
+        self.metrics = parse_metrics(top.get("metrics", ""), f"{path}: [sweep]")
         group_sections = [s for s in ini.sections() if s.startswith("group ")]
         for s in ini.sections():
             if s != "sweep" and not s.startswith("group "):
@@ -200,6 +248,23 @@ class Experiment:
             for s in g["set"]:
                 if not re.fullmatch(r"[A-Za-z_][\w]*\.[\w]+=.*", s):
                     raise ExperimentError(f"{path}: [{sec}] set '{s}' is not Section.key=value")
+            g["relocalize"] = [Traversal(s, base_dirs, f"{path}: [{sec}]") for s in split_list(g.get("relocalize", ""))]
+            for t in g["relocalize"]:
+                for raw in g["rawlogs"] if t.route else []:
+                    if not raw.simulated:
+                        raise ExperimentError(f"{path}: [{sec}] relocalize '{t.spec}' needs sim: rawlogs, "
+                                              f"and '{raw.spec}' is a file (give its traversals as files)")
+            # traversals without ground truth are measured against this trajectory (a TUM file)
+            ref = g.get("reference_trajectory", "").strip()
+            if ref:
+                if not g["relocalize"]:
+                    raise ExperimentError(f"{path}: [{sec}] reference_trajectory needs 'relocalize'")
+                ref = resolve_path(ref, base_dirs)
+                if not os.path.isfile(ref):
+                    raise ExperimentError(f"{path}: [{sec}] reference_trajectory '{ref}' not found")
+                if "," in ref or not ref.strip() == ref:
+                    raise ExperimentError(f"{path}: [{sec}] reference_trajectory '{ref}' has a comma or blank")
+            g["reference_trajectory"] = ref
             g["config"] = resolve_path(g.get("config", "config.ini"), base_dirs)
             if not os.path.isfile(g["config"]):
                 raise ExperimentError(f"{path}: config '{g['config']}' not found")
@@ -207,7 +272,7 @@ class Experiment:
         self._expand()
 
     def _expand(self):
-        self.simulations = {}  # rawlog file -> (Rawlog, seed)
+        self.simulations = {}  # rawlog file -> (Rawlog, seed, route or None)
         self.baselines = {}
         self.jobs = []
         seen = set()
@@ -224,7 +289,10 @@ class Experiment:
                                     "give one of them a label")
                             seen.add(key)
                             if raw.simulated:
-                                self.simulations[job.rawlog_file] = (raw, seed)
+                                self.simulations[job.rawlog_file] = (raw, seed, None)
+                                for t in g["relocalize"]:
+                                    if t.route:
+                                        self.simulations[t.file(raw, self.outdir, seed)] = (raw, seed, t.route)
                             if cap.endswith("%"):
                                 bkey = (g["name"], job.rawlog_file, backend)
                                 if bkey not in self.baselines:
@@ -239,18 +307,12 @@ class Experiment:
     # ---- command lines (the same lines are run here and written to prepare.txt / jobs.txt) ----
 
     def simulation_command(self, rawlog_file):
-        raw, seed = self.simulations[rawlog_file]
-        tmp = os.path.join(os.path.dirname(rawlog_file), ".tmp-" + os.path.basename(rawlog_file)[:-len(".rawlog")])
-        stem = os.path.basename(rawlog_file)[:-len(".rawlog")]
-        cmd = [self.budget_simulate, "--scenario", raw.scenario, "--seed", str(seed)]
-        if raw.laps:
-            cmd += ["--laps", str(raw.laps)]
-        cmd += ["-o", os.path.join(tmp, stem + ".rawlog")]
-        q = shlex.quote
-        # Move the rawlog last: its presence means the simulation is complete.
-        return (f"rm -rf {q(tmp)} && mkdir -p {q(tmp)} && {shlex.join(cmd)} >/dev/null && "
-                f"for f in {q(tmp)}/*; do case \"$f\" in *.rawlog) ;; *) mv -f \"$f\" {q(os.path.dirname(rawlog_file))}/ ;; esac; done && "
-                f"mv -f {q(os.path.join(tmp, stem + '.rawlog'))} {q(rawlog_file)} && rmdir {q(tmp)}")
+        raw, seed, route = self.simulations[rawlog_file]
+        return simulation_line(self.budget_simulate, raw.scenario, seed, raw.laps, rawlog_file, route)
+
+    @property
+    def relocalizes(self):
+        return any(j.traversals for j in self.jobs)
 
     def baseline_command(self, b):
         cmd = [self.budget_slam, "run", "-c", b.config, "-i", b.rawlog_file, "-o", b.folder + ".part",
@@ -263,6 +325,10 @@ class Experiment:
         cmd = [self.budget_slam, "compare", "-c", job.config, "-i", job.rawlog_file, "-o", job.folder + ".part",
                "--reducers", ",".join(job.reducers), "--cap", str(job.cap_landmarks), "--backend", job.backend,
                "--set", f"LandmarkBudget.seed={job.seed}"]
+        if job.traversals:
+            cmd += ["--relocalize", ",".join(f for _, f in job.traversals)]
+        if job.group.get("reference_trajectory"):
+            cmd += ["--reference-trajectory", job.group["reference_trajectory"]]
         for s in job.sets:
             cmd += ["--set", s]
         cmd += ["--quiet", "--force"]
@@ -291,6 +357,46 @@ class Experiment:
         return all(n in runs and runs[n]["status"] in ("ok", "failed") for n in needed)
 
 
+def simulation_line(budget_simulate, scenario, seed, laps, rawlog_file, route=None):
+    """Shell line: `budget-simulate` into a temporary folder beside rawlog_file, then its files
+    (ground truth, sidecar) moved beside rawlog_file, the rawlog last: its presence means the
+    simulation is complete."""
+    tmp = os.path.join(os.path.dirname(rawlog_file), ".tmp-" + os.path.basename(rawlog_file)[:-len(".rawlog")])
+    stem = os.path.basename(rawlog_file)[:-len(".rawlog")]
+    cmd = [budget_simulate, "--scenario", scenario, "--seed", str(seed)]
+    if laps:
+        cmd += ["--laps", str(laps)]
+    if route:
+        cmd += ["--route", route]
+    cmd += ["-o", os.path.join(tmp, stem + ".rawlog")]
+    q = shlex.quote
+    return (f"rm -rf {q(tmp)} && mkdir -p {q(tmp)} && {shlex.join(cmd)} >/dev/null && "
+            f"for f in {q(tmp)}/*; do case \"$f\" in *.rawlog) ;; *) mv -f \"$f\" {q(os.path.dirname(rawlog_file))}/ ;; esac; done && "
+            f"mv -f {q(os.path.join(tmp, stem + '.rawlog'))} {q(rawlog_file)} && rmdir {q(tmp)}")
+
+
+def help_mentions(binary, args, option):
+    """Whether `binary args --help` lists the option (an older build lacks newer options)."""
+    try:
+        p = subprocess.run([binary] + args + ["--help"], capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return option in p.stdout + p.stderr
+
+
+def check_relocalization_support(exp):
+    """One clear line when the experiment relocalizes and the binaries cannot."""
+    if not exp.relocalizes:
+        return
+    if not help_mentions(exp.budget_slam, ["compare"], "--relocalize"):
+        raise ExperimentError(f"{exp.budget_slam}: this budget-slam has no 'compare --relocalize', which the "
+                              "experiment's relocalize key needs (build a budget-slam with relocalization)")
+    if any(route for _, _, route in exp.simulations.values()) and \
+            not help_mentions(exp.budget_simulate, [], "--route"):
+        raise ExperimentError(f"{exp.budget_simulate}: this budget-simulate has no '--route', which a "
+                              "relocalize route:<name> needs (build a budget-simulate with routes)")
+
+
 def wrap_atomic(cmd, folder, marker):
     """Shell line: run cmd into <folder>.part, rename to <folder> when <marker> was written and the
     run was not interrupted (exit status 0 = ok, 1 = a run failed; 130 = Ctrl-C, 2 = bad command)."""
@@ -315,13 +421,6 @@ def read_json(path):
             return json.load(f)
     except (OSError, ValueError):
         return {}
-
-
-def write_atomic(path, text):
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
 
 
 def fmt_duration(s):
@@ -381,6 +480,7 @@ class Runner:
 
 def prepare(exp, runner, log=print):
     """Simulations, then the unreduced baselines that resolve percentage caps. Writes prepare.txt."""
+    check_relocalization_support(exp)
     os.makedirs(exp.outdir, exist_ok=True)
     sims = [(os.path.basename(f), exp.simulation_command(f), f) for f in exp.simulations]
     bases = [(os.path.relpath(b.folder, exp.outdir), exp.baseline_command(b), b) for b in exp.baselines.values()]
@@ -464,23 +564,63 @@ def job_rows(job):
             metrics.append((name, as_number(summary.get(a, {}).get(b))))
         for m, v in metrics:
             if v is not None:
-                rows.append(dict(key, metric=m, value=repr(v) if v != int(v) or abs(v) > 1e15 else str(int(v))))
+                rows.append(dict(key, metric=m, value=fmt_value(v)))
     return rows
 
 
-def collect(exp, path):
-    rows = []
-    for job in exp.jobs:
-        if exp.job_done(job):
-            rows += job_rows(job)
+def fmt_value(v):
+    """A finite number as results.csv writes it: integers without a decimal point."""
+    return repr(v) if v != int(v) or abs(v) > 1e15 else str(int(v))
+
+
+def write_tidy(path, columns, rows):
     tmp = path + ".tmp"
     with open(tmp, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=RESULT_COLUMNS, lineterminator="\n")
+        w = csv.DictWriter(f, fieldnames=columns, lineterminator="\n")
         w.writeheader()
         w.writerows(rows)
     os.replace(tmp, path)
+
+
+def collect(exp, path):
+    """results.csv of every finished job; also relocalization.csv beside it when a job relocalized."""
+    rows, reloc = [], []
+    for job in exp.jobs:
+        if exp.job_done(job):
+            rows += job_rows(job)
+            reloc += relocalization_rows(job)
+    write_tidy(path, RESULT_COLUMNS, rows)
+    if reloc or exp.relocalizes:
+        write_tidy(os.path.join(os.path.dirname(path), "relocalization.csv"), RELOCALIZATION_COLUMNS, reloc)
     return rows
 
+
+RELOCALIZATION_COLUMNS = ["rawlog", "backend", "reducer", "cap", "seed", "traversal", "metric", "value"]
+
+
+def relocalization_rows(job):
+    """Tidy rows of a job's relocalization.csv (one a run and traversal): every numeric column a
+    metric, the traversal named as in the experiment (the file's stem, or sim:<scenario>:<route>)."""
+    path = os.path.join(job.folder, "relocalization.csv")
+    try:
+        with open(path, newline="") as f:
+            table = list(csv.DictReader(f))
+    except OSError:
+        return []
+    names = {}
+    for label, file in job.traversals:
+        names[file] = names[os.path.basename(file)] = names[re.sub(r"\.rawlog$", "", os.path.basename(file))] = label
+    rows = []
+    for r in table:
+        reducer = "none" if r.get("run") == "reference" else r.get("run", "")
+        t = r.get("traversal", "")
+        key = dict(rawlog=job.rawlog.label, backend=job.backend, reducer=job.reducer_label(reducer), cap=job.cap,
+                   seed=job.seed, traversal=names.get(t, names.get(os.path.basename(t), t)))
+        for c, v in r.items():
+            x = as_number(v) if c not in ("run", "traversal") else None
+            if x is not None:
+                rows.append(dict(key, metric=c, value=fmt_value(x)))
+    return rows
 
 def read_results(path):
     with open(path, newline="") as f:
@@ -493,7 +633,8 @@ def read_steps(folder):
     path = os.path.join(folder, "steps.csv")
     with open(path) as f:
         header = f.readline().strip().split(",")
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    # an empty field or `nan` (a value that does not apply) reads as NaN
+    data = np.atleast_2d(np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float))
     return {h: data[:, i] for i, h in enumerate(header)}
 
 

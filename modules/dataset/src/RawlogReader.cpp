@@ -1,76 +1,35 @@
 #include "budget_slam/dataset/RawlogReader.h"
 
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
-#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 
 #include <sys/stat.h>
-#include <cctype>
 #include <cmath>
 #include <fstream>
-#include <sstream>
+#include <utility>
 
 #include "budget_slam/core/Error.h"
+#include "rawlog/ByteSource.h"
+#include "rawlog/ObjectChecker.h"
+#include "rawlog/ObjectDecoder.h"
+#include "rawlog/ObjectStream.h"
+#include "rawlog/ObservationOdometry.h"
+#include "rawlog/ReadFailure.h"
 
 namespace budget_slam::dataset {
 namespace {
 
-/// Counts the uncompressed bytes taken from the inner stream, so that an end of file met in
-/// the middle of an object (a truncated rawlog) can be told from one met between objects.
-class CountingStream : public mrpt::io::CStream {
- public:
-  explicit CountingStream(mrpt::io::CStream& inner) : inner_(inner) {}
-  size_t Read(void* buf, size_t n) override {
-    const size_t got = inner_.Read(buf, n);
-    count_ += got;
-    return got;
-  }
-  size_t Write(const void*, size_t) override { return 0; }
-  uint64_t Seek(int64_t, CStream::TSeekOrigin) override { return count_; }
-  uint64_t getTotalBytesCount() const override { return inner_.getTotalBytesCount(); }
-  uint64_t getPosition() const override { return count_; }
-  uint64_t count() const { return count_; }
-
- private:
-  mrpt::io::CStream& inner_;
-  uint64_t count_ = 0;
-};
-
-std::string trim(std::string s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
-  const auto b = s.find_first_not_of(" \t");
-  return b == std::string::npos ? "" : s.substr(b);
-}
-
-/// MRPT nests exceptions ("Exception while parsing typed object 'X'" ... "Message: <cause>")
-/// with call stacks; a one-line error wants the outermost object and the innermost cause.
-std::string describeMrptError(const std::string& what) {
-  std::string outer_object, cause;
-  std::istringstream in(what);
-  const std::string kParsing = "parsing typed object '";
-  for (std::string line; std::getline(in, line);) {
-    const auto m = line.find("Message:");
-    if (m == std::string::npos) continue;
-    const std::string msg = trim(line.substr(m + 8));
-    const auto p = msg.find(kParsing);
-    if (p != std::string::npos && outer_object.empty()) {
-      const auto e = msg.find('\'', p + kParsing.size());
-      const std::string obj = msg.substr(p + kParsing.size(), e - p - kParsing.size());
-      if (obj.rfind("mrpt::", 0) == 0) outer_object = obj;
-    }
-    cause = msg;  // the last message is the innermost cause
-  }
-  if (cause.empty()) cause = trim(what.substr(0, what.find('\n')));
-  if (cause.find("EOF") != std::string::npos)
-    return outer_object.empty() ? "the file ends inside an object"
-                                : "the file ends inside a " + outer_object;
-  return outer_object.empty() ? cause : "bad data inside a " + outer_object + ": " + cause;
-}
+using rawlog::ReadFailure;
+using Kind = ReadFailure::Kind;
+using mrpt::obs::CActionCollection;
+using mrpt::obs::CObservation;
+using mrpt::obs::CObservationOdometry;
+using mrpt::obs::CSensoryFrame;
 
 Eigen::Matrix3d toEigen(const mrpt::math::CMatrixDouble33& m) {
   Eigen::Matrix3d e;
@@ -90,6 +49,11 @@ std::optional<double> timestampOf(const mrpt::obs::CActionCollection::Ptr& actio
       if (a && a->timestamp != INVALID_TIMESTAMP) return mrpt::Clock::toDouble(a->timestamp);
     }
   return std::nullopt;
+}
+
+std::string shortName(const CObservation& obs) {
+  const std::string cls = obs.GetRuntimeClass()->className;  // "mrpt::obs::CObservationX"
+  return cls.substr(cls.rfind(':') + 1);
 }
 
 }  // namespace
@@ -147,9 +111,42 @@ Step parseStep(const mrpt::obs::CActionCollection::Ptr& action,
   return step;
 }
 
+enum class Format { kUnknown, kActionsObservations, kObservations };
+
 struct RawlogReader::Impl {
-  mrpt::io::CFileGZInputStream file;
-  std::unique_ptr<CountingStream> counter;
+  std::unique_ptr<rawlog::ObjectStream> stream;
+  std::unique_ptr<rawlog::ObjectChecker> checker;
+  std::function<bool()> stop;
+  Format format = Format::kUnknown;
+  std::size_t objects = 0;  // top-level objects read
+  /// An object read ahead (to tell the formats apart) and not handled yet; a null Ptr inside
+  /// the optional is a stored null object, an empty optional with `pending_end` the end.
+  std::optional<mrpt::serialization::CSerializable::Ptr> pending;
+  bool pending_end = false;
+  CActionCollection::Ptr action;  // actions-observations: the action waiting for its frame
+  rawlog::ObservationOdometry odometry;
+  std::set<std::string> used_classes, passed_over_classes;
+
+  /// The next top-level object (nullptr for a stored null object); std::nullopt at the end.
+  std::optional<mrpt::serialization::CSerializable::Ptr> nextObject() {
+    if (pending) {
+      auto p = std::move(pending);
+      pending.reset();
+      return p;
+    }
+    if (pending_end) return std::nullopt;
+    if (stop && stop()) throw rawlog::ReadStopped{};
+    if (!stream->beginObject()) return std::nullopt;
+    checker->checkTopLevel();
+    auto obj = rawlog::decodeObject(stream->objectData(), stream->objectSize());
+    ++objects;
+    return obj;
+  }
+
+  void record(const CSensoryFrame& frame, std::set<std::string>& into) {
+    for (const auto& obs : frame)
+      if (obs) into.insert(shortName(*obs));
+  }
 };
 
 RawlogReader::RawlogReader(const std::string& path) : impl_(std::make_unique<Impl>()), path_(path) {
@@ -160,87 +157,160 @@ RawlogReader::RawlogReader(const std::string& path) : impl_(std::make_unique<Imp
   if (!std::ifstream(path, std::ios::binary).good())
     throw InputError(who + ": cannot be read (permission denied)");
   if (st.st_size == 0) throw InputError(who + ": empty file, not an MRPT rawlog");
-  std::string err;
-  if (!impl_->file.open(path, err)) throw InputError(who + ": cannot be opened (" + err + ")");
-  impl_->counter = std::make_unique<CountingStream>(impl_->file);
+  try {
+    impl_->stream =
+        std::make_unique<rawlog::ObjectStream>(rawlog::openFileSource(path), kMaxObjectBytes);
+  } catch (const ReadFailure& e) {
+    throw InputError(who + ": cannot be opened (" + e.what() + ")");
+  }
+  open();
+}
+
+RawlogReader::RawlogReader(const std::string& label, std::string_view bytes)
+    : impl_(std::make_unique<Impl>()), path_(label) {
+  if (bytes.empty()) throw InputError("rawlog '" + label + "': empty file, not an MRPT rawlog");
+  impl_->stream =
+      std::make_unique<rawlog::ObjectStream>(rawlog::openMemorySource(bytes), kMaxObjectBytes);
+  open();
+}
+
+void RawlogReader::open() {
+  impl_->checker = std::make_unique<rawlog::ObjectChecker>(*impl_->stream);
 }
 
 RawlogReader::~RawlogReader() = default;
 
-double RawlogReader::progress() const {
-  const double total = static_cast<double>(impl_->file.getTotalBytesCount());
-  return total > 0 ? std::min(1.0, impl_->file.getPosition() / total) : 0.0;
+void RawlogReader::setStopCheck(std::function<bool()> stop) {
+  impl_->stop = stop;
+  impl_->stream->setStopCheck(std::move(stop));
 }
 
+double RawlogReader::progress() const {
+  const auto& src = impl_->stream->source();
+  const double total = static_cast<double>(src.storedSize());
+  return total > 0 ? std::min(1.0, static_cast<double>(src.storedConsumed()) / total) : 0.0;
+}
+
+std::set<std::string> RawlogReader::observationClasses() const {
+  std::set<std::string> all = impl_->used_classes;
+  for (const auto& c : impl_->passed_over_classes)
+    if (!impl_->used_classes.count(c)) all.insert(c + " (passed over)");
+  return all;
+}
+
+bool RawlogReader::observationsFormat() const { return impl_->format == Format::kObservations; }
+
 std::optional<Step> RawlogReader::next() {
-  auto arch = mrpt::serialization::archiveFrom(*impl_->counter);
-  mrpt::obs::CActionCollection::Ptr action;
-  mrpt::obs::CSensoryFrame::Ptr frame;
-  // The pairing rule of MRPT's CRawlog::readActionObservationPair (what kf-slam reads): skip to
-  // the next action, then to the next sensory frame. Other objects are passed over.
-  while (!frame) {
-    const uint64_t before = impl_->counter->count();
-    mrpt::serialization::CSerializable::Ptr obj;
-    try {
-      arch >> obj;
-    } catch (const std::exception& e) {
-      // Nothing consumed: the file ended between objects. MRPT's own rawlogs may end with an
-      // action that has no frame after it; kf-slam ignores it, and so do we.
-      const bool clean_eof = impl_->counter->count() == before;
-      if (clean_eof) {
-        if (steps_ == 0 && before == 0)
-          throw InputError("rawlog '" + path_ + "': not an MRPT rawlog (no objects in it)");
-        return std::nullopt;
+  if (stopped_ || ended_) return std::nullopt;
+  try {
+    auto step = nextStep();
+    if (!step) {
+      ended_ = true;
+      return std::nullopt;
+    }
+    return finishStep(std::move(*step));
+  } catch (const rawlog::ReadStopped&) {
+    stopped_ = true;
+    return std::nullopt;
+  } catch (const ReadFailure& e) {
+    ended_ = true;
+    throw InputError(describe(e));
+  } catch (const std::bad_alloc& e) {
+    ended_ = true;
+    throw InputError(describe(e));
+  }
+}
+
+std::optional<Step> RawlogReader::nextStep() {
+  auto& m = *impl_;
+  const auto observationsStep = [&](const CSensoryFrame::Ptr& frame) {
+    for (const auto& obs : *frame)
+      if (auto odo = std::dynamic_pointer_cast<CObservationOdometry>(obs)) m.odometry.reading(*odo);
+    m.record(*frame, m.used_classes);
+    return std::make_pair(m.odometry.actionForStep(), frame);
+  };
+
+  std::pair<CActionCollection::Ptr, CSensoryFrame::Ptr> pair;
+  while (!pair.second) {
+    auto next = m.nextObject();
+    if (!next) {
+      if (m.objects == 0)
+        throw InputError("rawlog '" + path_ + "': not an MRPT rawlog (no objects in it)");
+      return std::nullopt;  // an action left without its frame is ignored, as kf-slam does
+    }
+    const auto& obj = *next;
+    if (!obj) continue;  // a stored null object
+    if (auto a = std::dynamic_pointer_cast<CActionCollection>(obj)) {
+      if (m.format == Format::kObservations)
+        throw ReadFailure(Kind::kUnsupported,
+                          "holds a mrpt::obs::CActionCollection after observations-only data "
+                          "(budget-slam reads one format per file)");
+      m.format = Format::kActionsObservations;
+      if (!m.action) m.action = a;  // MRPT keeps the first action and waits for a frame
+      continue;
+    }
+    if (auto f = std::dynamic_pointer_cast<CSensoryFrame>(obj)) {
+      if (m.format == Format::kUnknown) {
+        // A frame before any action: the first of an observations-only file, or one that
+        // kf-slam passes over before the first action-frame pair. The next object tells.
+        m.pending = m.nextObject();
+        m.pending_end = !m.pending;
+        const bool action_follows =
+            m.pending && std::dynamic_pointer_cast<CActionCollection>(*m.pending);
+        m.format = action_follows ? Format::kActionsObservations : Format::kObservations;
       }
-      if (steps_ == 0 && !action)
-        throw InputError("rawlog '" + path_ +
-                         "': not an MRPT rawlog (no serialized MRPT object at its start)");
-      throw InputError("rawlog '" + path_ + "': truncated or corrupt at step " +
-                       std::to_string(steps_) + " (" + describeMrptError(e.what()) + ")");
-    }
-    if (!obj) continue;
-    if (auto a = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
-      if (!action) action = a;  // MRPT keeps the first action and waits for a frame
+      if (m.format == Format::kObservations) {
+        pair = observationsStep(f);
+      } else if (m.action) {
+        m.record(*f, m.used_classes);
+        pair = {std::exchange(m.action, nullptr), f};
+      } else {
+        m.record(*f, m.passed_over_classes);
+      }
       continue;
     }
-    if (auto f = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
-      if (action) frame = f;
-      continue;
-    }
-    if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
-      throw InputError("rawlog '" + path_ + "': observations-format rawlog (a " +
-                       o->GetRuntimeClass()->className +
-                       " outside any sensory frame); budget-slam reads the actions-observations "
-                       "format that kf-slam reads");
+    if (auto o = std::dynamic_pointer_cast<CObservation>(obj)) {
+      if (m.format == Format::kActionsObservations) {
+        m.passed_over_classes.insert(shortName(*o));  // kf-slam reads pairs only
+        continue;
+      }
+      m.format = Format::kObservations;
+      if (auto odo = std::dynamic_pointer_cast<CObservationOdometry>(o)) {
+        m.odometry.reading(*odo);
+        m.used_classes.insert(shortName(*o));
+        continue;
+      }
+      auto frame = CSensoryFrame::Create();
+      frame->insert(o);
+      pair = observationsStep(frame);
     }
   }
-
-  for (const auto& obs : *frame)
-    if (obs) {
-      const std::string cls = obs->GetRuntimeClass()->className;  // "mrpt::obs::CObservationX"
-      observation_classes_.insert(cls.substr(cls.rfind(':') + 1));
-    }
-
   // Timestamps: MRPT's own when usable and increasing, else one second a step (TUM readers
   // need strictly increasing times).
-  double fallback = last_t_ ? *last_t_ + 1.0 : 0.0;
-  Step step = parseStep(action, frame, steps_, fallback);
+  const double fallback = last_t_ ? *last_t_ + 1.0 : 0.0;
+  return parseStep(pair.first, pair.second, steps_, fallback);
+}
+
+Step RawlogReader::finishStep(Step step) {
   if (last_t_ && step.t <= *last_t_) step.t = *last_t_ + 1e-3;
   last_t_ = step.t;
 
+  const std::string at = "rawlog '" + path_ + "': step " + std::to_string(steps_);
   if (step.odometry) {
     const auto& m = step.odometry->mean;
     if (!std::isfinite(m.x) || !std::isfinite(m.y) || !std::isfinite(m.phi) ||
         !step.odometry->cov.allFinite())
-      throw InputError("rawlog '" + path_ + "': step " + std::to_string(steps_) +
-                       ": odometry has a non-finite value");
+      throw InputError(at + ": odometry has a non-finite value");
   }
   if (step.scan) {
     ++bearing_range_steps_;
+    const auto& p = step.scan->sensor_pose_on_robot;
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) ||
+        !std::isfinite(p.yaw) || !std::isfinite(p.pitch) || !std::isfinite(p.roll))
+      throw InputError(at + ": the sensor pose on the robot has a non-finite value");
     const auto& rs = step.scan->readings;
     for (size_t i = 0; i < rs.size(); ++i) {
-      const std::string where = "rawlog '" + path_ + "': step " + std::to_string(steps_) +
-                                ": reading " + std::to_string(i);
+      const std::string where = at + ": reading " + std::to_string(i);
       if (!std::isfinite(rs[i].range) || rs[i].range < 0)
         throw InputError(where + " has a negative or non-finite range (" +
                          std::to_string(rs[i].range) + ")");
@@ -252,6 +322,37 @@ std::optional<Step> RawlogReader::next() {
   }
   ++steps_;
   return step;
+}
+
+std::string RawlogReader::describe(const std::exception& failure) const {
+  const std::string who = "rawlog '" + path_ + "'";
+  const std::string at = " at step " + std::to_string(steps_);
+  const auto* f = dynamic_cast<const ReadFailure*>(&failure);
+  if (!f) return who + ": out of memory" + at;
+  // Bytes taken since the current top-level object began: the failure is inside it.
+  const bool inside = impl_->stream->objectSize() > 0;
+  const std::string top = inside ? impl_->checker->topLevelName() : std::string();
+  const bool at_start = impl_->objects == 0 && top.empty();
+  const std::string what = f->what();
+  switch (f->kind) {
+    case Kind::kEndOfData:
+      if (!inside)  // between objects: only a gzip stream can end early there
+        return who + ": truncated or corrupt" + at + " (" + what + ")";
+      if (at_start) return who + ": not an MRPT rawlog (no serialized MRPT object at its start)";
+      return who + ": truncated or corrupt" + at + " (the file ends inside " +
+             (top.empty() ? std::string("an object header") : "a " + top) + ")";
+    case Kind::kCorrupt:
+      if (at_start) return who + ": not an MRPT rawlog (no serialized MRPT object at its start)";
+      return who + ": truncated or corrupt" + at + " (" +
+             (top.empty() ? what : "a " + top + " " + what) + ")";
+    case Kind::kUnsupported:
+      return who + ": step " + std::to_string(steps_) + " " + what;
+    case Kind::kCompression:
+      return who + ": truncated or corrupt" + at + " (" + what + ")";
+    case Kind::kIo:
+      return who + ": read error" + at + " (" + what + ")";
+  }
+  return who + ": " + what;
 }
 
 std::vector<Step> readAllSteps(const std::string& path) {

@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 #include "TestUtil.h"
+#include "budget_slam/core/Error.h"
 #include "budget_slam/dataset/Converters.h"
 
 using namespace budget_slam;
@@ -173,6 +175,57 @@ TEST(UtiasConverter, TinyFolder) {
   // World (3, 1): 2 m to the right of and 0.5 m behind the start pose.
   EXPECT_NEAR(d.ground_truth.landmarks.at(7).x(), -0.5, 1e-12);
   EXPECT_NEAR(d.ground_truth.landmarks.at(7).y(), -2.0, 1e-12);
+}
+
+// With --frame-robot, a robot's ground truth goes into another robot's start frame: robot 2 of
+// the tiny folder starts at Vicon (3, 1, 0), robot 1 at (1, 1.5, 90 deg).
+TEST(UtiasConverter, GroundTruthInAnotherRobotsFrame) {
+  TempDir tmp;
+  const auto dir = writeTinyUtias(tmp);
+  writeFile(tmp.file("Robot2_Odometry.dat"), "100 1 0\n102 1 0\n");
+  writeFile(tmp.file("Robot2_Groundtruth.dat"), "100 2.5 1 0\n102 4.5 1 0\n");
+  writeFile(tmp.file("Robot2_Measurement.dat"), "100.5 81 0.5 0\n101 63 2 3.0\n");
+  const auto own = convertUtias(dir, 2);
+  const auto shared = convertUtias(dir, 2, 1);
+  ASSERT_EQ(shared.steps.size(), own.steps.size());
+  for (std::size_t k = 0; k < own.steps.size(); ++k)  // the data itself is the same
+    EXPECT_EQ(shared.steps[k].odometry->mean.x, own.steps[k].odometry->mean.x);
+  EXPECT_NEAR(own.ground_truth.path[0].x, 0, 1e-12);
+  // Robot 2's start (3, 1, 0) seen from robot 1's start (1, 1.5, 90 deg): 0.5 m behind, 2 m to
+  // the right, heading -90 deg.
+  ASSERT_EQ(shared.ground_truth.path.size(), 3u);
+  EXPECT_NEAR(shared.ground_truth.path[0].x, -0.5, 1e-12);
+  EXPECT_NEAR(shared.ground_truth.path[0].y, -2.0, 1e-12);
+  EXPECT_NEAR(shared.ground_truth.path[0].phi, -M_PI / 2, 1e-12);
+  // Landmarks as robot 1's own conversion has them.
+  const auto r1 = convertUtias(dir, 1);
+  for (const auto& [id, p] : r1.ground_truth.landmarks)
+    EXPECT_LT((shared.ground_truth.landmarks.at(id) - p).norm(), 1e-12) << id;
+  // Its own number as frame robot changes nothing.
+  EXPECT_EQ(convertUtias(dir, 1, 1).ground_truth.path[2].x, r1.ground_truth.path[2].x);
+  EXPECT_EQ(inputErrorOf([&] { convertUtias(dir, 2, 7); }),
+            "UTIAS frame robot number must be 1 to 5, found 7");
+}
+
+TEST(SelectSteps, KeepsTimesReadingsAndTheMatchingGroundTruthRows) {
+  TempDir tmp;
+  const auto d = convertUtias(writeTinyUtias(tmp), 1);
+  const auto cut = selectSteps(d, 1, 99);
+  ASSERT_EQ(cut.steps.size(), 1u);
+  EXPECT_EQ(cut.steps[0].index, 0u);
+  EXPECT_EQ(cut.steps[0].t, d.steps[1].t);
+  EXPECT_EQ(cut.steps[0].scan->readings[0].id, 7);
+  ASSERT_EQ(cut.ground_truth.path.size(), 2u);  // the pose before step 1, and step 1's
+  EXPECT_EQ(cut.ground_truth.path[0].x, d.ground_truth.path[1].x);
+  EXPECT_EQ(cut.ground_truth.path[1].x, d.ground_truth.path[2].x);
+  EXPECT_EQ(cut.ground_truth.landmarks.size(), d.ground_truth.landmarks.size());
+  EXPECT_NE(cut.notes.back().find("--steps 1:2"), std::string::npos) << cut.notes.back();
+  try {
+    selectSteps(d, 2, 5);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "--steps 2:2: no step of the 2 selected");
+  }
 }
 
 TEST(UtiasConverter, MalformedInputs) {

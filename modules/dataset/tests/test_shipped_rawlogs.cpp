@@ -18,7 +18,14 @@ const std::vector<std::pair<std::string, bool>> kMade = {{"victoria_park", false
                                                          {"mrclam7_robot1", true},
                                                          {"rooms", true},
                                                          {"paper_synthetic", true},
-                                                         {"park", true}};
+                                                         {"park", true},
+                                                         {"rooms_revisit", true},
+                                                         {"park_revisit", true},
+                                                         {"mrclam7_robot2", true},
+                                                         {"mrclam7_robot3", true},
+                                                         {"mrclam7_robot4", true},
+                                                         {"mrclam7_robot5", true},
+                                                         {"victoria_park_from3500", false}};
 
 std::string rawlogsDir() { return sourceDir() + "/rawlogs/"; }
 
@@ -81,6 +88,42 @@ TEST(ShippedRawlogs, CountsAfterConversion) {
   const auto gt = loadGroundTruth(rawlogsDir() + "mrclam7_robot1.rawlog");
   EXPECT_EQ(gt.landmarks.size(), 15u);
   EXPECT_EQ(gt.path.size(), 1664u);
+}
+
+// The second traversals share their first traversal's world: the same landmarks, ids and frame
+// (the first traversal's start pose is the origin), another path; Victoria Park's second part is
+// the whole file's steps from 3500 on, times and readings unchanged.
+TEST(ShippedRawlogs, SecondTraversalsShareTheWorldOfTheFirst) {
+  for (const auto& [first, second] : std::vector<std::pair<std::string, std::string>>{
+           {"rooms", "rooms_revisit"},
+           {"park", "park_revisit"},
+           {"mrclam7_robot1", "mrclam7_robot2"},
+           {"mrclam7_robot1", "mrclam7_robot3"},
+           {"mrclam7_robot1", "mrclam7_robot4"},
+           {"mrclam7_robot1", "mrclam7_robot5"}}) {
+    const auto a = loadGroundTruth(rawlogsDir() + first + ".rawlog");
+    const auto b = loadGroundTruth(rawlogsDir() + second + ".rawlog");
+    EXPECT_EQ(a.landmarks.size(), b.landmarks.size()) << second;
+    for (const auto& [id, p] : a.landmarks) {
+      ASSERT_TRUE(b.landmarks.count(id)) << second << " lacks landmark " << id;
+      EXPECT_LT((b.landmarks.at(id) - p).norm(), 1e-6) << second << " landmark " << id;
+    }
+    // Another start: not the first traversal's origin.
+    EXPECT_GT(std::hypot(b.path.front().x, b.path.front().y), 0.3) << second;
+    // Every reading of a landmark the first traversal's ground truth holds.
+    for (const auto& s : readAllSteps(rawlogsDir() + second + ".rawlog"))
+      for (const auto& r : s.scan->readings) EXPECT_TRUE(a.landmarks.count(r.id)) << second;
+  }
+  const auto whole = readAllSteps(rawlogsDir() + "victoria_park.rawlog");
+  const auto rest = readAllSteps(rawlogsDir() + "victoria_park_from3500.rawlog");
+  ASSERT_EQ(rest.size(), whole.size() - 3500);
+  for (std::size_t k = 0; k < rest.size(); k += 97) {
+    EXPECT_EQ(rest[k].t, whole[3500 + k].t);
+    ASSERT_EQ(rest[k].scan->readings.size(), whole[3500 + k].scan->readings.size());
+    for (std::size_t r = 0; r < rest[k].scan->readings.size(); ++r)
+      EXPECT_EQ(rest[k].scan->readings[r].id, whole[3500 + k].scan->readings[r].id);
+    EXPECT_EQ(rest[k].odometry->mean.x, whole[3500 + k].odometry->mean.x);
+  }
 }
 
 TEST(ShippedRawlogs, RawlogEditReadsEveryOne) {

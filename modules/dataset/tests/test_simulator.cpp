@@ -188,6 +188,59 @@ TEST(Simulator, LifelongWorldChangesBetweenLaps) {
   EXPECT_GT(*seen.rbegin(), 2070);
 }
 
+// --route revisit: the same world (landmarks, ids, frame) driven from another start through
+// every room or region; odometry and readings still reproduce the ground truth without noise.
+TEST(Simulator, RevisitRouteDrivesTheSameWorldElsewhere) {
+  for (const std::string scenario : {"rooms", "park"}) {
+    SimulationOptions first = zeroNoise(scenario), again = zeroNoise(scenario);
+    again.route = "revisit";
+    const auto a = simulate(first), b = simulate(again);
+    EXPECT_EQ(a.ground_truth.landmarks, b.ground_truth.landmarks) << scenario;
+    const auto& start = b.ground_truth.path.front();
+    EXPECT_GT(std::hypot(start.x, start.y), 5.0) << scenario;  // not the first start
+    EXPECT_GT(pathLength(b.ground_truth.path), scenario == "rooms" ? 70.0 : 700.0);
+    CPose2D pose(start);
+    for (std::size_t k = 0; k < b.steps.size(); ++k) {
+      pose = pose + CPose2D(b.steps[k].odometry->mean);
+      ASSERT_NEAR(pose.x(), b.ground_truth.path[k + 1].x, 1e-9) << scenario << " step " << k;
+      for (const auto& r : b.steps[k].scan->readings)
+        ASSERT_TRUE(a.ground_truth.landmarks.count(r.id));
+    }
+    // Every room (rooms) or every quarter of the park (park) is driven through and seen.
+    std::set<int> places;
+    std::set<LandmarkId> seen;
+    for (const auto& p : b.ground_truth.path) {
+      // In the frame of the first start: lab x < 8, hallway y > 6, C12 x > 14 (rooms); the
+      // park's 200 x 250 m split in four around its centre (80, 105).
+      if (scenario == "rooms")
+        places.insert(p.y > 6.1 ? 1 : (p.x < 8 ? 0 : 2));
+      else
+        places.insert((p.x > 80 ? 1 : 0) + (p.y > 105 ? 2 : 0));
+    }
+    for (const auto& st : b.steps)
+      for (const auto& r : st.scan->readings) seen.insert(r.id);
+    EXPECT_EQ(places.size(), scenario == "rooms" ? 3u : 4u) << scenario;
+    EXPECT_GT(seen.size(), a.ground_truth.landmarks.size() / 2) << scenario;
+  }
+  // Same options but the route: other noise too.
+  SimulationOptions noisy;
+  noisy.scenario = "rooms";
+  noisy.route = "revisit";
+  const auto n1 = simulate(noisy);
+  noisy.route = "default";
+  const auto n2 = simulate(noisy);
+  EXPECT_NE(n1.steps[1].odometry->mean.x, n2.steps[1].odometry->mean.x);
+  SimulationOptions none;
+  none.scenario = "paper-synthetic";
+  none.route = "revisit";
+  try {
+    Simulator sim(none);
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "scenario 'paper-synthetic' has no revisit route (rooms and park have one)");
+  }
+}
+
 TEST(Simulator, BadOptionsAreConfigErrors) {
   SimulationOptions o;
   o.scenario = "moon";

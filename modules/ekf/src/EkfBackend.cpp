@@ -1,5 +1,6 @@
 #include "budget_slam/ekf/EkfBackend.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "budget_slam/core/Error.h"
@@ -29,9 +30,12 @@ void EkfBackend::process(const Step& step) {
   const auto& x = kf_.mean();
   const Eigen::Vector2d robot(x[0], x[1]);
   const auto& assoc = kf_.lastAssociation();
-  for (const long idx : assoc) {
+  last_ids_.assign(assoc.size(), kNoLandmarkId);
+  for (std::size_t r = 0; r < assoc.size(); ++r) {
+    const long idx = assoc[r];
     if (idx < 0) continue;
     const LandmarkId id = kf_.idAt(static_cast<std::size_t>(idx));
+    last_ids_[r] = id;
     auto [it, is_new] = tracks_.try_emplace(id);
     Track& t = it->second;
     if (is_new) t.first_step = step.index;
@@ -70,6 +74,14 @@ std::vector<LandmarkView> EkfBackend::landmarks() const {
     }
     out.push_back(v);
   }
+  return out;
+}
+
+std::vector<LandmarkId> EkfBackend::observedAt(StepIndex step) const {
+  std::vector<LandmarkId> out;
+  for (const auto& [id, t] : tracks_)
+    if (t.last_step == step && t.n > 0) out.push_back(id);
+  std::sort(out.begin(), out.end());
   return out;
 }
 

@@ -5,22 +5,14 @@
 #include <stdexcept>
 
 #include "budget_slam/core/EraseRowsCols.h"
+#include "budget_slam/ekf/MrptStepInput.h"
 
 namespace budget_slam::ekf {
 
 void ReducibleKFSLAM2D::processStep(const Step& step) {
-  auto action = step.action ? step.action : std::make_shared<mrpt::obs::CActionCollection>();
-  auto frame = step.frame;
-  if (!frame || !frame->getObservationByClass<mrpt::obs::CObservationBearingRange>()) {
-    // Prediction only: MRPT's filter asserts a bearing-range observation in every frame, so it
-    // gets an empty one (no readings: no update, no new landmarks).
-    frame = std::make_shared<mrpt::obs::CSensoryFrame>();
-    if (step.frame)
-      for (const auto& o : *step.frame) frame->insert(o);
-    frame->insert(std::make_shared<mrpt::obs::CObservationBearingRange>());
-  }
+  auto in = mrptStepInput(step);
   last_association_.clear();
-  processActionObservation(action, frame);
+  processActionObservation(in.action, in.frame);
 }
 
 void ReducibleKFSLAM2D::OnGetObservationsAndDataAssociation(

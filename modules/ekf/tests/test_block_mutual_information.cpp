@@ -62,9 +62,14 @@ TEST(BlockMutualInformation, SuccessiveRemovalsEqualAFreshComputation) {
     ASSERT_EQ(mi.size(), static_cast<std::size_t>(P.rows()));
     for (int l = 0; l < (P.rows() - 3) / 2; ++l)
       EXPECT_NEAR(mi.gain(3 + 2 * l), fresh.gain(3 + 2 * l), 1e-9) << "after removing " << k;
-    EXPECT_LT(
-        (mi.information() - P.inverse()).cwiseAbs().maxCoeff() / P.inverse().cwiseAbs().maxCoeff(),
-        1e-9);
+    // The Schur-updated information blocks are those of the reduced covariance's inverse.
+    const Eigen::MatrixXd Lambda = P.inverse();
+    for (int l = 0; l < (P.rows() - 3) / 2; ++l) {
+      const int row = 3 + 2 * l;
+      EXPECT_LT((mi.informationBlock(row) - Lambda.block(row, row, 2, 2)).cwiseAbs().maxCoeff(),
+                1e-9 * Lambda.cwiseAbs().maxCoeff())
+          << "after removing " << k;
+    }
   }
 }
 
@@ -90,4 +95,29 @@ TEST(BlockMutualInformation, IndependentBlockHasZeroGain) {
   BlockMutualInformation mi(P);
   EXPECT_NEAR(mi.gain(5), 0.0, 1e-12);
   EXPECT_GT(mi.gain(3), 0.0);
+}
+
+TEST(BlockMutualInformation, LargeStatesAcrossKernelBlocks) {
+  // Sizes that leave partial register tiles and panels (the kernels work in 8 x 4 tiles and
+  // 32-wide panels): every landmark's gain and information block against a dense inverse.
+  std::mt19937 rng(13);
+  for (int landmarks : {14, 15, 16, 61, 120}) {
+    const Eigen::MatrixXd P = randomSpd(3 + 2 * landmarks, rng);
+    const Eigen::MatrixXd Lambda = P.fullPivLu().inverse();
+    BlockMutualInformation mi(P);
+    for (int l = 0; l < landmarks; ++l) {
+      const int row = 3 + 2 * l;
+      const double expected = bruteForce(P, row);
+      EXPECT_NEAR(mi.gain(row), expected, 1e-9 * std::max(1.0, std::abs(expected))) << l;
+      EXPECT_LT((mi.informationBlock(row) - Lambda.block(row, row, 2, 2)).cwiseAbs().maxCoeff(),
+                1e-9 * Lambda.cwiseAbs().maxCoeff());
+    }
+  }
+}
+
+TEST(BlockMutualInformation, IndefiniteCovarianceIsAnError) {
+  // Positive variances, but the landmark block [1 2; 2 1] has a negative eigenvalue.
+  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(7, 7);
+  P(3, 4) = P(4, 3) = 2.0;
+  EXPECT_THROW(BlockMutualInformation{P}, std::runtime_error);
 }

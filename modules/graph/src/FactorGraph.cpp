@@ -1,5 +1,8 @@
 #include "budget_slam/graph/FactorGraph.h"
 
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -90,9 +93,45 @@ void FactorGraph::marginalizePose(StepIndex step) {
   changed();
 }
 
+LandmarkPrior LandmarkPrior::make(const Eigen::Vector2d& mean, const Eigen::Matrix2d& cov) {
+  LandmarkPrior p;
+  p.mean = mean;
+  // sqrt_info = L^-1 for cov = L L^T: sqrt_info^T sqrt_info = cov^-1.
+  const Eigen::LLT<Eigen::Matrix2d> llt(0.5 * (cov + cov.transpose()));
+  if (llt.info() != Eigen::Success || !cov.allFinite())
+    throw std::invalid_argument("graph: landmark prior covariance is not positive definite");
+  p.sqrt_info = llt.matrixL().solve(Eigen::Matrix2d::Identity());
+  return p;
+}
+
+void FactorGraph::dropFirstPoses(std::size_t count, const PriorFactor& next_prior) {
+  if (count == 0) return;
+  if (count >= poses_.size())
+    throw std::logic_error("graph: cannot drop " + std::to_string(count) + " of " +
+                           std::to_string(poses_.size()) + " poses");
+  auto end = std::next(poses_.begin(), static_cast<std::ptrdiff_t>(count));
+  const StepIndex first_kept = end->first;
+  for (auto& [id, l] : landmarks_)
+    l.obs.erase(std::remove_if(l.obs.begin(), l.obs.end(),
+                               [&](const Observation& o) { return o.pose < first_kept; }),
+                l.obs.end());
+  poses_.erase(poses_.begin(), end);
+  poses_.begin()->second.odo.reset();
+  prior_ = next_prior;
+  changed();
+}
+
+void FactorGraph::setLandmarkPrior(LandmarkId id, const LandmarkPrior& prior) {
+  auto l = landmarks_.find(id);
+  if (l == landmarks_.end()) throw std::out_of_range("graph: no landmark " + std::to_string(id));
+  const bool had = l->second.prior.has_value();
+  l->second.prior = prior;
+  if (!had) changed();  // a new factor; replacing one keeps the pattern
+}
+
 std::size_t FactorGraph::factorCount() const {
   std::size_t n = poses_.empty() ? 0 : poses_.size();  // prior + one odometry per later pose
-  for (const auto& [id, l] : landmarks_) n += l.obs.size();
+  for (const auto& [id, l] : landmarks_) n += l.obs.size() + (l.prior ? 1 : 0);
   return n;
 }
 
@@ -136,9 +175,11 @@ double FactorGraph::chi2() const {
     if (prev) c += (p.odo->sqrt_info * p.odo->error(prev->x, p.x)).squaredNorm();
     prev = &p;
   }
-  for (const auto& [id, l] : landmarks_)
+  for (const auto& [id, l] : landmarks_) {
     for (const Observation& o : l.obs)
       c += (o.f.sqrt_info * o.f.error(poses_.at(o.pose).x, l.x)).squaredNorm();
+    if (l.prior) c += (l.prior->sqrt_info * (l.x - l.prior->mean)).squaredNorm();
+  }
   return c;
 }
 
@@ -187,6 +228,11 @@ void FactorGraph::linearize(Eigen::SparseMatrix<double>* H, Eigen::VectorXd* g) 
       addBlock(&t, l.col, Al, p.col, Ax);
       g->segment<3>(p.col) += Ax.transpose() * r;
       g->segment<2>(l.col) += Al.transpose() * r;
+    }
+    if (l.prior) {
+      const Eigen::Matrix2d& A = l.prior->sqrt_info;
+      addBlock(&t, l.col, A, l.col, A);
+      g->segment<2>(l.col) += A.transpose() * (A * (l.x - l.prior->mean));
     }
   }
   H->resize(dim_, dim_);

@@ -1,13 +1,14 @@
 #include "GramKernel.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace budget_slam::graph::detail {
 
 // Plain loops on fixed-size tiles, so that the compiler vectorizes them for each clone; no
 // Eigen here (its kernels are chosen at compile time and must not differ between translation
 // units).
-__attribute__((target_clones("arch=haswell", "default"))) void forwardSubstitute(
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void forwardSubstitute(
     double* X, std::size_t m, std::size_t r, const int* start, const int* rows,
     const double* vals) {
   for (std::size_t a = 0; a < m; ++a) {
@@ -27,7 +28,7 @@ __attribute__((target_clones("arch=haswell", "default"))) void forwardSubstitute
   }
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void gramLowerRows(
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void gramLowerRows(
     const double* const* rows, std::size_t m, std::size_t w, double* G, std::size_t ldg,
     std::size_t lo) {
   double* g = G + lo * ldg + lo;
@@ -56,19 +57,25 @@ __attribute__((target_clones("arch=haswell", "default"))) void gramLowerRows(
   }
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void forwardSubstitutePath(
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void forwardSubstitutePath(
     double* X, std::size_t ld, const int* nodes, std::size_t m, const int* Lp, const int* Lnz,
-    const int* Li, const double* Lx, const int* local, const int* lo, const int* hi) {
+    const int* Li, const double* Lx, bool ldl, const int* local, const int* lo, const int* hi) {
   for (std::size_t a = 0; a < m; ++a) {
     const int k = nodes[a];
     double* xa = X + a * ld;
     const std::size_t l = static_cast<std::size_t>(lo[a]), h = static_cast<std::size_t>(hi[a]);
-    const double inv = 1.0 / Lx[Lp[k]];
-    for (std::size_t j = l; j < h; ++j) xa[j] *= inv;
+    if (!ldl) {
+      const double inv = 1.0 / Lx[Lp[k]];
+      for (std::size_t j = l; j < h; ++j) xa[j] *= inv;
+    }
     for (int q = Lp[k] + 1; q < Lp[k] + Lnz[k]; ++q) {
       double* xi = X + static_cast<std::size_t>(local[Li[q]]) * ld;
       const double c = Lx[q];
       for (std::size_t j = l; j < h; ++j) xi[j] -= c * xa[j];
+    }
+    if (ldl) {  // unit L pushed the row up unscaled; the LL^T row is it over sqrt(D_k)
+      const double inv = 1.0 / std::sqrt(Lx[Lp[k]]);
+      for (std::size_t j = l; j < h; ++j) xa[j] *= inv;
     }
   }
 }

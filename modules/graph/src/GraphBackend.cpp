@@ -33,10 +33,15 @@ Eigen::Matrix3d floorCovariance(const Eigen::Matrix3d& C, const Eigen::Vector3d&
 GraphBackend::GraphBackend(const mrpt::config::CConfigFileBase& ini) {
   options_.loadFromConfigFile(ini, GraphSlamOptions::kSection);
   noise_.loadFromConfigFile(ini, RangeBearingNoise::kSection);
+  solver_ordering_ = IncrementalOrdering(options_.reorder_fill_ratio);
+  query_ordering_ = IncrementalOrdering(options_.reorder_fill_ratio);
 }
 
 GraphBackend::GraphBackend(const GraphSlamOptions& options, const RangeBearingNoise& noise)
-    : options_(options), noise_(noise) {}
+    : options_(options),
+      noise_(noise),
+      solver_ordering_(options.reorder_fill_ratio),
+      query_ordering_(options.reorder_fill_ratio) {}
 
 GraphBackend::GraphBackend(const GraphBackend& o)
     : options_(o.options_),
@@ -46,11 +51,14 @@ GraphBackend::GraphBackend(const GraphBackend& o)
       next_fresh_id_(o.next_fresh_id_),
       poses_since_update_(o.poses_since_update_),
       updates_(o.updates_),
+      poses_dropped_(o.poses_dropped_),
+      solver_ordering_(o.options_.reorder_fill_ratio),
       estimate_version_(o.estimate_version_),
       exact_version_(o.exact_version_),
       pose_cov_(o.pose_cov_),
       landmark_cov_(o.landmark_cov_),
-      landmark_cov_version_(o.landmark_cov_version_) {}
+      landmark_cov_version_(o.landmark_cov_version_),
+      query_ordering_(o.options_.reorder_fill_ratio) {}
 
 std::unique_ptr<Backend> GraphBackend::clone() const {
   return std::unique_ptr<Backend>(new GraphBackend(*this));
@@ -131,6 +139,7 @@ Eigen::Matrix2d GraphBackend::sensorCovariance() const {
 }
 
 void GraphBackend::process(const Step& step) {
+  last_ids_.clear();
   const BetweenFactor odo = odometryFactor(step);
   if (graph_.poses().empty()) {
     // Step 0's action moves the robot from the start pose (the origin, as MRPT's filter) to pose 0.
@@ -176,10 +185,12 @@ void GraphBackend::process(const Step& step) {
     const std::vector<LandmarkId> ids = associate(scan, step.index, sensor);
     for (LandmarkId id : ids)
       if (id != kNoLandmarkId) next_fresh_id_ = std::max(next_fresh_id_, id + 1);
+    last_ids_.assign(scan.readings.size(), kNoLandmarkId);
     for (std::size_t r = 0; r < scan.readings.size(); ++r) {
       const RangeBearingReading& z = scan.readings[r];
       LandmarkId id = ids[r];
       if (id == kNoLandmarkId) id = next_fresh_id_++;
+      last_ids_[r] = id;
       const RangeBearingFactor f = RangeBearingFactor::make(z.range, z.yaw, sensor, R);
       if (!graph_.hasLandmark(id)) {
         graph_.addLandmark(id, f.landmarkFrom(x));  // re-seen after removal: back as new
@@ -203,13 +214,55 @@ void GraphBackend::process(const Step& step) {
   const bool surprised = options_.relinearize_chi2 > 0 && resights > 0 &&
                          resight_chi2 / static_cast<double>(resights) > options_.relinearize_chi2;
   if (periodic || surprised) incrementalUpdate();
+  boundPoses();
+}
+
+void GraphBackend::boundPoses() {
+  const std::size_t limit = static_cast<std::size_t>(std::max(options_.max_poses, 0));
+  const std::size_t n = graph_.poses().size();
+  if (limit == 0 || n <= limit) return;
+  // Drop a tenth of the window at once (at least the excess): landmarks left without sightings
+  // need one factorization for their marginals, shared by the whole batch.
+  const std::size_t count = std::min(n - 1, std::max(n - limit, limit / 10));
+  auto first_kept = std::next(graph_.poses().begin(), static_cast<std::ptrdiff_t>(count));
+  const StepIndex first_step = first_kept->first;
+  // Landmarks all of whose sightings leave: their marginal at the current estimate becomes a
+  // prior (in place of any earlier one, which the marginal includes).
+  std::vector<VariableKey> orphans;
+  for (const auto& [id, l] : graph_.landmarks()) {
+    const bool keeps = std::any_of(l.obs.begin(), l.obs.end(),
+                                   [&](const Observation& o) { return o.pose >= first_step; });
+    if (!keeps && !l.obs.empty()) orphans.push_back(VariableKey::landmark(id));
+  }
+  std::vector<Eigen::MatrixXd> cov;
+  if (!orphans.empty()) cov = marginals(graph_, factorization(), orphans);
+  // The new first pose's prior: the dropped poses' prior and odometry composed up to it (exact
+  // marginalization once their sightings are gone: a chain), linearized at the current estimate,
+  // with the current estimate as its mean (where the dropped sightings put it stays; their
+  // information does not).
+  const PriorFactor& p0 = graph_.prior();
+  BetweenFactor acc = BetweenFactor::make(graph_.poses().begin()->second.x, p0.cov);
+  for (auto it = std::next(graph_.poses().begin());; ++it) {
+    const BetweenFactor hop =
+        BetweenFactor::make(between(acc.z, it->second.x), it->second.odo->cov);
+    acc = composeBetween(acc, hop);
+    if (it == first_kept) break;
+  }
+  for (std::size_t k = 0; k < orphans.size(); ++k) {
+    const LandmarkId id = orphans[k].id;
+    graph_.setLandmarkPrior(id, LandmarkPrior::make(graph_.landmark(id).x, cov[k]));
+  }
+  graph_.dropFirstPoses(count, PriorFactor::make(first_kept->second.x, acc.cov));
+  poses_dropped_ += count;
+  touch();
 }
 
 void GraphBackend::incrementalUpdate() {
   SolverSettings s = options_.solverSettings();
   s.method = SolverSettings::Method::GaussNewton;
   s.max_iterations = options_.incremental_iterations;
-  graph::optimize(graph_, s, &solver_chol_);
+  s.step_tolerance = std::max(s.step_tolerance, options_.relinearize_threshold);
+  graph::optimize(graph_, s, &solver_chol_, &solver_ordering_);
   poses_since_update_ = 0;
   ++updates_;
   touch();
@@ -221,7 +274,7 @@ void GraphBackend::incrementalUpdate() {
 
 const SparseCholesky& GraphBackend::factorization() const {
   if (query_version_ != estimate_version_) {
-    factorizeAtEstimate(graph_, &query_chol_);
+    factorizeAtEstimate(graph_, &query_chol_, &query_ordering_);
     query_version_ = estimate_version_;
     exact_version_ = estimate_version_;
   }
@@ -252,6 +305,13 @@ std::vector<LandmarkView> GraphBackend::landmarks() const {
     v.last_step = t.last_step;
     out.push_back(v);
   }
+  return out;
+}
+
+std::vector<LandmarkId> GraphBackend::observedAt(StepIndex step) const {
+  std::vector<LandmarkId> out;
+  for (const auto& [id, t] : tracks_)  // a std::map: already sorted by id
+    if (t.last_step == step && t.n > 0) out.push_back(id);
   return out;
 }
 
@@ -333,7 +393,7 @@ SolveReport GraphBackend::optimize() {
   settings.stop_on_request = true;  // a full solve of a long run takes seconds
   SolveReport r;
   try {
-    r = graph::optimize(graph_, settings, &solver_chol_);
+    r = graph::optimize(graph_, settings, &solver_chol_, &solver_ordering_);
   } catch (const Interrupted&) {
     // The estimate moved to the last accepted iterate: the caches must follow it.
     pose_cov_.reset();

@@ -2,6 +2,7 @@
 
 #include <ostream>
 
+#include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSection.h"
 
 namespace budget_slam::graph {
@@ -21,6 +22,11 @@ void GraphSlamOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& i
   incremental_iterations =
       static_cast<int>(s.readInt("incremental_iterations", incremental_iterations, 1, 1000));
   relinearize_chi2 = s.readDouble("relinearize_chi2", relinearize_chi2, 0, kInf);
+  relinearize_threshold = s.readDouble("relinearize_threshold", relinearize_threshold, 0, kInf);
+  reorder_fill_ratio = s.readDouble("reorder_fill_ratio", reorder_fill_ratio, 0, kInf);
+  max_poses = static_cast<int>(s.readInt("max_poses", max_poses, 0, 100000000));
+  if (max_poses == 1)
+    throw ConfigError("[" + section + "] max_poses = 1: must be 0 (unbounded) or at least 2");
   prior_std_xy = s.readDouble("prior_std_xy", prior_std_xy, 1e-12, kInf);
   prior_std_yaw_deg = s.readDouble("prior_std_yaw_deg", prior_std_yaw_deg, 1e-12, kInf);
   no_odometry_std_xy = s.readDouble("no_odometry_std_xy", no_odometry_std_xy, 1e-12, kInf);
@@ -46,6 +52,11 @@ void GraphSlamOptions::dumpToTextStream(std::ostream& out) const {
       << "relinearize_every        = " << relinearize_every << "  // [poses], 0 = at finish only\n"
       << "incremental_iterations   = " << incremental_iterations << "\n"
       << "relinearize_chi2         = " << relinearize_chi2 << "  // per reading, 0 = never early\n"
+      << "relinearize_threshold    = " << relinearize_threshold
+      << "  // [m, rad], 0 = every incremental iteration\n"
+      << "reorder_fill_ratio       = " << reorder_fill_ratio
+      << "  // fresh ordering when fill grows by this factor, 0 = always\n"
+      << "max_poses                = " << max_poses << "  // 0 = unbounded\n"
       << "prior_std_xy             = " << prior_std_xy << "  // [m]\n"
       << "prior_std_yaw_deg        = " << prior_std_yaw_deg << "  // [deg]\n"
       << "no_odometry_std_xy       = " << no_odometry_std_xy << "  // [m]\n"
@@ -68,6 +79,9 @@ std::vector<std::string> GraphSlamOptions::keys() {
           "relinearize_every",
           "incremental_iterations",
           "relinearize_chi2",
+          "relinearize_threshold",
+          "reorder_fill_ratio",
+          "max_poses",
           "prior_std_xy",
           "prior_std_yaw_deg",
           "no_odometry_std_xy",

@@ -18,11 +18,13 @@ void landmarkInformationOnPoses(const FactorGraph& graph, LandmarkId id, std::ve
   std::unordered_map<StepIndex, int> slot;
   for (const Observation& o : l.obs)
     if (slot.emplace(o.pose, static_cast<int>(B->size())).second) B->push_back(o.pose);
-  const int k = static_cast<int>(l.obs.size());
+  const int k = static_cast<int>(l.obs.size()) + (l.prior ? 1 : 0);
   const int nb = 3 * static_cast<int>(B->size());
-  // Whitened Jacobian of L's k factors: columns [B poses | L].
+  // Whitened Jacobian of L's k factors: columns [B poses | L]. A prior on L is a factor of L's
+  // with no pose part.
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * k, nb + 2);
-  for (int f = 0; f < k; ++f) {
+  if (l.prior) A.block<2, 2>(2 * (k - 1), nb) = l.prior->sqrt_info;
+  for (int f = 0; f < static_cast<int>(l.obs.size()); ++f) {
     const Observation& o = l.obs[f];
     Eigen::Matrix<double, 2, 3> Jx;
     Eigen::Matrix2d Jl;
@@ -41,11 +43,23 @@ namespace {
 /// The whitened Jacobians of landmark L's k factors: the pose part as 2k sparse columns of
 /// A_B^T (one per row of A_B, on the observing pose's three columns of H) and the landmark part
 /// A_L (2k x 2).
-void sightingJacobians(const FactorGraph& graph, const LandmarkNode& l,
-                       std::vector<SparseColumn>* AB, Eigen::MatrixXd* AL) {
+void sightingJacobians(const FactorGraph& graph, LandmarkId l_id, std::vector<SparseColumn>* AB,
+                       Eigen::MatrixXd* AL) {
+  const LandmarkNode& l = graph.landmark(l_id);
   const int k = static_cast<int>(l.obs.size());
-  AB->assign(2 * k, SparseColumn{});
-  AL->resize(2 * k, 2);
+  const int rows = 2 * k + (l.prior ? 2 : 0);
+  AB->assign(rows, SparseColumn{});
+  AL->resize(rows, 2);
+  if (l.prior) {  // a prior on L: rows with no pose part (a zero on L's own column)
+    AL->bottomRows<2>() = l.prior->sqrt_info;
+    const int c = graph.column(VariableKey::landmark(l_id));
+    for (int row = 0; row < 2; ++row) {
+      SparseColumn& col = (*AB)[2 * k + row];
+      col.n = 1;
+      col.idx[0] = c;
+      col.val[0] = 0.0;
+    }
+  }
   for (int f = 0; f < k; ++f) {
     const Observation& o = l.obs[f];
     const PoseNode& p = graph.pose(o.pose);
@@ -109,7 +123,7 @@ std::vector<double> informationGain(const FactorGraph& graph, const SparseCholes
   thread_local std::vector<double> buf, spare;
   for (LandmarkId id : ids) {
     const LandmarkNode& l = graph.landmark(id);
-    if (l.obs.size() <= 1) {  // seen once: L's factor is absorbed by L
+    if (l.obs.size() + (l.prior ? 1 : 0) <= 1) {  // one factor: absorbed by L
       out.push_back(0.0);
       continue;
     }
@@ -117,7 +131,7 @@ std::vector<double> informationGain(const FactorGraph& graph, const SparseCholes
     // factorization prefers; A_L's rows follow. With Q^T A_L = [R; 0] (Householder),
     // W = Q_2^T A_B and W Sigma_BB W^T = (Q^T M Q) without its first two rows and columns: two
     // reflections from each side, O(k^2).
-    sightingJacobians(graph, l, &AB, &AL);
+    sightingJacobians(graph, id, &AB, &AL);
     const Eigen::Map<const Eigen::MatrixXd> G = chol.inverseGram(AB, &order);
     const Eigen::Index n = G.rows();
     ALs.resize(n, 2);
@@ -158,9 +172,9 @@ std::vector<double> conditionalInformationGain(const FactorGraph& graph, const S
   std::vector<double> spare;
   for (LandmarkId id : ids) {
     const LandmarkNode& l = graph.landmark(id);
-    const int k = static_cast<int>(l.obs.size());
+    const int k = static_cast<int>(l.obs.size()) + (l.prior ? 1 : 0);
     // Columns A_B^T and the two unit vectors of L: Gram [A S_BB A^T, A S_BL; ., S_LL].
-    sightingJacobians(graph, l, &cols, &AL);
+    sightingJacobians(graph, id, &cols, &AL);
     const int c = graph.column(VariableKey::landmark(id));
     for (int t = 0; t < 2; ++t) {
       SparseColumn e;

@@ -7,22 +7,31 @@
 
 namespace budget_slam::graph {
 
-void factorizeAtEstimate(const FactorGraph& graph, SparseCholesky* chol) {
+namespace {
+bool factorizeWith(const FactorGraph& graph, const Eigen::SparseMatrix<double>& H,
+                   SparseCholesky* chol, IncrementalOrdering* ordering) {
+  if (ordering) return ordering->factorize(graph, H, chol);
+  return chol->factorize(H, graph.structureVersion() + 1);  // 0 means "always analyse"
+}
+}  // namespace
+
+void factorizeAtEstimate(const FactorGraph& graph, SparseCholesky* chol,
+                         IncrementalOrdering* ordering) {
   Eigen::SparseMatrix<double> H;
   Eigen::VectorXd g;
   graph.linearize(&H, &g);
-  if (!chol->factorize(H, graph.structureVersion() + 1))
+  if (!factorizeWith(graph, H, chol, ordering))
     throw std::runtime_error("graph: information matrix is not positive definite");
 }
 
-SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky* chol) {
+SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky* chol,
+                     IncrementalOrdering* ordering) {
   SolveReport rep;
   rep.initial_chi2 = rep.final_chi2 = graph.chi2();
   if (graph.dim() == 0) {
     rep.converged = true;
     return rep;
   }
-  const std::uint64_t version = graph.structureVersion() + 1;  // 0 means "always analyse"
   Eigen::SparseMatrix<double> H;
   Eigen::VectorXd g;
   double lambda = s.lm_initial_lambda;
@@ -32,7 +41,7 @@ SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky
     graph.linearize(&H, &g);
     rep.iterations = it + 1;
     if (s.method == SolverSettings::Method::GaussNewton) {
-      if (!chol->factorize(H, version))
+      if (!factorizeWith(graph, H, chol, ordering))
         throw std::runtime_error("graph: information matrix is not positive definite");
       const Eigen::VectorXd dx = -chol->solve(g);
       const Eigen::VectorXd backup = graph.values();
@@ -62,7 +71,7 @@ SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky
       if (s.stop_on_request) Cancellation::check();
       Eigen::SparseMatrix<double> Hd = H;
       for (int i = 0; i < Hd.rows(); ++i) Hd.coeffRef(i, i) += lambda * std::max(diag[i], 1e-12);
-      if (!chol->factorize(Hd, version)) {
+      if (!factorizeWith(graph, Hd, chol, ordering)) {
         lambda *= s.lm_lambda_factor;
         continue;
       }

@@ -1,7 +1,9 @@
 #include "budget_slam/graph/SparseCholesky.h"
 
-#include <Eigen/CholmodSupport>
+#include <cholmod.h>
+
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 
@@ -12,130 +14,144 @@ namespace budget_slam::graph {
 namespace {
 using SpMat = Eigen::SparseMatrix<double>;
 
-/// Eigen's wrapper with access to CHOLMOD's factor (a protected member of CholmodBase).
-class Cholmod : public Eigen::CholmodDecomposition<SpMat, Eigen::Lower> {
- public:
-  cholmod_factor* factor() const { return m_cholmodFactor; }
-};
+/// H's lower triangle as a CHOLMOD matrix (a view, no copy; H must be compressed).
+cholmod_sparse viewLower(const SpMat& H) {
+  if (!H.isCompressed()) throw std::invalid_argument("SparseCholesky: H is not compressed");
+  cholmod_sparse A{};
+  A.nrow = static_cast<std::size_t>(H.rows());
+  A.ncol = static_cast<std::size_t>(H.cols());
+  A.nzmax = static_cast<std::size_t>(H.nonZeros());
+  A.p = const_cast<int*>(H.outerIndexPtr());
+  A.i = const_cast<int*>(H.innerIndexPtr());
+  A.x = const_cast<double*>(H.valuePtr());
+  A.stype = -1;
+  A.itype = CHOLMOD_INT;
+  A.xtype = CHOLMOD_REAL;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  return A;
+}
 }  // namespace
 
 struct SparseCholesky::Impl {
-  Cholmod chol;
+  cholmod_common c{};
+  cholmod_factor* F = nullptr;
   bool ok = false;
-  bool analysed = false;
+  bool analysed = false;  ///< F holds an analysis factorize() may reuse
   std::uint64_t version = 0;
   int n = 0;
 
-  // The factor as simplicial LL^T CSC columns for the partial inverses, set up on first use after
-  // each factorization: column k at Li/Lx[Lp[k] .. Lp[k] + Lnz[k] - 1], diagonal first. They point
-  // into CHOLMOD's own simplicial LL^T factor (no copy), or into a copy (Lp_s ...) when CHOLMOD
-  // kept a supernodal factor. Plus the permutation and the elimination tree.
+  Impl() {
+    cholmod_start(&c);
+    c.print = 0;  // a singular H is reported by the result, not printed on stdout
+  }
+  ~Impl() {
+    if (F) cholmod_free_factor(&F, &c);
+    cholmod_finish(&c);
+  }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+
+  // The factor as simplicial CSC columns for the partial inverses, set up on first use after
+  // each change: column k at Li/Lx[Lp[k] .. Lp[k] + Lnz[k] - 1], diagonal first, rows ascending.
+  // They point into CHOLMOD's own simplicial factor (no copy; `ldl`: a unit L D L^T with D on
+  // the diagonal, as CHOLMOD's simplicial factorization and its update routines keep it), or
+  // into a copy (Lp_s ...) when CHOLMOD kept a supernodal L L^T. The permutation and its inverse
+  // change only with a new analysis.
   mutable bool have_L = false;
+  mutable bool ldl = false;
   mutable const int *Lp = nullptr, *Lnz = nullptr, *Li = nullptr;
   mutable const double* Lx = nullptr;
-  mutable std::size_t nnz = 0;
-  mutable std::vector<int> Lp_s, Lnz_s, Li_s, perm, iperm, parent;
+  mutable std::vector<int> Lp_s, Lnz_s, Li_s, perm, iperm;
   mutable std::vector<double> Lx_s;
+  mutable bool have_perm = false;
+
+  /// The etree parent of column k: the first row below the diagonal (-1 at a root).
+  int parentOf(int k) const { return Lnz[k] > 1 ? Li[Lp[k] + 1] : -1; }
 
   void extractL() const {
     if (have_L) return;
-    cholmod_factor* F = chol.factor();
-    if (F->is_super && F->is_ll && F->xtype == CHOLMOD_REAL) {
+    if (!F || !ok) throw std::logic_error("SparseCholesky: no factorization");
+    if (F->is_super) {
       extractSupernodal(*F);
+      ldl = false;
     } else {
-      // A simplicial LDL^T (CHOLMOD's usual choice on these sparse graphs): converted to LL^T in
-      // place, O(nnz), then read directly. Done here, on the first partial inverse, rather than
-      // in factorize(): callers that only solve or take log-determinants (the naive reference)
-      // never pay for it. solve() and logDet() handle either form.
-      if (!F->is_ll || !F->is_monotonic || F->xtype != CHOLMOD_REAL) {
-        cholmod_common& c = const_cast<Cholmod&>(chol).cholmod();
-        if (!cholmod_change_factor(CHOLMOD_REAL, /*to_ll=*/1, /*to_super=*/0, /*to_packed=*/1,
-                                   /*to_monotonic=*/1, F, &c))
-          throw std::runtime_error("CHOLMOD: cannot convert the factor");
-      }
-      viewSimplicial(*F);
+      Lp = static_cast<const int*>(F->p);
+      Lnz = static_cast<const int*>(F->nz);
+      Li = static_cast<const int*>(F->i);
+      Lx = static_cast<const double*>(F->x);
+      ldl = !F->is_ll;
     }
-    iperm.resize(n);
-    for (int k = 0; k < n; ++k) iperm[perm[k]] = k;
+    if (!have_perm) {
+      const int* P = static_cast<const int*>(F->Perm);
+      perm.resize(n);
+      iperm.resize(n);
+      for (int k = 0; k < n; ++k) perm[k] = P ? P[k] : k;
+      for (int k = 0; k < n; ++k) iperm[perm[k]] = k;
+      have_perm = true;
+    }
     have_L = true;
-  }
-
-  /// CHOLMOD's simplicial LL^T factor read in place: its p, nz, i, x arrays are already CSC
-  /// columns with the diagonal first (possibly with slack between columns, hence nz).
-  void viewSimplicial(const cholmod_factor& F) const {
-    Lp = static_cast<const int*>(F.p);
-    Lnz = static_cast<const int*>(F.nz);
-    Li = static_cast<const int*>(F.i);
-    Lx = static_cast<const double*>(F.x);
-    const int* P = static_cast<const int*>(F.Perm);
-    nnz = 0;
-    parent.assign(n, -1);
-    perm.resize(n);
-    for (int k = 0; k < n; ++k) {
-      nnz += Lnz[k];
-      // The etree parent is the smallest row below the diagonal.
-      for (int q = Lp[k] + 1; q < Lp[k] + Lnz[k]; ++q)
-        if (parent[k] == -1 || Li[q] < parent[k]) parent[k] = Li[q];
-      perm[k] = P ? P[k] : k;
-    }
   }
 
   /// The CSC columns straight from a supernodal LL^T factor: supernode s holds columns
   /// super[s] .. super[s+1]-1 as a dense column-major block (rows pi[s] .. pi[s+1]-1 of s[], its
   /// row indices, ascending with the supernode's own columns first); column j's entries are the
   /// block's column from its diagonal down. No copy or conversion by CHOLMOD.
-  void extractSupernodal(const cholmod_factor& F) const {
-    const int* super = static_cast<const int*>(F.super);
-    const int* pi = static_cast<const int*>(F.pi);
-    const int* px = static_cast<const int*>(F.px);
-    const int* srows = static_cast<const int*>(F.s);
-    const double* x = static_cast<const double*>(F.x);
-    const int* P = static_cast<const int*>(F.Perm);
+  void extractSupernodal(const cholmod_factor& S) const {
+    const int* super = static_cast<const int*>(S.super);
+    const int* pi = static_cast<const int*>(S.pi);
+    const int* px = static_cast<const int*>(S.px);
+    const int* srows = static_cast<const int*>(S.s);
+    const double* x = static_cast<const double*>(S.x);
     Lp_s.assign(n + 1, 0);
     Lnz_s.assign(n, 0);
-    for (std::size_t sn = 0; sn < F.nsuper; ++sn) {
+    for (std::size_t sn = 0; sn < S.nsuper; ++sn) {
       const int k1 = super[sn], k2 = super[sn + 1], nrows = pi[sn + 1] - pi[sn];
       for (int k = k1; k < k2; ++k) Lnz_s[k] = nrows - (k - k1);
     }
     for (int k = 0; k < n; ++k) Lp_s[k + 1] = Lp_s[k] + Lnz_s[k];
     Li_s.resize(Lp_s[n]);
     Lx_s.resize(Lp_s[n]);
-    parent.assign(n, -1);
-    for (std::size_t sn = 0; sn < F.nsuper; ++sn) {
+    for (std::size_t sn = 0; sn < S.nsuper; ++sn) {
       const int k1 = super[sn], k2 = super[sn + 1], nrows = pi[sn + 1] - pi[sn];
       const int* rows = srows + pi[sn];
       const double* blk = x + px[sn];
       for (int k = k1; k < k2; ++k) {
-        const int c = k - k1;
-        std::copy(rows + c, rows + nrows, Li_s.begin() + Lp_s[k]);
-        std::copy(blk + static_cast<std::size_t>(c) * nrows + c,
-                  blk + static_cast<std::size_t>(c + 1) * nrows, Lx_s.begin() + Lp_s[k]);
-        if (c + 1 < nrows) parent[k] = rows[c + 1];  // rows ascending: the first below diagonal
+        const int c0 = k - k1;
+        std::copy(rows + c0, rows + nrows, Li_s.begin() + Lp_s[k]);
+        std::copy(blk + static_cast<std::size_t>(c0) * nrows + c0,
+                  blk + static_cast<std::size_t>(c0 + 1) * nrows, Lx_s.begin() + Lp_s[k]);
       }
     }
-    perm.resize(n);
-    for (int k = 0; k < n; ++k) perm[k] = P ? P[k] : k;
     Lp = Lp_s.data();
     Lnz = Lnz_s.data();
     Li = Li_s.data();
     Lx = Lx_s.data();
-    nnz = Lp_s[n];
   }
 
+  /// The L L^T factor's diagonal entry and off-diagonal entry q of column k.
+  double diagLL(int k) const { return ldl ? std::sqrt(Lx[Lp[k]]) : Lx[Lp[k]]; }
+
   // Postorder of the elimination tree (children before parents, each subtree a contiguous
-  // interval [first[k], post[k]]), built on first use after each factorization.
+  // interval [first[k], post[k]]), built on first use after each change.
   mutable bool have_post = false;
-  mutable std::vector<int> post, first;
+  mutable std::vector<int> parent, post, first;
 
   void postorder() const {
     extractL();
     if (have_post) return;
+    parent.resize(n);
+    for (int k = 0; k < n; ++k) parent[k] = parentOf(k);
     std::vector<int> head(n, -1), next(n, -1), stack;
     for (int k = n - 1; k >= 0; --k)  // children lists, ascending
       if (parent[k] != -1) {
         next[k] = head[parent[k]];
         head[parent[k]] = k;
       }
+    std::vector<char> has_child(n, 0);
+    for (int k = 0; k < n; ++k)
+      if (parent[k] != -1) has_child[parent[k]] = 1;
     post.assign(n, 0);
     first.assign(n, 0);
     int counter = 0;
@@ -145,9 +161,9 @@ struct SparseCholesky::Impl {
       while (!stack.empty()) {
         const int k = stack.back();
         if (head[k] != -1) {  // descend into the next unvisited child
-          const int c = head[k];
-          head[k] = next[c];
-          stack.push_back(c);
+          const int ch = head[k];
+          head[k] = next[ch];
+          stack.push_back(ch);
           continue;
         }
         stack.pop_back();
@@ -162,41 +178,59 @@ struct SparseCholesky::Impl {
       const int k = by_post[p];
       if (parent[k] != -1) first[parent[k]] = std::min(first[parent[k]], first[k]);
     }
+    // The columns at the end that stand alone (spare columns of an incremental factor, identity
+    // rows of H: no entry below the diagonal, no child) are not part of any path.
+    active_end = n;
+    while (active_end > 0 && Lnz[active_end - 1] == 1 && !has_child[active_end - 1]) --active_end;
     findDenseTail();
     have_post = true;
   }
 
-  // The dense tail of the factor: the last t columns of L when they form a full lower triangle
-  // (the root separator, which the fill-reducing ordering leaves for the end; t = 104 of 21206
-  // on the full Victoria Park graph). Every etree path of a connected graph ends in it, so the
-  // partial inverses spend most of their flops there (about 70% for the information gain on
-  // Victoria Park); it is kept as a dense t x t block so those parts run as dense blocked
-  // kernels (triangular solve and rank-t update) instead of row-by-row sparse updates.
+  // The dense tail of the factor: the last t columns of L before the stand-alone ones when they
+  // form a full lower triangle (the root separator, which the fill-reducing ordering leaves for
+  // the end; t = 104 of 21206 on the full Victoria Park graph). Every etree path of a connected
+  // graph ends in it, so the partial inverses spend most of their flops there (about 70% for the
+  // information gain on Victoria Park); it is kept as a dense t x t block so those parts run as
+  // dense blocked kernels (triangular solve and rank-t update) instead of row-by-row sparse
+  // updates.
   static constexpr int kMinDenseTail = 16;  ///< below this the sparse kernels are as good
   mutable int tail = 0;
-  mutable Eigen::MatrixXd Ltail;  ///< L_TT, lower triangle, column-major
+  mutable int active_end = 0;
+  mutable Eigen::MatrixXd Ltail;  ///< L_TT (of L L^T), lower triangle, column-major
 
   void findDenseTail() const {
     int t = 0;
-    while (t < n && Lnz[n - 1 - t] == t + 1) ++t;  // column k has all rows k .. n-1
+    const auto full = [&](int k, int len) {  // column k holds exactly rows k .. k + len - 1
+      if (Lnz[k] != len) return false;
+      for (int u = 0; u < len; ++u)
+        if (Li[Lp[k] + u] != k + u) return false;
+      return true;
+    };
+    while (t < active_end && full(active_end - 1 - t, t + 1)) ++t;
     tail = t >= kMinDenseTail ? t : 0;
     Ltail.setZero(tail, tail);
-    const int k0 = n - tail;
-    for (int k = k0; k < n; ++k)
-      for (int q = Lp[k]; q < Lp[k] + Lnz[k]; ++q) Ltail(Li[q] - k0, k - k0) = Lx[q];
+    const int k0 = active_end - tail;
+    for (int k = k0; k < active_end; ++k) {
+      const double d = diagLL(k);
+      Ltail(k - k0, k - k0) = d;
+      const double scale = ldl ? d : 1.0;
+      for (int q = Lp[k] + 1; q < Lp[k] + Lnz[k]; ++q) Ltail(Li[q] - k0, k - k0) = Lx[q] * scale;
+    }
   }
 
   using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   // Workspaces of the partial inverses, reused between calls and between factorizations: fresh
   // multi-megabyte buffers cost more in page faults than the arithmetic, and callers build a new
   // SparseCholesky per query (factorizeAtEstimate). One per thread, so queries on different
-  // threads do not share them; a returned view is valid until the thread's next query.
+  // threads do not share them; a returned view is valid until the thread's next query. Nothing
+  // in them is cleared in O(n) per call: `stamp` marks path nodes with a call counter.
   struct Workspace {
-    std::vector<char> seen;
-    std::vector<int> local, start, pos, nodes, lo, hi, range;
+    std::vector<unsigned> stamp;
+    unsigned counter = 0;
+    std::vector<int> local, start, pos, nodes, lo, hi, range, path_start, path_rows;
     std::vector<const double*> ptr;
     std::vector<std::uint64_t> bits;  ///< all zero between calls
-    std::vector<double> x, g;
+    std::vector<double> x, g, path_vals;
   };
   static Workspace& workspace() {
     thread_local Workspace w;
@@ -209,20 +243,23 @@ struct SparseCholesky::Impl {
   Eigen::Map<RowMat> forward(const std::vector<int>& S, const Eigen::MatrixXd* R = nullptr) const {
     extractL();
     Workspace& w = workspace();
-    std::vector<int> nodes;
-    w.seen.assign(n, 0);
-    std::vector<char>& seen = w.seen;
-    for (int c : S) {
-      if (c < 0 || c >= n) throw std::out_of_range("SparseCholesky: index out of range");
-      for (int k = iperm[c]; k != -1 && !seen[k]; k = parent[k]) {
-        seen[k] = 1;
+    if (w.stamp.size() < static_cast<std::size_t>(n)) w.stamp.resize(n, 0);
+    if (w.local.size() < static_cast<std::size_t>(n)) w.local.resize(n);
+    if (++w.counter == 0) {  // wrapped: clear once
+      std::fill(w.stamp.begin(), w.stamp.end(), 0u);
+      w.counter = 1;
+    }
+    std::vector<int>& nodes = w.nodes;
+    nodes.clear();
+    for (int col : S) {
+      if (col < 0 || col >= n) throw std::out_of_range("SparseCholesky: index out of range");
+      for (int k = iperm[col]; k != -1 && w.stamp[k] != w.counter; k = parentOf(k)) {
+        w.stamp[k] = w.counter;
         nodes.push_back(k);
       }
     }
     std::sort(nodes.begin(), nodes.end());
-    w.local.resize(n);
-    std::vector<int>& local = w.local;
-    for (std::size_t a = 0; a < nodes.size(); ++a) local[nodes[a]] = static_cast<int>(a);
+    for (std::size_t a = 0; a < nodes.size(); ++a) w.local[nodes[a]] = static_cast<int>(a);
     const Eigen::Index cols = R ? R->cols() : static_cast<Eigen::Index>(S.size());
     const std::size_t size = nodes.size() * static_cast<std::size_t>(cols);
     if (w.x.size() < size) w.x.resize(size);
@@ -230,70 +267,186 @@ struct SparseCholesky::Impl {
     Eigen::Map<RowMat> X(w.x.data(), nodes.size(), cols);
     for (std::size_t j = 0; j < S.size(); ++j) {
       if (R)
-        X.row(local[iperm[S[j]]]) += R->row(j);
+        X.row(w.local[iperm[S[j]]]) += R->row(j);
       else
-        X(local[iperm[S[j]]], j) = 1.0;
+        X(w.local[iperm[S[j]]], j) = 1.0;
     }
-    // The path's columns of L on local row numbers, for the substitution kernel.
-    std::vector<int> start(nodes.size() + 1, 0), rows;
-    std::vector<double> vals;
+    // The path's columns of the L L^T factor on local row numbers, for the substitution kernel.
+    w.path_start.assign(nodes.size() + 1, 0);
+    w.path_rows.clear();
+    w.path_vals.clear();
     for (std::size_t a = 0; a < nodes.size(); ++a) {
       const int k = nodes[a];
-      for (int q = Lp[k]; q < Lp[k] + Lnz[k]; ++q) {
-        rows.push_back(q == Lp[k] ? static_cast<int>(a) : local[Li[q]]);
-        vals.push_back(Lx[q]);
+      const double d = diagLL(k), scale = ldl ? d : 1.0;
+      w.path_rows.push_back(static_cast<int>(a));
+      w.path_vals.push_back(d);
+      for (int q = Lp[k] + 1; q < Lp[k] + Lnz[k]; ++q) {
+        w.path_rows.push_back(w.local[Li[q]]);
+        w.path_vals.push_back(Lx[q] * scale);
       }
-      start[a + 1] = static_cast<int>(rows.size());
+      w.path_start[a + 1] = static_cast<int>(w.path_rows.size());
     }
-    detail::forwardSubstitute(X.data(), nodes.size(), X.cols(), start.data(), rows.data(),
-                              vals.data());
+    detail::forwardSubstitute(X.data(), nodes.size(), X.cols(), w.path_start.data(),
+                              w.path_rows.data(), w.path_vals.data());
     return X;
+  }
+
+  void invalidate() {
+    have_L = false;
+    have_post = false;
   }
 };
 
-SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {
-  // LL^T or LDL^T, simplicial or supernodal: CHOLMOD's choice. Orderings: CHOLMOD's default
-  // strategy (AMD, then METIS/NESDIS when AMD gives much fill).
-  impl_->chol.setMode(Eigen::CholmodAuto);
-  // A singular H is reported by factorize()'s result, not printed on stdout.
-  impl_->chol.cholmod().print = 0;
-}
+SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
 SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
 SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 
+SparseCholesky SparseCholesky::copy() const {
+  SparseCholesky out;
+  Impl& o = *out.impl_;
+  const Impl& m = *impl_;
+  if (m.F) {
+    o.F = cholmod_copy_factor(m.F, &o.c);
+    if (!o.F) throw std::bad_alloc();
+  }
+  o.ok = m.ok;
+  o.analysed = m.analysed;
+  o.version = m.version;
+  o.n = m.n;
+  return out;
+}
+
 bool SparseCholesky::factorize(const SpMat& H, std::uint64_t pattern_version) {
   Impl& m = *impl_;
-  m.have_L = false;
-  m.n = static_cast<int>(H.rows());
-  if (!m.analysed || pattern_version == 0 || pattern_version != m.version) {
-    m.chol.analyzePattern(H);
+  m.invalidate();
+  const int n = static_cast<int>(H.rows());
+  cholmod_sparse A = viewLower(H);
+  if (!m.analysed || pattern_version == 0 || pattern_version != m.version || n != m.n) {
+    // CHOLMOD's default strategy: AMD, then METIS/NESDIS when AMD gives much fill; simplicial
+    // or supernodal as the flop count says.
+    if (m.F) cholmod_free_factor(&m.F, &m.c);
+    m.c.nmethods = 0;
+    m.c.postorder = 1;
+    m.c.supernodal = CHOLMOD_AUTO;
+    m.F = cholmod_analyze(&A, &m.c);
+    if (!m.F) throw std::runtime_error("CHOLMOD: analysis failed");
     m.analysed = true;
     m.version = pattern_version;
+    m.have_perm = false;
   }
-  m.chol.factorize(H);
-  m.have_post = false;
-  m.ok = m.chol.info() == Eigen::Success;
+  m.n = n;
+  cholmod_factorize(&A, m.F, &m.c);
+  m.ok = m.c.status == CHOLMOD_OK && m.F->minor == m.F->n;
   if (!m.ok) m.analysed = false;
+  return m.ok;
+}
+
+bool SparseCholesky::refactorize(const SpMat& H) {
+  Impl& m = *impl_;
+  if (!m.F || H.rows() != m.n)
+    throw std::logic_error("SparseCholesky: refactorize without analysis");
+  m.invalidate();
+  cholmod_sparse A = viewLower(H);
+  cholmod_factorize(&A, m.F, &m.c);
+  m.ok = m.c.status == CHOLMOD_OK && m.F->minor == m.F->n;
+  if (!m.ok) m.analysed = false;
+  return m.ok;
+}
+
+double SparseCholesky::analysedNonZeros() const { return impl_->c.lnz; }
+
+std::vector<int> SparseCholesky::ordering() const {
+  impl_->extractL();
+  return impl_->perm;
+}
+
+bool SparseCholesky::factorizeOrdered(const SpMat& H, const std::vector<int>& perm,
+                                      bool simplicial) {
+  Impl& m = *impl_;
+  m.invalidate();
+  if (perm.size() != static_cast<std::size_t>(H.rows()))
+    throw std::invalid_argument("SparseCholesky: ordering of the wrong size");
+  cholmod_sparse A = viewLower(H);
+  if (m.F) cholmod_free_factor(&m.F, &m.c);
+  m.c.nmethods = 1;
+  m.c.method[0].ordering = CHOLMOD_GIVEN;
+  m.c.postorder = 0;  // the ordering exactly as given: new columns go last
+  m.c.supernodal = simplicial ? CHOLMOD_SIMPLICIAL : CHOLMOD_AUTO;
+  m.F = cholmod_analyze_p(&A, const_cast<int*>(perm.data()), nullptr, 0, &m.c);
+  m.c.nmethods = 0;
+  m.c.postorder = 1;
+  m.c.supernodal = CHOLMOD_AUTO;
+  if (!m.F) throw std::runtime_error("CHOLMOD: analysis failed");
+  m.analysed = false;  // factorize() analyses anew
+  m.have_perm = false;
+  m.n = static_cast<int>(H.rows());
+  cholmod_factorize(&A, m.F, &m.c);
+  m.ok = m.c.status == CHOLMOD_OK && m.F->minor == m.F->n;
   return m.ok;
 }
 
 bool SparseCholesky::ok() const { return impl_->ok; }
 int SparseCholesky::size() const { return impl_->n; }
 
+cholmod_factor_struct* SparseCholesky::factor() { return impl_->F; }
+cholmod_common_struct* SparseCholesky::common() { return &impl_->c; }
+void SparseCholesky::modified() { impl_->invalidate(); }
+
+int SparseCholesky::position(int c) const {
+  impl_->extractL();
+  return impl_->iperm.at(c);
+}
+int SparseCholesky::columnAt(int k) const {
+  impl_->extractL();
+  return impl_->perm.at(k);
+}
+
 Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
-  if (!impl_->ok) throw std::logic_error("SparseCholesky: no factorization");
-  return impl_->chol.solve(b);
+  Impl& m = *impl_;
+  if (!m.ok) throw std::logic_error("SparseCholesky: no factorization");
+  if (b.size() != m.n) throw std::invalid_argument("SparseCholesky: right-hand side size");
+  cholmod_dense B{};
+  B.nrow = B.d = static_cast<std::size_t>(m.n);
+  B.ncol = 1;
+  B.nzmax = B.nrow;
+  B.x = const_cast<double*>(b.data());
+  B.xtype = CHOLMOD_REAL;
+  B.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense* X = cholmod_solve(CHOLMOD_A, m.F, &B, &m.c);
+  if (!X) throw std::runtime_error("CHOLMOD: solve failed");
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(X->x), m.n);
+  cholmod_free_dense(&X, &m.c);
+  return x;
 }
 
 double SparseCholesky::logDet() const {
-  if (!impl_->ok) throw std::logic_error("SparseCholesky: no factorization");
-  return impl_->chol.logDeterminant();
+  const Impl& m = *impl_;
+  if (!m.ok) throw std::logic_error("SparseCholesky: no factorization");
+  const cholmod_factor& F = *m.F;
+  double s = 0;
+  if (F.is_super) {
+    const int* super = static_cast<const int*>(F.super);
+    const int* pi = static_cast<const int*>(F.pi);
+    const int* px = static_cast<const int*>(F.px);
+    const double* x = static_cast<const double*>(F.x);
+    for (std::size_t sn = 0; sn < F.nsuper; ++sn) {
+      const int ncols = super[sn + 1] - super[sn], nrows = pi[sn + 1] - pi[sn];
+      for (int j = 0; j < ncols; ++j) s += 2.0 * std::log(x[px[sn] + j * nrows + j]);
+    }
+    return s;
+  }
+  const int* Lp = static_cast<const int*>(F.p);
+  const double* Lx = static_cast<const double*>(F.x);
+  for (int k = 0; k < m.n; ++k) s += (F.is_ll ? 2.0 : 1.0) * std::log(Lx[Lp[k]]);
+  return s;
 }
 
 std::size_t SparseCholesky::factorNonZeros() const {
   impl_->extractL();
-  return impl_->nnz;
+  std::size_t nnz = 0;
+  for (int k = 0; k < impl_->n; ++k) nnz += static_cast<std::size_t>(impl_->Lnz[k]);
+  return nnz;
 }
 
 Eigen::MatrixXd SparseCholesky::inverseBlock(const std::vector<int>& S) const {
@@ -366,7 +519,7 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
   }
   // The tail's nodes are always rows of X (zero rows where no path passes: Y = L^-1 P R is exact
   // on any superset of the paths), so that the dense kernels see the whole tail.
-  for (int k = m.n - m.tail; k < m.n; ++k) {
+  for (int k = m.active_end - m.tail; k < m.active_end; ++k) {
     mark(k);
     lowest = std::min(lowest, k);
   }
@@ -375,7 +528,7 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
       nodes.push_back(static_cast<int>(word * 64) + __builtin_ctzll(b));
     bits[word] = 0;
   }
-  w.local.resize(m.n);
+  if (w.local.size() < static_cast<std::size_t>(m.n)) w.local.resize(m.n);
   for (std::size_t a = 0; a < nodes.size(); ++a) w.local[nodes[a]] = static_cast<int>(a);
   const std::size_t mm = nodes.size();
   // Each node's columns: those whose first node lies in its subtree, contiguous in `order` (by
@@ -418,8 +571,8 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
   for (int j = 0; j < r; ++j)
     for (int t = 0; t < cols[j].n; ++t)
       X[static_cast<std::size_t>(w.local[m.iperm[cols[j].idx[t]]]) * ld + pos[j]] += cols[j].val[t];
-  detail::forwardSubstitutePath(X, ld, nodes.data(), ms, m.Lp, m.Lnz, m.Li, m.Lx, w.local.data(),
-                                lo.data(), hi.data());
+  detail::forwardSubstitutePath(X, ld, nodes.data(), ms, m.Lp, m.Lnz, m.Li, m.Lx, m.ldl,
+                                w.local.data(), lo.data(), hi.data());
   // Y^T Y (lower triangle). The full-width rows just before the tail (ancestors of every column,
   // often the chain below the root separator) join the tail's dense rank update; the other rows
   // are grouped by range, one blocked Gram product per group.

@@ -37,12 +37,38 @@ TEST(GraphOptions, BadValuesNameTheKey) {
   EXPECT_THROW(GraphBackend b(iters), ConfigError);
 }
 
+TEST(GraphOptions, IncrementalAndBoundedGraphKeys) {
+  mrpt::config::CConfigFileMemory ini(
+      "[GraphSLAM]\nrelinearize_threshold = 0.01\nreorder_fill_ratio = 2\nmax_poses = 500\n");
+  GraphBackend b(ini);
+  EXPECT_DOUBLE_EQ(b.options().relinearize_threshold, 0.01);
+  EXPECT_DOUBLE_EQ(b.options().reorder_fill_ratio, 2.0);
+  EXPECT_EQ(b.options().max_poses, 500);
+  EXPECT_DOUBLE_EQ(b.solverOrdering().refreshFill(), 2.0);
+  const auto message = [](const char* text) {
+    mrpt::config::CConfigFileMemory bad(text);
+    try {
+      GraphBackend g(bad);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("[GraphSLAM]\nmax_poses = 1\n"),
+            "[GraphSLAM] max_poses = 1: must be 0 (unbounded) or at least 2");
+  EXPECT_NE(message("[GraphSLAM]\nmax_poses = -3\n").find("max_poses"), std::string::npos);
+  EXPECT_NE(message("[GraphSLAM]\nrelinearize_threshold = -1\n").find("relinearize_threshold"),
+            std::string::npos);
+  EXPECT_NE(message("[GraphSLAM]\nreorder_fill_ratio = x\n").find("reorder_fill_ratio"),
+            std::string::npos);
+}
+
 TEST(GraphOptions, DumpListsEveryKey) {
   std::ostringstream out;
   GraphSlamOptions{}.dumpToTextStream(out);
   for (const std::string& k : GraphSlamOptions::keys())
     EXPECT_NE(out.str().find("\n" + k + " "), std::string::npos) << k;
-  EXPECT_EQ(GraphSlamOptions::keys().size(), 18u);
+  EXPECT_EQ(GraphSlamOptions::keys().size(), 21u);
   std::ostringstream n;
   RangeBearingNoise{}.dumpToTextStream(n);
   for (const std::string& k : RangeBearingNoise::keys())

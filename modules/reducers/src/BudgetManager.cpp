@@ -8,6 +8,7 @@
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/StepFilter.h"
 
 namespace budget_slam::reducers {
 
@@ -18,6 +19,27 @@ std::vector<std::size_t> dropCandidates(const std::vector<LandmarkView>& landmar
     // Seen in the last P steps means last_step in (step - P, step].
     const bool is_protected =
         step - landmarks[i].last_step < protect_recent_steps && landmarks[i].last_step <= step;
+    if (!is_protected) out.push_back(i);
+  }
+  *all_protected = out.empty();
+  if (out.empty())
+    for (std::size_t i = 0; i < landmarks.size(); ++i) out.push_back(i);
+  return out;
+}
+
+std::vector<std::size_t> dropCandidates(const std::vector<LandmarkView>& landmarks, StepIndex step,
+                                        const BudgetOptions& options, bool* all_protected) {
+  const std::size_t P = options.protect_recent_steps;
+  const bool compete = options.admission == BudgetOptions::Admission::Compete;
+  // "In the last P steps" means a step in (step - P, step].
+  const auto within = [&](StepIndex s) { return s <= step && step - s < P; };
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < landmarks.size(); ++i) {
+    const LandmarkView& l = landmarks[i];
+    const bool newcomer = compete && l.first_step == step;
+    const bool is_protected =
+        !newcomer && within(options.protect == BudgetOptions::Protect::RecentlySeen ? l.last_step
+                                                                                    : l.first_step);
     if (!is_protected) out.push_back(i);
   }
   *all_protected = out.empty();
@@ -55,8 +77,12 @@ BudgetManager::BudgetManager(const BudgetOptions& options, std::unique_ptr<Reduc
                              std::vector<std::unique_ptr<Reducer>> shadows)
     : options_(inForce(options, active.get())),
       active_(std::move(active)),
-      shadows_(std::move(shadows)) {
+      shadows_(std::move(shadows)),
+      refusals_(options_.refusal_memory, options_.retry_after_steps) {
   checkCap(options_, active_.get());
+  if (active_ && active_->wantsObservations()) observers_.push_back(active_.get());
+  for (const auto& s : shadows_)
+    if (s->wantsObservations()) observers_.push_back(s.get());
   std::vector<std::string> names;
   if (active_) names.push_back(active_->name());
   for (const auto& s : shadows_) {
@@ -121,7 +147,34 @@ Eviction BudgetManager::dropLandmark(Backend& backend, const DropContext& ctx,
   backend.removeLandmark(victim.id);
   e.n_after = backend.landmarkCount();
   if (!options_.readmit_evicted) evicted_.insert(victim.id);  // only needed to filter
+  for (Reducer* r : observers_) r->forget(victim.id);
   return e;
+}
+
+void BudgetManager::tellObservations(const Backend& backend, StepIndex step, const Step* raw) {
+  if (observers_.empty()) return;
+  StepObservation seen;
+  seen.step = step;
+  seen.robot = backend.robotPose().mean;
+  seen.observed = backend.observedAt(step);
+  if (raw && raw->scan) {
+    seen.sensor_max_range = raw->scan->max_range;
+    seen.sensor_fov = raw->scan->fov_yaw;
+  }
+  for (Reducer* r : observers_) r->observe(seen);
+}
+
+Step BudgetManager::admissible(const Step& raw) const {
+  if (!raw.scan) return raw;
+  const bool compete = options_.admission == BudgetOptions::Admission::Compete;
+  std::set<LandmarkId> out;
+  for (const auto& r : raw.scan->readings) {
+    if (r.id == kNoLandmarkId) continue;
+    if ((!options_.readmit_evicted && evicted_.count(r.id)) ||
+        (compete && refusals_.withheld(r.id, raw.index)))
+      out.insert(r.id);
+  }
+  return withoutReadingsOf(raw, out);
 }
 
 std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex step, bool final) {
@@ -151,8 +204,7 @@ std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex st
                              std::to_string(victim.id) + ", not in the map");
     // The shadows see the same map and the candidates of a cap decision.
     bool all_protected = false;
-    const auto candidates =
-        dropCandidates(landmarks, step, options_.protect_recent_steps, &all_protected);
+    const auto candidates = dropCandidates(landmarks, step, options_, &all_protected);
     out.push_back(
         dropLandmark(backend, {backend, landmarks, candidates, step}, victim, plan.reason));
     if (shadows_.empty()) landmarks.erase(it);
@@ -163,20 +215,33 @@ std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex st
 }
 
 std::vector<Eviction> BudgetManager::enforce(Backend& backend, StepIndex step) {
+  return enforceAt(backend, step, nullptr);
+}
+
+std::vector<Eviction> BudgetManager::enforce(Backend& backend, const Step& step) {
+  return enforceAt(backend, step.index, &step);
+}
+
+std::vector<Eviction> BudgetManager::enforceAt(Backend& backend, StepIndex step, const Step* raw) {
   std::vector<Eviction> out;
   if (!active_) return out;
+  tellObservations(backend, step, raw);
   out = runScheduled(backend, step, false);
+  const bool compete = options_.admission == BudgetOptions::Admission::Compete;
   bool event_started = false;
+  std::vector<LandmarkId> newcomers;  // compete: those that entered at this step
   // The cap holds in every mode: after the reducer's own scheduled drops, the cap-mode rule.
   while (options_.max_landmarks && backend.landmarkCount() > *options_.max_landmarks) {
     if (stopBetweenDrops(out)) break;
     if (!event_started && before_drop_event_) before_drop_event_(backend, step);
-    event_started = true;
 
     const auto landmarks = backend.landmarks();
+    if (compete && !event_started)
+      for (const auto& l : landmarks)
+        if (l.first_step == step) newcomers.push_back(l.id);
+    event_started = true;
     bool all_protected = false;
-    const auto candidates =
-        dropCandidates(landmarks, step, options_.protect_recent_steps, &all_protected);
+    const auto candidates = dropCandidates(landmarks, step, options_, &all_protected);
     const DropContext ctx{backend, landmarks, candidates, step};
 
     const ReducerChoice victim = active_->choose(ctx);
@@ -185,9 +250,19 @@ std::vector<Eviction> BudgetManager::enforce(Backend& backend, StepIndex step) {
       throw std::logic_error("reducer '" + active_->name() + "' chose landmark " +
                              std::to_string(victim.id) + ", not a candidate");
 
-    out.push_back(
-        dropLandmark(backend, ctx, victim, all_protected ? "over_cap_all_protected" : "over_cap"));
+    const bool refused =
+        std::find(newcomers.begin(), newcomers.end(), victim.id) != newcomers.end();
+    out.push_back(dropLandmark(backend, ctx, victim,
+                               refused         ? "refused"
+                               : all_protected ? "over_cap_all_protected"
+                                               : "over_cap"));
+    if (refused) {
+      refusals_.refused(victim.id, step);
+      newcomers.erase(std::find(newcomers.begin(), newcomers.end(), victim.id));
+    }
   }
+  // The newcomers still in the map won their place: their past refusals no longer count.
+  for (const LandmarkId id : newcomers) refusals_.admitted(id);
   return out;
 }
 

@@ -3,6 +3,7 @@
 #include "budget_slam/reducers/BaselineReducers.h"
 #include "budget_slam/reducers/CoverageReducer.h"
 #include "budget_slam/reducers/MutualInformationReducer.h"
+#include "budget_slam/reducers/PlaceCoverageReducer.h"
 
 namespace budget_slam::reducers {
 namespace {
@@ -23,6 +24,7 @@ ReducerRegistry makeRegistry() {
   r.add(MutualInformationReducer::entry());
   r.add(CoverageReducer::entry());
   r.add(CoverageMiReducer::entry());
+  r.add(PlaceCoverageReducer::entry());
   return r;
 }
 

@@ -14,7 +14,7 @@ class FakeBackend : public Backend {
   void process(const Step&) override {}
   std::vector<LandmarkView> landmarks() const override { return lms_; }
   std::size_t landmarkCount() const override { return lms_.size(); }
-  PoseEstimate robotPose() const override { return {}; }
+  PoseEstimate robotPose() const override { return {pose, Eigen::Matrix3d::Identity()}; }
   std::vector<TrajectoryPoint> trajectory() const override { return {}; }
   std::size_t poseCount() const override { return 1; }
   void removeLandmark(LandmarkId id) override {
@@ -36,7 +36,19 @@ class FakeBackend : public Backend {
     throw std::invalid_argument("not in the fake");
   }
   void add(const LandmarkView& l) { lms_.push_back(l); }
+  bool has(LandmarkId id) const {
+    return std::any_of(lms_.begin(), lms_.end(), [&](auto& l) { return l.id == id; });
+  }
+  /// Landmark `id` observed at `step` (a sighting more, last seen now).
+  void see(LandmarkId id, StepIndex step) {
+    for (auto& l : lms_)
+      if (l.id == id) {
+        l.last_step = step;
+        ++l.n_obs;
+      }
+  }
   std::map<LandmarkId, double> gains;
+  mrpt::math::TPose2D pose;  ///< what robotPose() reports
 
  private:
   std::vector<LandmarkView> lms_;

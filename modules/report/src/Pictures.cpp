@@ -20,7 +20,8 @@ namespace budget_slam::report {
 namespace {
 
 const cv::Scalar kWhite(255, 255, 255), kBlack(0, 0, 0), kGrey(150, 150, 150),
-    kLight(225, 225, 225), kBlue(200, 80, 20), kRed(30, 30, 220), kGreen(40, 150, 40);
+    kLight(225, 225, 225), kBlue(200, 80, 20), kRed(30, 30, 220), kGreen(40, 150, 40),
+    kPathRed(0, 0, 235), kPathOrange(0, 150, 255);
 
 /// Distinct colours (BGR) for series and clusters.
 cv::Scalar palette(std::size_t i) {
@@ -146,9 +147,18 @@ void writeMapPng(const std::string& path, const MapContent& c, int width, int ma
 
   for (const auto& g : c.ground_truth_landmarks)
     cv::drawMarker(img, f(g.x(), g.y()), kGrey, cv::MARKER_CROSS, 7, 1);
+  // The path, coloured by the map landmarks in view at the pose a segment ends at.
+  const bool by_count = c.trajectory_landmarks.size() == c.trajectory.size();
+  const auto path_colour = [&](std::size_t i) {
+    if (!by_count) return kBlue;
+    const std::size_t n = c.trajectory_landmarks[i];
+    return n < c.min_landmarks ? kPathRed : n < 2 * c.min_landmarks ? kPathOrange : kBlue;
+  };
   for (std::size_t i = 1; i < c.trajectory.size(); ++i)
     cv::line(img, f(c.trajectory[i - 1].x, c.trajectory[i - 1].y),
-             f(c.trajectory[i].x, c.trajectory[i].y), kBlue, 2, cv::LINE_AA);
+             f(c.trajectory[i].x, c.trajectory[i].y), path_colour(i), 2, cv::LINE_AA);
+  if (by_count && c.trajectory.size() == 1)
+    cv::circle(img, f(c.trajectory[0].x, c.trajectory[0].y), 3, path_colour(0), cv::FILLED);
   for (std::size_t i = 1; i < c.ground_truth_path.size(); ++i)
     cv::line(img, f(c.ground_truth_path[i - 1].x, c.ground_truth_path[i - 1].y),
              f(c.ground_truth_path[i].x, c.ground_truth_path[i].y), kBlack, 1, cv::LINE_AA);
@@ -178,7 +188,16 @@ void writeMapPng(const std::string& path, const MapContent& c, int width, int ma
   text(img, c.title, {left, 30}, 0.6);
   int y = 60;
   const int lx = left;
-  legendRow(img, y, lx, "estimated trajectory", kBlue, 0);
+  if (by_count) {
+    const std::string k = std::to_string(c.min_landmarks), k2 = std::to_string(2 * c.min_landmarks);
+    legendRow(img, y, lx, "estimated trajectory: >= " + k2 + " final-map landmarks in view", kBlue,
+              0);
+    legendRow(img, y, lx, k + " to " + std::to_string(2 * c.min_landmarks - 1) + " in view",
+              kPathOrange, 0);
+    legendRow(img, y, lx, "fewer than " + k + " in view (cannot relocalize)", kPathRed, 0);
+  } else {
+    legendRow(img, y, lx, "estimated trajectory", kBlue, 0);
+  }
   if (!c.ground_truth_path.empty()) legendRow(img, y, lx, "ground truth", kBlack, 0);
   legendRow(img, y, lx,
             "kept landmark (2 sigma)" +

@@ -47,6 +47,25 @@ TEST(Pictures, MapShowsTrajectoryKeptAndDroppedLandmarks) {
   EXPECT_GT(count(cv::imread(with), kRed), red_without + 10);
 }
 
+TEST(Pictures, MapColoursThePathByLandmarksInView) {
+  const auto dir = fs::temp_directory_path() / "budget_slam_pictures";
+  fs::create_directories(dir);
+  MapContent c;
+  for (int k = 0; k <= 20; ++k) c.trajectory.push_back({0.5 * k, 0, 0});
+  const cv::Vec3b path_red(0, 0, 235), orange(0, 150, 255);
+  c.trajectory_landmarks.assign(21, 5);  // all >= 2k: blue
+  const std::string blue = (dir / "blue.png").string();
+  writeMapPng(blue, c, 600, 500);
+  const int red_in_legend = count(cv::imread(blue), path_red);
+  for (int k = 11; k <= 20; ++k) c.trajectory_landmarks[k] = k < 16 ? 1 : 3;
+  const std::string mixed = (dir / "mixed.png").string();
+  writeMapPng(mixed, c, 600, 500);
+  const cv::Mat img = cv::imread(mixed);
+  EXPECT_GT(count(img, path_red), red_in_legend + 50);  // five segments below k
+  EXPECT_GT(count(img, orange), 50);
+  EXPECT_GT(count(img, kBlue), 50);
+}
+
 TEST(Pictures, ChartDrawsEverySeriesAndSkipsNan) {
   const auto dir = fs::temp_directory_path() / "budget_slam_pictures";
   fs::create_directories(dir);

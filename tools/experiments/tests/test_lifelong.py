@@ -5,9 +5,6 @@ of a PERFORMANCE.md without touching the rest.
 
     test_lifelong.py --budget-slam build/bin/budget-slam --budget-simulate build/bin/budget-simulate
 """
-import argparse
-import importlib.machinery
-import importlib.util
 import json
 import os
 import subprocess
@@ -15,24 +12,17 @@ import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-EXP = os.path.dirname(HERE)
-ROOT = os.path.dirname(os.path.dirname(EXP))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import scripttest  # noqa: E402
+
+EXP, ROOT = scripttest.EXP, scripttest.ROOT
 SCRIPT = os.path.join(EXP, "lifelong")
 BUDGET_SLAM = BUDGET_SIMULATE = None
 
 
-def load_script():
-    loader = importlib.machinery.SourceFileLoader("lifelong", SCRIPT)
-    spec = importlib.util.spec_from_loader("lifelong", loader)
-    mod = importlib.util.module_from_spec(spec)
-    loader.exec_module(mod)
-    return mod
-
-
 class Ratios(unittest.TestCase):
     def test_ratios_of_a_known_run(self):
-        ll = load_script()
+        ll = scripttest.load_script("lifelong")
         with tempfile.TemporaryDirectory() as tmp:
             # 1000 steps; the map reaches the cap of 10 at step 100. Step time 1 ms until step 899,
             # 1.5 ms over the last 100 steps (the last 10%); RSS 100 MiB at the cap, growing by
@@ -59,7 +49,7 @@ class OneLap(unittest.TestCase):
             perf = os.path.join(tmp, "PERFORMANCE.md")
             before = "# Performance\n\n## Reducers\n\nhand table\n\n## Lifelong run\n\nHand-written intro.\n\n"
             after = "\n\nHand-written discussion.\n"
-            ll = load_script()
+            ll = scripttest.load_script("lifelong")
             with open(perf, "w") as f:
                 f.write(before + ll.BEGIN + "\nold\n" + ll.END + after)
             out = os.path.join(tmp, "work")
@@ -101,9 +91,5 @@ class OneLap(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--budget-slam", default=os.path.join(ROOT, "build", "bin", "budget-slam"))
-    ap.add_argument("--budget-simulate", default=os.path.join(ROOT, "build", "bin", "budget-simulate"))
-    args, rest = ap.parse_known_args()
-    BUDGET_SLAM, BUDGET_SIMULATE = os.path.abspath(args.budget_slam), os.path.abspath(args.budget_simulate)
-    unittest.main(argv=[sys.argv[0]] + rest)
+    BUDGET_SLAM, BUDGET_SIMULATE, argv = scripttest.parse_binaries(__doc__)
+    unittest.main(argv=argv)

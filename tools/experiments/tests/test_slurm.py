@@ -32,8 +32,22 @@ DAEMONS = {"/usr/sbin/slurmctld", "/usr/sbin/slurmd", "/usr/sbin/slurmstepd", "/
 BUDGET_SLAM = None
 
 
-def daemon_pids():
-    """{pid: exe} of every slurm/munge process on the machine."""
+def belongs_to(pid, cluster_dir):
+    """Whether a process was started for the cluster in cluster_dir (its command line or
+    environment names the folder), so clusters of other test runs on the machine are not counted."""
+    for part in ("cmdline", "environ"):
+        try:
+            with open(f"/proc/{pid}/{part}", "rb") as f:
+                if cluster_dir.encode() in f.read():
+                    return True
+        except OSError:
+            pass
+    return False
+
+
+def daemon_pids(cluster_dir=None):
+    """{pid: exe} of every slurm/munge process on the machine (of cluster_dir's cluster only,
+    when given)."""
     out = {}
     for p in os.listdir("/proc"):
         if p.isdigit():
@@ -41,7 +55,7 @@ def daemon_pids():
                 exe = os.readlink(f"/proc/{p}/exe")
             except OSError:
                 continue
-            if exe in DAEMONS:
+            if exe in DAEMONS and (cluster_dir is None or belongs_to(p, cluster_dir)):
                 out[int(p)] = exe
     return out
 
@@ -74,7 +88,8 @@ class SweepOnSlurm(unittest.TestCase):
     @classmethod
     def tearDownClass(cls):
         p = subprocess.run([CLUSTER, "stop"], env=cls.env, capture_output=True, text=True, timeout=120)
-        left = {pid: exe for pid, exe in daemon_pids().items() if pid not in cls.before}
+        left = {pid: exe for pid, exe in daemon_pids(cls.env["BUDGET_SLAM_SLURM_DIR"]).items()
+                if pid not in cls.before}
         cls.tmp.cleanup()
         # Reported as an error of the class when the cluster did not go away cleanly.
         assert p.returncode == 0, p.stderr
@@ -89,7 +104,7 @@ class SweepOnSlurm(unittest.TestCase):
         local_rows, local = results(os.path.join(self.local, "results.csv"))
         rows, slurm = results(os.path.join(out, "results.csv"))
         self.assertEqual(len(rows), len(local_rows))
-        self.assertEqual(len(rows), 2 * (23 + 2 * 24))  # as test_sweep.py: every row there
+        self.assertEqual(len(rows), 2 * (25 + 2 * 26))  # as test_sweep.py: every row there
         self.assertEqual(slurm, local)
 
     def test_submit_returns_the_job_id_then_collect_only_gathers_the_results(self):
@@ -130,7 +145,7 @@ class SweepOnSlurm(unittest.TestCase):
         job_id = p.stdout.strip()
         self.assertRegex(job_id, r"^\d+$")
         self.assertIn(f"[slurm {job_id}] 2 task(s) ended, 0 running, 0 waiting", p.stderr)
-        self.assertIn("results.csv: 142 rows", p.stderr)
+        self.assertIn("results.csv: 154 rows", p.stderr)
         self.assertSameResults(out)
         with open(os.path.join(out, "slurm_jobs.txt")) as f:
             self.assertEqual(f.read(), f"{job_id} 1-2%2\n")

@@ -13,7 +13,6 @@ every pose. And evo_ape on the pair (aligned or not) gives the trajectory errors
 
     test_tum_files.py --budget-slam build/bin/budget-slam [unittest options]
 """
-import argparse
 import csv
 import json
 import math
@@ -23,8 +22,10 @@ import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(HERE)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import scripttest  # noqa: E402
+
+EXP, ROOT = scripttest.EXP, scripttest.ROOT
 RAWLOGS_WITH_GROUND_TRUTH = ["kf-slam_demo", "paper_synthetic", "rooms", "mrclam7_robot1", "park"]
 BUDGET_SLAM = None
 
@@ -157,9 +158,5 @@ class AppTumFiles(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--budget-slam", default=os.path.join(ROOT, "build", "bin", "budget-slam"))
-    ap.add_argument("--budget-simulate", default=os.path.join(ROOT, "build", "bin", "budget-simulate"))
-    args, rest = ap.parse_known_args()
-    BUDGET_SLAM = os.path.abspath(args.budget_slam)
-    unittest.main(argv=[sys.argv[0]] + rest)
+    BUDGET_SLAM, _, argv = scripttest.parse_binaries(__doc__)
+    unittest.main(argv=argv)

@@ -14,7 +14,7 @@ void expectInputs(const std::string& format, const std::vector<std::string>& inp
 }  // namespace
 
 ConvertedDataset convertByFormat(const std::string& format, const std::vector<std::string>& inputs,
-                                 int robot) {
+                                 int robot, int frame_robot) {
   if (format == "isam") {
     expectInputs(format, inputs, 1, 1, "one file (victoria_park.txt)");
     return convertIsam(inputs[0]);
@@ -25,7 +25,7 @@ ConvertedDataset convertByFormat(const std::string& format, const std::vector<st
   }
   if (format == "utias") {
     expectInputs(format, inputs, 1, 1, "one MRCLAM dataset folder");
-    return convertUtias(inputs[0], robot);
+    return convertUtias(inputs[0], robot, frame_robot);
   }
   if (format == "freiburg") {
     expectInputs(format, inputs, 1, 2, "world.dat and sensor_data.dat, or their folder");

@@ -89,11 +89,35 @@ double robustStd(std::vector<double> v) {
   return 1.4826 * median(v);
 }
 
+/// The true pose of `robot` when it first sights a landmark (a known barcode of subject 6 or
+/// more) at or after its first odometry record: the start pose convertUtias gives that robot.
+CPose2D trueStartPose(const std::string& dir, int robot,
+                      const std::map<long long, long long>& subject_of) {
+  const std::string prefix = dir + "Robot" + std::to_string(robot) + "_";
+  const auto odo =
+      readTimed(prefix + "Odometry.dat", 3, "odometry record (time v omega)", {"v", "omega"});
+  const auto gt = readTimed(prefix + "Groundtruth.dat", 4, "ground-truth record (time x y theta)",
+                            {"x", "y", "theta"});
+  const auto meas =
+      readTimed(prefix + "Measurement.dat", 4, "measurement record (time barcode range bearing)",
+                {"barcode", "range", "bearing"});
+  for (const auto& m : meas) {
+    const auto s = subject_of.find(static_cast<long long>(m.a));
+    if (m.t >= odo.front().t && s != subject_of.end() && s->second > 5)
+      return groundTruthAt(gt, m.t);
+  }
+  throw InputError(prefix + "Measurement.dat: no landmark sighting");
+}
+
 }  // namespace
 
-ConvertedDataset convertUtias(const std::string& folder, int robot) {
+ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_robot) {
   if (robot < 1 || robot > 5)
     throw InputError("UTIAS robot number must be 1 to 5, found " + std::to_string(robot));
+  if (frame_robot != 0 && (frame_robot < 1 || frame_robot > 5))
+    throw InputError("UTIAS frame robot number must be 1 to 5, found " +
+                     std::to_string(frame_robot));
+  if (frame_robot == robot) frame_robot = 0;
   const std::string dir = folder.empty() || folder.back() == '/' ? folder : folder + "/";
   const std::string prefix = dir + "Robot" + std::to_string(robot) + "_";
 
@@ -231,6 +255,18 @@ ConvertedDataset convertUtias(const std::string& folder, int robot) {
     prev_t = times[k];
   }
 
+  // Another robot's start frame: the robots of one dataset then share a world frame (a map made
+  // by one is the frame the others' ground truth is compared in).
+  if (frame_robot != 0) {
+    const CPose2D frame = trueStartPose(dir, frame_robot, subject_of);
+    for (auto& p : out.ground_truth.path)
+      p = ((start + CPose2D(p)) - frame).asTPose();
+    for (auto& [id, l] : out.ground_truth.landmarks) {
+      const auto q = (start + mrpt::poses::CPoint2D(l.x(), l.y())) - frame;
+      l = Eigen::Vector2d(q.x(), q.y());
+    }
+  }
+
   char buf[256];
   std::snprintf(buf, sizeof buf,
                 "Odometry noise fitted to ground truth: variance %.3g m^2/s (x, y), %.3g "
@@ -246,7 +282,10 @@ ConvertedDataset convertUtias(const std::string& folder, int robot) {
       "(subjects 1-5): " + std::to_string(robots_left_out) +
           ", of unknown barcodes: " + std::to_string(unknown_left_out) +
           ", before the first odometry record: " + std::to_string(early_left_out) + ".",
-      "Ground truth (Vicon) in the frame of the robot's true start pose.",
+      frame_robot == 0
+          ? "Ground truth (Vicon) in the frame of the robot's true start pose."
+          : "Ground truth (Vicon) in the frame of robot " + std::to_string(frame_robot) +
+                "'s true start pose (--frame-robot " + std::to_string(frame_robot) + ").",
       "Sensor noise fitted to ground truth: 1.4826 x MAD of range and bearing residuals.",
       buf,
   };

@@ -25,12 +25,20 @@ struct Scenario {
   SensorNoise sensor;                  ///< limits, pose on the robot and default noise
   double odo_std_xy = 0;               ///< default odometry noise per step, x and y [m]
   double odo_std_yaw = 0;              ///< default odometry noise per step [rad]
+  /// The "revisit" route (--route revisit): a second traversal of the same world, from another
+  /// start, through every room or region (empty: the scenario has none).
+  Eigen::Vector2d revisit_start = Eigen::Vector2d::Zero();  ///< [m]
+  double revisit_start_yaw = 0;                             ///< [rad]
+  std::vector<Eigen::Vector2d> revisit_route;               ///< waypoints [m]
 };
 
 /// The scenario `name` (paper-synthetic, rooms, park, lifelong); its landmarks are drawn with
 /// `seed`. `laps` (> 0) overrides the scenario's default; for lifelong the world changes between
-/// laps. An unknown name is a ConfigError listing the known ones.
-Scenario makeScenario(const std::string& name, std::uint64_t seed, int laps);
+/// laps. `route` is "default" or "revisit" (rooms and park): the same world in the same frame
+/// (the default route's start pose at the origin), driven from the revisit start along the
+/// revisit route. An unknown name is a ConfigError listing the known ones.
+Scenario makeScenario(const std::string& name, std::uint64_t seed, int laps,
+                      const std::string& route = "default");
 
 /// Names of the scenarios, in the order the help lists them.
 std::vector<std::string> scenarioNames();

@@ -113,6 +113,14 @@ Scenario rooms(Random& rng) {
              // back to the lab through door B; loop 3 (14 m) around the meeting table
              V(6.5, 9.25), V(6.5, 5), V(2.5, 5), V(2.5, 2.5), V(7, 2.5), V(7, 5), V(2.5, 5),
              V(2.5, 2.5), V(5, 2.5)};
+  // Revisit: from the hallway, westwards into the lab through door B, around its edge, out
+  // through door A, along the hallway into C12, around it, and to the hallway's east end.
+  s.revisit_start = V(13, 9.25);
+  s.revisit_start_yaw = M_PI;
+  s.revisit_route = {V(6.5, 9.25), V(6.5, 7),   V(6.5, 5.5),  V(8.5, 5.5), V(8.5, 1.2),
+                     V(1.3, 1.2),  V(1.3, 6.3), V(3, 7),      V(3, 9.25),  V(20, 9.25),
+                     V(20, 6),     V(17.3, 6),  V(17.3, 1.5), V(24.7, 1.5), V(24.7, 6.5),
+                     V(20, 6.5),   V(20, 9.25), V(25, 9.25)};
   s.step = 0.3;
   s.max_turn = 30 * kDeg;
   s.sensor.min_range = 0.2;
@@ -140,6 +148,11 @@ Scenario park(Random& rng) {
   s.route = {V(180, 20),  V(180, 230), V(20, 230), V(20, 20),   // the perimeter
              V(20, 125),  V(180, 125), V(180, 20), V(100, 20),  // southern loop
              V(100, 230), V(20, 230),  V(20, 125), V(100, 125), V(100, 60), V(60, 60)};
+  // Revisit: a lawnmower from the north-west, rows 40-50 m apart across the whole park.
+  s.revisit_start = V(40, 200);
+  s.revisit_start_yaw = 0;
+  s.revisit_route = {V(160, 200), V(160, 160), V(40, 160), V(40, 110), V(160, 110),
+                     V(160, 60),  V(40, 60),   V(40, 30),  V(190, 30)};
   s.step = 1.0;
   s.max_turn = 20 * kDeg;
   s.sensor.min_range = 1.0;
@@ -236,7 +249,8 @@ std::vector<std::string> scenarioNames() {
   return {"paper-synthetic", "rooms", "park", "lifelong"};
 }
 
-Scenario makeScenario(const std::string& name, std::uint64_t seed, int laps) {
+Scenario makeScenario(const std::string& name, std::uint64_t seed, int laps,
+                      const std::string& route) {
   Random rng(seed);
   Scenario s;
   if (name == "paper-synthetic")
@@ -251,6 +265,10 @@ Scenario makeScenario(const std::string& name, std::uint64_t seed, int laps) {
     throw ConfigError("unknown scenario '" + name +
                       "' (known: paper-synthetic, rooms, park, lifelong)");
   if (laps > 0) s.laps = laps;
+  if (route != "default" && route != "revisit")
+    throw ConfigError("unknown route '" + route + "' (known: default, revisit)");
+  if (route == "revisit" && s.revisit_route.empty())
+    throw ConfigError("scenario '" + name + "' has no revisit route (rooms and park have one)");
   // Shift the world so that the robot starts at the origin, where MRPT's filter starts: the
   // ground truth then compares with its estimate directly (start_yaw is 0 in every scenario).
   const V shift = -s.start;
@@ -258,7 +276,15 @@ Scenario makeScenario(const std::string& name, std::uint64_t seed, int laps) {
   for (auto& w : s.world.walls) w.a += shift, w.b += shift;
   for (auto& r : s.world.regions) r.lo += shift, r.hi += shift;
   for (auto& p : s.route) p += shift;
+  for (auto& p : s.revisit_route) p += shift;
+  s.revisit_start += shift;
   s.start = V(0, 0);
+  if (route == "revisit") {
+    // Same world, same frame; another start and path.
+    s.start = s.revisit_start;
+    s.start_yaw = s.revisit_start_yaw;
+    s.route = s.revisit_route;
+  }
   s.world.index(std::max(2.0, s.sensor.max_range));
   return s;
 }

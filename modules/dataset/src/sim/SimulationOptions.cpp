@@ -13,6 +13,7 @@ void SimulationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   seed = static_cast<std::uint64_t>(s.readInt("seed", static_cast<long long>(seed), 0));
   with_ids = s.readBool("with_ids", with_ids);
   laps = static_cast<int>(s.readInt("laps", laps, 0, 1000000));
+  route = s.readChoice("route", route, {"default", "revisit"});
   odo_std_xy = s.readDouble("odo_std_xy", odo_std_xy);
   odo_std_yaw_deg = s.readDouble("odo_std_yaw_deg", odo_std_yaw_deg);
   sensor_std_range = s.readDouble("sensor_std_range", sensor_std_range);
@@ -25,6 +26,7 @@ void SimulationOptions::dumpToTextStream(std::ostream& out) const {
       << "seed               = " << seed << "\n"
       << "with_ids           = " << (with_ids ? "true" : "false") << "\n"
       << "laps               = " << laps << "  // 0: scenario default\n"
+      << "route              = " << route << "  // default | revisit (rooms, park)\n"
       << "odo_std_xy         = " << odo_std_xy << "  // m per step; < 0: scenario default\n"
       << "odo_std_yaw_deg    = " << odo_std_yaw_deg << "  // deg per step; < 0: default\n"
       << "sensor_std_range   = " << sensor_std_range << "  // m; < 0: default\n"

@@ -47,7 +47,7 @@ Simulator::Simulator(const SimulationOptions& options) : impl_(std::make_unique<
   auto& m = *impl_;
   m.options = options;
   if (!(options.dt > 0)) throw ConfigError("dt must be positive");
-  m.scenario = sim::makeScenario(options.scenario, options.seed, options.laps);
+  m.scenario = sim::makeScenario(options.scenario, options.seed, options.laps, options.route);
   m.noise = m.scenario.sensor;
   if (options.sensor_std_range >= 0) m.noise.std_range = options.sensor_std_range;
   if (options.sensor_std_yaw_deg >= 0) m.noise.std_yaw = options.sensor_std_yaw_deg * kDeg;
@@ -66,8 +66,10 @@ void Simulator::run(const std::function<void(const Step&)>& sink) {
   auto& m = *impl_;
   const auto& sc = m.scenario;
   const auto& world = sc.world;
-  // Its own stream for the noise, so that the world does not depend on the noise settings.
-  sim::Random rng(m.options.seed * 0x9E3779B97F4A7C15ULL + 1);
+  // Its own stream for the noise, so that the world does not depend on the noise settings; the
+  // revisit route has another one (the same world, other noise).
+  const std::uint64_t stream = m.options.route == "revisit" ? 2 : 1;
+  sim::Random rng(m.options.seed * 0x9E3779B97F4A7C15ULL + stream);
   const CPose2D sensor_on_robot(m.noise.sensor_pose_on_robot.x, m.noise.sensor_pose_on_robot.y,
                                 m.noise.sensor_pose_on_robot.yaw);
   CPose2D pose(sc.start.x(), sc.start.y(), sc.start_yaw);
@@ -149,7 +151,7 @@ std::vector<std::string> Simulator::notes() const {
   const auto& o = m.options;
   std::vector<std::string> n = {
       "Made by budget-simulate --scenario " + o.scenario + " --seed " + std::to_string(o.seed) +
-          (o.with_ids ? "" : " --no-ids") +
+          (o.with_ids ? "" : " --no-ids") + (o.route == "default" ? "" : " --route " + o.route) +
           (o.laps > 0 ? " --laps " + std::to_string(o.laps) : "") + ".",
       m.scenario.description,
       "Odometry: true increment + Gaussian noise, std " + num(m.odo_std_xy) + " m (x, y) and " +
@@ -161,6 +163,12 @@ std::vector<std::string> Simulator::notes() const {
       "Step 0 stands still at the start pose (zero motion). Times: step k at t = (k + 1) x " +
           num(o.dt) + " s. Ground truth: start pose, then one pose a step.",
   };
+  if (o.route == "revisit")
+    n.push_back(
+        "Revisit route: the world, landmark ids and frame of --route default (whose start pose is "
+        "the origin); this path starts at (" +
+        num(m.scenario.start.x()) + ", " + num(m.scenario.start.y()) + ") m, yaw " +
+        num(m.scenario.start_yaw / kDeg) + " deg, with another noise stream.");
   if (m.steps)
     n.push_back(std::to_string(m.steps) + " steps, " + std::to_string(m.readings) + " readings, " +
                 std::to_string(m.gt.landmarks.size()) + " landmarks, path " + num(m.length) +

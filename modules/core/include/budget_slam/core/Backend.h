@@ -25,11 +25,27 @@ class Backend {
   virtual std::vector<LandmarkView> landmarks() const = 0;
   virtual std::size_t landmarkCount() const = 0;
 
+  /// Ids of the landmarks that the readings of step `step` were associated with (new landmarks
+  /// included), when `step` is the last step processed. The default reads landmarks() and keeps
+  /// those whose last_step is `step`; backends override it with their association, which is
+  /// cheaper than building every landmark's view.
+  virtual std::vector<LandmarkId> observedAt(StepIndex step) const {
+    std::vector<LandmarkId> out;
+    for (const auto& l : landmarks())
+      if (l.last_step == step && l.n_obs > 0) out.push_back(l.id);
+    return out;
+  }
+
   /// Latest robot pose and its marginal covariance.
   virtual PoseEstimate robotPose() const = 0;
 
   /// The estimated trajectory (see TrajectoryPoint).
   virtual std::vector<TrajectoryPoint> trajectory() const = 0;
+
+  /// For each reading of the step last given to process(), in its order: the id of the landmark
+  /// the reading was used for (a new landmark's id included), kNoLandmarkId when it was not used.
+  /// Read right after process(), before any removal. Empty when the backend does not say.
+  virtual std::vector<LandmarkId> lastAssociation() const { return {}; }
 
   /// Robot poses held in the estimate (1 for the EKF, kept poses for the graph).
   virtual std::size_t poseCount() const = 0;

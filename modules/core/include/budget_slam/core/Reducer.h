@@ -1,4 +1,6 @@
 #pragma once
+#include <mrpt/math/TPose2D.h>
+
 #include <functional>
 #include <memory>
 #include <ostream>
@@ -46,6 +48,17 @@ struct ScheduledDrops {
   std::size_t keep_last_poses = 0;
 };
 
+/// What the robot observed at one step: told to the reducers that ask for it
+/// (Reducer::wantsObservations) after the backend has processed the step and before any drop
+/// decision of that step (BudgetManager::enforce).
+struct StepObservation {
+  StepIndex step = 0;
+  mrpt::math::TPose2D robot;         ///< the robot pose estimate after the step [m, m, rad]
+  std::vector<LandmarkId> observed;  ///< landmarks of the map observed at this step, new ones too
+  double sensor_max_range = 0;       ///< [m]; 0 when the step did not say
+  double sensor_fov = 0;             ///< total horizontal field of view [rad]; 0 when unknown
+};
+
 /// A rule that picks the landmark to drop (docs/ALGORITHMS.md). Registered by name in a
 /// ReducerRegistry; adding one is one file plus one line in reducers/BuiltinReducers.cpp.
 class Reducer {
@@ -67,6 +80,14 @@ class Reducer {
   /// al.'s objective and incremental modes), so that it may run without a cap
   /// ([LandmarkBudget] max_landmarks = none). A cap given still bounds the map after every step.
   virtual bool decidesMapSize() const { return false; }
+
+  /// True when the reducer keeps its own record of where landmarks were observed from; the
+  /// BudgetManager then calls observe() after every step and forget() for every landmark that
+  /// leaves the map (default: false, and neither is called).
+  virtual bool wantsObservations() const { return false; }
+  virtual void observe(const StepObservation& seen) {}
+  /// Landmark `id` left the map (dropped, refused, or scheduled away).
+  virtual void forget(LandmarkId id) {}
 
   /// False when dropped landmarks must never come back (Choudhary et al. Alg. 5); the
   /// BudgetManager then reports readmit_evicted = false whatever [LandmarkBudget] says.

@@ -28,19 +28,27 @@ ConvertedDataset convertG2o(const std::string& path);
 /// Robot<robot>_{Odometry,Measurement,Groundtruth}.dat. One step per measurement time with at
 /// least one landmark sighting (subjects 1-5 are robots and are left out); odometry (v, omega)
 /// integrated exactly between step times. Ground truth (Vicon) expressed in the frame of the
-/// robot's true start pose, so that it compares with a filter started at the origin.
-ConvertedDataset convertUtias(const std::string& folder, int robot);
+/// robot's true start pose, so that it compares with a filter started at the origin; with
+/// `frame_robot` (1-5, 0 = `robot`), in the frame of that robot's true start pose instead, so that
+/// the robots of one dataset share one world frame (the path's first row is then not the origin).
+ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_robot = 0);
 
 /// Freiburg SLAM course: `world.dat` (`id x y`, landmark ground truth) and `sensor_data.dat`
 /// (`ODOMETRY r1 t r2` followed by `SENSOR id range bearing` lines). Noise of the course's EKF
 /// exercise.
 ConvertedDataset convertFreiburg(const std::string& world, const std::string& sensor_data);
 
+/// Steps `from` (inclusive) to `to` (exclusive, clamped to the end) of a converted dataset,
+/// renumbered from 0, with their own times, odometry and readings, and the ground-truth path rows
+/// that go with them (the start row: the pose before step `from`); the sensor noise stays the
+/// whole dataset's. A note says what was cut. ConfigError when nothing is selected.
+ConvertedDataset selectSteps(ConvertedDataset dataset, std::size_t from, std::size_t to);
+
 /// The converter named `format` ("isam", "g2o", "utias", "freiburg") on `inputs`, as
 /// budget-convert calls it: isam and g2o take one file; utias one folder (and `robot`); freiburg
 /// world.dat and sensor_data.dat, or one folder holding both. An unknown format or a wrong number
 /// of inputs is a ConfigError.
 ConvertedDataset convertByFormat(const std::string& format, const std::vector<std::string>& inputs,
-                                 int robot);
+                                 int robot, int frame_robot = 0);
 
 }  // namespace budget_slam::dataset

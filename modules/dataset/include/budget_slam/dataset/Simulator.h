@@ -20,6 +20,10 @@ struct SimulationOptions {
   std::uint64_t seed = 1;          ///< seed of the world and of the noise; same seed, same bytes
   bool with_ids = true;            ///< false: readings carry no landmark ID (--no-ids)
   int laps = 0;                    ///< laps of the route; 0: scenario default (lifelong: 2)
+  /// default | revisit (rooms, park): the same world (same seed, landmarks, ids and frame)
+  /// driven from another start along another route through every room or region, with another
+  /// noise stream: a second traversal to relocalize on.
+  std::string route = "default";
   double odo_std_xy = -1;          ///< odometry noise per step, x and y [m]; < 0: default
   double odo_std_yaw_deg = -1;     ///< odometry noise per step [deg]; < 0: default
   double sensor_std_range = -1;    ///< range noise [m]; < 0: default

@@ -10,9 +10,16 @@ namespace budget_slam::ekf {
 /// (Choudhary et al. Eq. 6 with |Sigma_L|rest| = |Lambda_LL|^-1; docs/ALGORITHMS.md "mi", EKF
 /// case).
 ///
-/// One Cholesky factorization serves every block; removing a block updates Lambda by the Schur
-/// complement  Lambda' = Lambda_rr - Lambda_rL Lambda_LL^-1 Lambda_Lr  (O(n^2), no new inverse),
-/// which is the information matrix of P with the block's rows and columns deleted.
+/// Only the 2x2 diagonal blocks of Lambda are needed. With P = L L^T (Cholesky) and W = L^-1,
+/// Lambda = W^T W, so Lambda_LL is the Gram matrix of W's two columns of L: one Cholesky and one
+/// triangular inverse, n^3/3 multiply-adds in all (forming Lambda would take three times that).
+///
+/// Removing blocks marginalizes them: the information of the rest is the Schur complement
+///   Lambda' = Lambda_rr - Lambda_rS Lambda_SS^-1 Lambda_Sr   (S: every block removed so far),
+/// kept exactly as Lambda - V V^T on the remaining rows, V gaining two columns per removal:
+/// with c = the current information's columns of the removed block (Lambda's columns W^T W_{:,L}
+/// minus V V_L^T, O(n^2)) and G G^T = c_L, the new columns are c G^-T. A gain then costs
+/// O(n + removals). No new factorization within one drop event.
 ///
 /// State components with zero variance (the robot pose before its first motion) are
 /// deterministic: they carry no information and are left out of Lambda.
@@ -32,13 +39,21 @@ class BlockMutualInformation {
   /// Marginalizes the block out of P and Lambda (rows of P above it shift down by 2).
   void removeBlock(std::size_t first_row);
 
-  std::size_t size() const { return static_cast<std::size_t>(P_.rows()); }
-  const Eigen::MatrixXd& information() const { return lambda_; }
+  std::size_t size() const { return lambda_row_.size(); }
+  /// The current information block Lambda_LL of the 2 rows at `first_row` (both deterministic:
+  /// zero), for tests.
+  Eigen::Matrix2d informationBlock(std::size_t first_row) const;
 
  private:
-  Eigen::MatrixXd P_;
-  Eigen::MatrixXd lambda_;
-  std::vector<long> lambda_row_;  ///< row of P -> row of lambda_, -1 if deterministic
+  /// Lambda(a, b) for a <= b, indices into the active components.
+  double lambda(long a, long b) const;
+
+  long m_ = 0;                    ///< active (non-deterministic) components
+  std::vector<double> w_;         ///< W = L^-1, m x m column-major, lower triangular
+  std::vector<long> lambda_row_;  ///< row of the current P -> active index, -1 if deterministic
+  std::vector<double> p_diag_;    ///< P(i, i) of the current rows
+  std::vector<double> p_next_;    ///< P(i, i + 1) of the current rows (0 on the last)
+  Eigen::MatrixXd V_;             ///< m x 2k: current information = Lambda - V V^T
 };
 
 }  // namespace budget_slam::ekf

@@ -26,9 +26,12 @@ class EkfBackend : public Backend {
   void process(const Step& step) override;
   std::vector<LandmarkView> landmarks() const override;
   std::size_t landmarkCount() const override { return kf_.landmarkCount(); }
+  /// From the sighting bookkeeping (no covariance blocks), sorted by id.
+  std::vector<LandmarkId> observedAt(StepIndex step) const override;
   PoseEstimate robotPose() const override;
   std::vector<TrajectoryPoint> trajectory() const override { return trajectory_; }
   std::size_t poseCount() const override { return 1; }
+  std::vector<LandmarkId> lastAssociation() const override { return last_ids_; }
   void removeLandmark(LandmarkId id) override;
   /// I(L; rest of the state) in bits; one factorization per drop event, updated by Schur
   /// complements across the drops of that event (see BlockMutualInformation).
@@ -63,6 +66,7 @@ class EkfBackend : public Backend {
   std::vector<TrajectoryPoint> trajectory_;
   bool keep_trajectory_ = true;
   StepIndex last_step_ = 0;
+  std::vector<LandmarkId> last_ids_;  ///< lastAssociation()
   /// Valid from the first informationGain() after a step until the next step.
   mutable std::optional<BlockMutualInformation> mi_;
 };

@@ -28,10 +28,20 @@ struct Observation {
   RangeBearingFactor f;
 };
 
+/// A Gaussian prior on a landmark: what remains of sightings whose poses left the graph
+/// (FactorGraph::dropFirstPoses). e = x - mean, whitened by sqrt_info (sqrt_info^T sqrt_info =
+/// cov^-1).
+struct LandmarkPrior {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();  ///< [m]
+  Eigen::Matrix2d sqrt_info = Eigen::Matrix2d::Identity();
+  static LandmarkPrior make(const Eigen::Vector2d& mean, const Eigen::Matrix2d& cov);
+};
+
 /// An R^2 landmark and every factor that touches it.
 struct LandmarkNode {
   Eigen::Vector2d x = Eigen::Vector2d::Zero();  ///< current estimate [m]
   std::vector<Observation> obs;
+  std::optional<LandmarkPrior> prior;  ///< set when all its sightings' poses left the graph
   mutable int col = -1;  ///< first column in the linear system (a cache of FactorGraph)
 };
 
@@ -64,6 +74,13 @@ class FactorGraph {
   /// Replaces x_{i} -> x_j -> x_k by the composed factor x_i -> x_k (composeBetween) and deletes
   /// x_j. Throws std::logic_error unless canMarginalizePose(step).
   void marginalizePose(StepIndex step);
+  /// Bounded graph: deletes the first `count` poses (fewer than the graph has) and every
+  /// range-bearing factor on them, and puts `next_prior` on the new first pose in place of its
+  /// odometry factor. A landmark left without factors stays unconstrained until it gets a prior
+  /// (setLandmarkPrior): the caller does that first (GraphBackend).
+  void dropFirstPoses(std::size_t count, const PriorFactor& next_prior);
+  /// Replaces any prior on the landmark; throws std::out_of_range if unknown.
+  void setLandmarkPrior(LandmarkId id, const LandmarkPrior& prior);
 
   // -- access --
   const std::map<StepIndex, PoseNode>& poses() const { return poses_; }

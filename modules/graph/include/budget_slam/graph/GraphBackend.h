@@ -33,10 +33,13 @@ class GraphBackend : public Backend {
   /// landmarks, then runs the incremental schedule (GraphSlamOptions).
   void process(const Step& step) override;
   std::vector<LandmarkView> landmarks() const override;
+  /// From the sighting bookkeeping, without the marginals landmarks() computes; sorted by id.
+  std::vector<LandmarkId> observedAt(StepIndex step) const override;
   std::size_t landmarkCount() const override { return graph_.landmarks().size(); }
   PoseEstimate robotPose() const override;
   std::vector<TrajectoryPoint> trajectory() const override;
   std::size_t poseCount() const override { return graph_.poses().size(); }
+  std::vector<LandmarkId> lastAssociation() const override { return last_ids_; }
   void removeLandmark(LandmarkId id) override;
   std::vector<double> informationGain(const std::vector<LandmarkId>& ids) const override;
   Eigen::Matrix2d landmarkCovariance(LandmarkId id) const override;
@@ -55,6 +58,10 @@ class GraphBackend : public Backend {
   const RangeBearingNoise& noise() const { return noise_; }
   /// Incremental updates run so far (for reports).
   std::size_t updateCount() const { return updates_; }
+  /// Poses removed by the bounded graph (GraphSlamOptions::max_poses) so far.
+  std::size_t posesDropped() const { return poses_dropped_; }
+  /// Fresh and kept orderings of the solver's factorizations (IncrementalOrdering).
+  const IncrementalOrdering& solverOrdering() const { return solver_ordering_; }
 
  private:
   /// clone(): everything but the factorization caches (CHOLMOD objects are never shared).
@@ -74,6 +81,8 @@ class GraphBackend : public Backend {
   Eigen::Matrix2d sensorCovariance() const;
   /// A few warm-started Gauss-Newton iterations (GraphSlamOptions::incremental_iterations).
   void incrementalUpdate();
+  /// GraphSlamOptions::max_poses: the oldest poses leave when the graph holds more.
+  void boundPoses();
   /// The estimate or the graph changed: cached factorization and marginals are stale.
   void touch() { ++estimate_version_; }
   const SparseCholesky& factorization() const;
@@ -83,9 +92,12 @@ class GraphBackend : public Backend {
   FactorGraph graph_;
   std::map<LandmarkId, Track> tracks_;
   LandmarkId next_fresh_id_ = 0;
+  std::vector<LandmarkId> last_ids_;  ///< lastAssociation(): one id a reading of the last step
   int poses_since_update_ = 0;
   std::size_t updates_ = 0;
+  std::size_t poses_dropped_ = 0;
   SparseCholesky solver_chol_;
+  IncrementalOrdering solver_ordering_;
 
   std::uint64_t estimate_version_ = 1;
   mutable SparseCholesky query_chol_;
@@ -98,6 +110,7 @@ class GraphBackend : public Backend {
   /// Landmark marginals at landmark_cov_version_.
   mutable std::map<LandmarkId, Eigen::Matrix2d> landmark_cov_;
   mutable std::uint64_t landmark_cov_version_ = 0;
+  mutable IncrementalOrdering query_ordering_;
 };
 
 }  // namespace budget_slam::graph

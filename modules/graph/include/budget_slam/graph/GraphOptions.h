@@ -27,6 +27,21 @@ struct GraphSlamOptions : public mrpt::config::CLoadableOptions {
   int relinearize_every = 10;      ///< [poses]; 0: only at finish()
   int incremental_iterations = 2;  ///< Gauss-Newton iterations of one incremental update
   double relinearize_chi2 = 16.0;  ///< [dimensionless, per 2-D reading]; 0: never early
+  /// An incremental update stops relinearizing once a Gauss-Newton step moves no variable by
+  /// more than this (max |dx|) [m, rad]: the linearization point has not moved enough to make
+  /// the next iteration worth a factorization. 0: always `incremental_iterations` iterations.
+  double relinearize_threshold = 0;
+  /// The fill-reducing ordering is kept while the structure grows (new variables eliminated
+  /// last, IncrementalOrdering) until nnz(L) / nnz(H) exceeds this factor times the one of the
+  /// last fresh ordering [dimensionless]; 0: a fresh ordering at every structure change (the
+  /// default: on Victoria Park the kept ordering's extra fill costs more than the analyses it
+  /// saves, docs/PERFORMANCE.md "Incremental graph backend").
+  double reorder_fill_ratio = 0;
+  /// Bounded graph for lifelong runs: when the graph holds more poses than this, the oldest
+  /// ones leave (their sightings are dropped, their prior composed with the odometry into a prior
+  /// on the next pose; a landmark left without sightings keeps its marginal as a prior). 0:
+  /// unbounded. docs/GRAPH.md "Bounded graph".
+  int max_poses = 0;
 
   double prior_std_xy = 1e-3;       ///< prior on the start pose (the origin) [m]
   double prior_std_yaw_deg = 1e-2;  ///< [deg]

@@ -2,6 +2,7 @@
 #include <string>
 
 #include "budget_slam/graph/FactorGraph.h"
+#include "budget_slam/graph/IncrementalOrdering.h"
 #include "budget_slam/graph/SparseCholesky.h"
 
 namespace budget_slam::graph {
@@ -39,10 +40,13 @@ struct SolveReport {
 /// analysis between calls while the graph's structure is unchanged; on return it holds a
 /// factorization of H at the last linearization point but one (call factorizeAtEstimate for
 /// marginals at the final estimate). Throws std::runtime_error if H is not positive definite
-/// (an unconstrained variable).
-SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky* chol);
+/// (an unconstrained variable). With `ordering`, every factorization goes through it (the
+/// ordering is kept between calls while the structure grows; IncrementalOrdering).
+SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky* chol,
+                     IncrementalOrdering* ordering = nullptr);
 
 /// Factorizes H at the current estimate (no update): the start of every covariance query.
-void factorizeAtEstimate(const FactorGraph& graph, SparseCholesky* chol);
+void factorizeAtEstimate(const FactorGraph& graph, SparseCholesky* chol,
+                         IncrementalOrdering* ordering = nullptr);
 
 }  // namespace budget_slam::graph

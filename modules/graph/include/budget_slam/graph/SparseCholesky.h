@@ -6,6 +6,9 @@
 #include <memory>
 #include <vector>
 
+struct cholmod_factor_struct;
+struct cholmod_common_struct;
+
 namespace budget_slam::graph {
 
 /// One column of a sparse right-hand side: values on up to 3 scalar indices of H, all of one
@@ -17,21 +20,42 @@ struct SparseColumn {
   std::array<double, 3> val{};
 };
 
-/// Sparse Cholesky factorization P H P^T = L L^T of a symmetric positive definite H, by CHOLMOD
-/// through Eigen's CholmodSupport (CHOLMOD picks a fill-reducing ordering, AMD or METIS, and a
-/// simplicial or supernodal factorization). Besides solves and log-determinants it gives blocks
-/// of H^-1 without forming the inverse (inverseBlock).
+/// Sparse Cholesky factorization P H P^T = L L^T (or L D L^T) of a symmetric positive definite H,
+/// by CHOLMOD. Besides solves and log-determinants it gives blocks of H^-1 without forming the
+/// inverse (inverseBlock, inverseGram).
+///
+/// Two ways in: factorize() lets CHOLMOD choose the fill-reducing ordering (AMD or METIS) and
+/// the form (simplicial or supernodal), for batch solves; factorizeOrdered() takes the ordering
+/// and keeps a simplicial L D L^T, the form CHOLMOD's update/downdate routines modify in place
+/// (IncrementalSolver does that through factor(), then calls modified()). The partial inverses
+/// read either form in place.
 class SparseCholesky {
  public:
   SparseCholesky();
   ~SparseCholesky();
   SparseCholesky(SparseCholesky&&) noexcept;
   SparseCholesky& operator=(SparseCholesky&&) noexcept;
+  /// A deep copy of the factor (cholmod_copy_factor); the query caches are rebuilt lazily.
+  SparseCholesky copy() const;
 
   /// Factorizes H (only its lower triangle is read). The symbolic analysis (ordering) is reused
   /// when `pattern_version` equals the previous call's and is not 0 (0: always analyse).
   /// Returns false when H is not positive definite.
   bool factorize(const Eigen::SparseMatrix<double>& H, std::uint64_t pattern_version = 0);
+  /// Factorizes H as a simplicial L D L^T with the fill-reducing ordering `perm` (perm[k] = the
+  /// column of H eliminated k-th), exactly as given (no postordering). Returns false when H is
+  /// not positive definite.
+  /// `simplicial` = false lets CHOLMOD pick simplicial or supernodal (faster on large factors;
+  /// not updatable in place).
+  bool factorizeOrdered(const Eigen::SparseMatrix<double>& H, const std::vector<int>& perm,
+                        bool simplicial = true);
+  /// Numeric factorization of H with the previous call's symbolic analysis (H must have the
+  /// same pattern). Returns false when H is not positive definite.
+  bool refactorize(const Eigen::SparseMatrix<double>& H);
+  /// Non-zeros of L predicted by the last symbolic analysis (CHOLMOD's lnz; no extraction).
+  double analysedNonZeros() const;
+  /// The fill-reducing ordering in use: perm[k] = the column of H eliminated k-th.
+  std::vector<int> ordering() const;
   bool ok() const;
   int size() const;
 
@@ -67,6 +91,17 @@ class SparseCholesky {
   /// substitution (for e.g. every landmark's 2x2 marginal at once).
   std::vector<Eigen::MatrixXd> inverseDiagonalBlocks(
       const std::vector<std::vector<int>>& groups) const;
+
+  // -- in-place modification (IncrementalSolver) --
+  /// CHOLMOD's factor and workspace. Valid after factorizeOrdered(); whoever modifies the factor
+  /// calls modified() before the next query.
+  cholmod_factor_struct* factor();
+  cholmod_common_struct* common();
+  /// The factor's numbers (not its ordering) changed: the query caches are stale.
+  void modified();
+  /// Position of H's column c in the factor's ordering (P^-1), and the column at position k (P).
+  int position(int c) const;
+  int columnAt(int k) const;
 
  private:
   struct Impl;

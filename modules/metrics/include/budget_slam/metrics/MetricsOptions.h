@@ -13,11 +13,19 @@ struct MetricsOptions : public mrpt::config::CLoadableOptions {
   /// EIG needs the eigenvalues of a dense covariance difference (O(n^3)); above this many rows it
   /// is skipped and reported empty [rows]. Default: 3000 (about 1500 landmarks or 1000 poses).
   std::size_t eig_max_rows = 3000;
+  /// k of the relocalization coverage: a step is covered when the robot observed at least this
+  /// many landmarks of the map there (two range-bearing sightings fix a 2D pose) [landmarks].
+  /// Default: 2.
+  std::size_t reloc_min_landmarks = 2;
+  /// Rawlogs without sensor IDs: a final-map landmark stands for the reference run's landmark it
+  /// pairs with when their squared Mahalanobis distance (summed covariances) is at most this.
+  /// Default: 13.8155 (chi-square, 2 degrees of freedom, 99.9%).
+  double reloc_match_chi2 = 13.8155;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
                           const std::string& section) override;
   void dumpToTextStream(std::ostream& out) const override;
-  static std::vector<std::string> keys() { return {"eig_max_rows"}; }
+  static std::vector<std::string> keys() { return {"eig_max_rows", "reloc_min_landmarks", "reloc_match_chi2"}; }
 };
 
 }  // namespace budget_slam::metrics

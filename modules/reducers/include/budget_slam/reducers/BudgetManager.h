@@ -8,6 +8,7 @@
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/core/Reducer.h"
 #include "budget_slam/reducers/BudgetOptions.h"
+#include "budget_slam/reducers/RefusalMemory.h"
 
 namespace budget_slam::reducers {
 
@@ -19,8 +20,10 @@ struct Eviction {
   double score = 0;
   std::size_t n_before = 0, n_after = 0;
   /// over_cap: an unprotected landmark went; over_cap_all_protected: every landmark was protected
-  /// (seen in the last P steps) so the lowest-scored protected one went; otherwise the reason of
-  /// a drop event the reducer scheduled itself (ScheduledDrops::reason: objective, incremental).
+  /// (see BudgetOptions::protect) so the lowest-scored protected one went; refused: a newcomer
+  /// lost its admission (admission = compete) and left the map in the step it entered;
+  /// otherwise the reason of a drop event the reducer scheduled itself (ScheduledDrops::reason:
+  /// objective, incremental).
   std::string reason;
   /// Where the landmark was when dropped [m] (for map pictures).
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
@@ -53,8 +56,8 @@ struct Agreement {
 /// `active` null is reducer `none`.
 void checkCap(const BudgetOptions& options, const Reducer* active);
 
-/// Keeps the map within [LandmarkBudget] max_landmarks after every step (docs/ALGORITHMS.md "Common
-/// to every reducer").
+/// Keeps the map within [LandmarkBudget] max_landmarks after every step (docs/ALGORITHMS.md
+/// "Common to every reducer").
 class BudgetManager {
  public:
   /// `active` may be null: reducer `none`, the unreduced reference run (nothing is dropped).
@@ -67,6 +70,14 @@ class BudgetManager {
   /// every mode: while the map holds more than max_landmarks, asks the active reducer for a
   /// victim among the candidates and removes it. Returns the drops made, in order.
   std::vector<Eviction> enforce(Backend& backend, StepIndex step);
+  /// The same, told the step itself (its sensor's range and field of view reach the reducers
+  /// that keep a record of where landmarks were observed from; Reducer::observe).
+  std::vector<Eviction> enforce(Backend& backend, const Step& step);
+
+  /// `raw` without the readings the map must not take in now: the landmarks dropped for good
+  /// (readmit_evicted = false) and the refused newcomers still waiting for a retry
+  /// (admission = compete). Returns `raw` itself (shared) when none of its readings is affected.
+  Step admissible(const Step& raw) const;
 
   /// Called once after the last step, before Backend::finish() and the outputs: the active
   /// reducer's final scheduled event (mi objective mode runs Alg. 3 here). Returns its drops.
@@ -83,6 +94,9 @@ class BudgetManager {
   /// Ids dropped so far, kept only when readmit_evicted = false (the readings to filter out); with
   /// readmission on it stays empty so that memory does not grow with the drops.
   const std::set<LandmarkId>& evicted() const { return evicted_; }
+
+  /// Newcomers refused so far and remembered now (admission = compete).
+  const RefusalMemory& refusals() const { return refusals_; }
 
   /// Agreement of every pair among the active and shadow reducers.
   std::vector<Agreement> agreements() const;
@@ -111,8 +125,13 @@ class BudgetManager {
   std::function<void(const Backend&, StepIndex)> before_drop_event_;
   ScratchFactory scratch_factory_;
   std::size_t poses_marginalized_ = 0;
+  RefusalMemory refusals_;
+  std::vector<Reducer*> observers_;  ///< the active and shadow reducers that want observations
   std::vector<ShadowFailures> shadow_failures_;  ///< one a shadow, in shadow order
 
+  std::vector<Eviction> enforceAt(Backend& backend, StepIndex step, const Step* raw);
+  /// Tells the observing reducers what step `step` observed (Reducer::observe).
+  void tellObservations(const Backend& backend, StepIndex step, const Step* raw);
   std::vector<Eviction> runScheduled(Backend& backend, StepIndex step, bool final);
   /// Drops `victim` (a landmark of ctx.landmarks) from the backend: asks the shadows, removes
   /// it, remembers it when readmission is off, and returns its log record.
@@ -127,5 +146,13 @@ class BudgetManager {
 /// `protect_recent_steps` steps, or all of them when every landmark is protected.
 std::vector<std::size_t> dropCandidates(const std::vector<LandmarkView>& landmarks, StepIndex step,
                                         std::size_t protect_recent_steps, bool* all_protected);
+
+/// The same under the options' protection rule (docs/ALGORITHMS.md "Candidates"): with
+/// `protect = recently_seen` a landmark seen in the last P steps is protected, with
+/// `newly_added` one that entered the map in the last P steps; with `admission = compete` the
+/// landmarks that entered at `step` itself are never protected (they compete for their place).
+/// All landmarks when every one is protected.
+std::vector<std::size_t> dropCandidates(const std::vector<LandmarkView>& landmarks, StepIndex step,
+                                        const BudgetOptions& options, bool* all_protected);
 
 }  // namespace budget_slam::reducers

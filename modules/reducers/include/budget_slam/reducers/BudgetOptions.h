@@ -8,18 +8,38 @@
 
 namespace budget_slam::reducers {
 
-/// [LandmarkBudget]: how many landmarks the map may hold and who decides which one goes
-/// (docs/ALGORITHMS.md "Common to every reducer").
+/// [LandmarkBudget]: how many landmarks the map may hold, who decides which one goes, which
+/// landmarks may not go yet and how a newcomer gets in (docs/ALGORITHMS.md "Common to every
+/// reducer").
 struct BudgetOptions : public mrpt::config::CLoadableOptions {
   static constexpr const char* kSection = "LandmarkBudget";
+
+  /// Which landmarks `protect_recent_steps` shields from a cap decision.
+  enum class Protect {
+    RecentlySeen,  ///< recently_seen: every landmark seen in the last P steps (all in view)
+    NewlyAdded,    ///< newly_added: a landmark only during its first P steps in the map
+  };
+  /// How a landmark first observed while the map is full gets in.
+  enum class Admission {
+    Always,   ///< always: it enters; the cap then drops among the unprotected landmarks
+    Compete,  ///< compete: it is a candidate of that same cap decision and stays only if the
+              ///< reducer would rather drop a kept landmark; refused ids wait before a retry
+  };
 
   std::string reducer = "none";  ///< active reducer by registry name; none = no cap
   /// The cap: landmarks in the map after every step, >= 1 [landmarks]. Empty (ini and --cap:
   /// `none`) = unbounded, valid only for reducer `none` and for reducers that decide the map's
   /// size themselves (Reducer::decidesMapSize; checkCap).
   std::optional<std::size_t> max_landmarks = 50;
-  std::size_t protect_recent_steps = 5;  ///< P: landmarks seen in the last P steps are kept [steps]
-  bool readmit_evicted = true;           ///< a dropped landmark seen again comes back as new
+  std::size_t protect_recent_steps = 5;     ///< P: landmarks protected by `protect` [steps]
+  Protect protect = Protect::RecentlySeen;  ///< recently_seen | newly_added
+  Admission admission = Admission::Always;  ///< always | compete
+  std::size_t retry_after_steps = 10;       ///< compete: a refused id's readings are left out for
+                                            ///< this many steps, doubled at each further refusal of
+                                            ///< the same id (at most 64 times) [steps], >= 1
+  std::size_t refusal_memory = 1024;        ///< compete: refused ids remembered at most; the oldest
+                                            ///< refusal is forgotten first [entries], >= 1
+  bool readmit_evicted = true;              ///< a dropped landmark seen again comes back as new
   std::vector<std::string> shadow_reducers;  ///< asked at every drop, only logged
   std::uint64_t seed = 1;                    ///< seed of every randomized reducer
   bool dump_states = false;                  ///< write states/step_<k>.txt before each drop event
@@ -32,6 +52,9 @@ struct BudgetOptions : public mrpt::config::CLoadableOptions {
   static std::vector<std::string> keys();
   /// The cap as written in the ini and on the command line: a number, or `none`.
   static std::string capText(const std::optional<std::size_t>& cap);
+
+  static std::string toString(Protect p);
+  static std::string toString(Admission a);
 };
 
 }  // namespace budget_slam::reducers

@@ -24,6 +24,13 @@ struct ComparisonRow {
   double gt_trajectory_rmse_m = kNaN, gt_trajectory_max_m = kNaN, gt_landmark_rmse_m = kNaN;
   double nees_mean = kNaN;
   double time_s = kNaN;  ///< wall time of the SLAM steps
+  /// Relocalization coverage of the final map over the rawlog's steps (docs/OUTPUTS.md).
+  double reloc_coverage_pct = kNaN, reloc_mean_landmarks = kNaN;
+  /// compare --relocalize: the final map localizing each traversal, mean over the traversals.
+  double reloc_rmse_m = kNaN, reloc_max_m = kNaN, reloc_lost_pct = kNaN;
+  double reloc_traversal_coverage_pct = kNaN;
+  /// reloc_rmse_m and reloc_lost_pct over the reference map's.
+  double reloc_rmse_ratio = kNaN, reloc_lost_ratio = kNaN;
 };
 
 void writeComparisonCsv(const std::string& path, const std::vector<ComparisonRow>& rows);

@@ -21,6 +21,10 @@ struct MapContent {
   std::vector<LandmarkView> kept;
   std::vector<int> cluster_of_kept;      ///< cluster index per kept landmark, or empty
   std::vector<Eigen::Vector2d> dropped;  ///< where dropped landmarks were when dropped
+  /// When not empty (one per trajectory pose): landmarks of the final map observed at that pose;
+  /// the path is then coloured by it: red below `min_landmarks`, orange below twice that, blue.
+  std::vector<std::size_t> trajectory_landmarks;
+  std::size_t min_landmarks = 2;
 };
 
 /// Renders `content` to a PNG `width` pixels wide and as high as the map's aspect ratio asks

@@ -1,0 +1,241 @@
+// budget-slam localize: a traversal localized in a run's final map (docs/OUTPUTS.md).
+#include <tclap/CmdLine.h>
+
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "BudgetSlamApp.h"
+#include "Interrupt.h"
+#include "Localizer.h"
+#include "MapFolder.h"
+#include "ProgressBar.h"
+#include "RunConfig.h"
+#include "budget_slam/core/CommandLine.h"
+#include "budget_slam/core/Error.h"
+#include "budget_slam/dataset/RawlogReader.h"
+#include "budget_slam/metrics/MetricsOptions.h"
+#include "budget_slam/report/FileWrite.h"
+#include "budget_slam/report/RunFileReaders.h"
+#include "budget_slam/report/RunFiles.h"
+
+namespace budget_slam::app {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+/// A reference trajectory longer than this is not one of budget-slam's [poses].
+constexpr std::size_t kMaxReferencePoses = 50'000'000;
+
+std::string fixed(double v, int digits) {
+  if (!std::isfinite(v)) return "n/a";
+  std::ostringstream o;
+  o.setf(std::ios::fixed);
+  o.precision(digits);
+  o << v;
+  return o.str();
+}
+
+/// "x,y,yaw_deg" -> pose (yaw in radians). ConfigError naming the flag.
+mrpt::math::TPose2D parseStartPose(const std::string& text) {
+  std::stringstream ss(text);
+  std::vector<double> v;
+  for (std::string item; std::getline(ss, item, ',');) {
+    char* end = nullptr;
+    const double d = std::strtod(item.c_str(), &end);
+    if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(d))
+      throw ConfigError("--start-pose '" + text + "': expected x,y,yaw (metres, metres, degrees)");
+    v.push_back(d);
+  }
+  if (v.size() != 3)
+    throw ConfigError("--start-pose '" + text + "': expected x,y,yaw (metres, metres, degrees)");
+  return {v[0], v[1], v[2] * kDeg};
+}
+
+}  // namespace
+
+void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
+  cli_ = CommandLine();
+  help_.clear();
+  cli_.command = "localize";
+  CapturedUsage usage;  // outlives cmd, which only borrows it
+  TCLAP::CmdLine cmd(
+      "Localizes a traversal in the final map of an earlier run (its landmarks.csv) with MRPT's "
+      "EKF, no landmark added, and measures the error, the share of steps lost and the map's "
+      "coverage of the traversal",
+      ' ', "0.1", true);
+  cmd.setExceptionHandling(false);
+  cmd.setOutput(&usage);
+  TCLAP::ValueArg<std::string> config("c", "config", "ini file (MRPT style)", false, "", "file",
+                                      cmd);
+  TCLAP::ValueArg<std::string> map("", "map", "output folder of the run whose map is used", true,
+                                   "", "RUN_DIR", cmd);
+  TCLAP::ValueArg<std::string> rawlog("i", "input", "the traversal's rawlog", false, "", "rawlog",
+                                      cmd);
+  TCLAP::ValueArg<std::string> outdir("o", "out",
+                                      "output folder; overrides [MappingApplication] "
+                                      "logOutput_dir",
+                                      false, "", "dir", cmd);
+  TCLAP::ValueArg<std::string> start(
+      "", "start-pose",
+      "start pose in the map's frame, yaw in degrees (default: the traversal's ground truth "
+      "through the map's alignment, or the reference trajectory)",
+      false, "", "x,y,yaw", cmd);
+  TCLAP::ValueArg<std::string> reference(
+      "", "reference-trajectory",
+      "trajectory.tum (in the map's frame) to measure the error against when the traversal has "
+      "no ground truth",
+      false, "", "file.tum", cmd);
+  TCLAP::MultiArg<std::string> sets("", "set", "overrides any ini key", false, "Section.key=value",
+                                    cmd);
+  TCLAP::SwitchArg quiet("", "quiet", "no progress bar and no summary on stdout", cmd);
+  TCLAP::SwitchArg force("", "force", "write into a non-empty output folder (deletes nothing)",
+                         cmd);
+  std::vector<std::string> argv = {"budget-slam localize"};  // the usage names the program
+  argv.insert(argv.end(), args.begin() + 2, args.end());
+  try {
+    cmd.parse(argv);
+  } catch (const TCLAP::ArgException& e) {
+    throw UsageError(describe(e) + "; see budget-slam localize --help");
+  } catch (const TCLAP::ExitException&) {
+    help_ = usage.text;  // --help or --version
+    return;
+  }
+  cli_.config = config.getValue();
+  cli_.map_dir = map.getValue();
+  cli_.rawlog = rawlog.getValue();
+  cli_.outdir = outdir.getValue();
+  cli_.start_pose = start.getValue();
+  cli_.reference_trajectory = reference.getValue();
+  cli_.sets = sets.getValue();
+  cli_.quiet = quiet.getValue();
+  cli_.force = force.getValue();
+  // a bad start pose is part of the command line: exit 2 before anything is written
+  if (!cli_.start_pose.empty()) try {
+      parseStartPose(cli_.start_pose);
+    } catch (const ConfigError& e) {
+      throw UsageError(e.what() + std::string("; see budget-slam localize --help"));
+    }
+  loadConfigFile();
+}
+
+int BudgetSlamApp::runLocalize() {
+  std::optional<report::OutputFolder> folder;
+  std::unique_ptr<Localizer> localizer;
+  const auto fail = [&](const std::string& msg, const std::string& status) {
+    *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ") << msg << std::endl;
+    try {
+      if (localizer)
+        localizer->finish(status, msg, {{"map", cli_.map_dir}});
+      else if (folder)
+        report::writeJson(folder->file("summary.json"),
+                          {{"status", status}, {"error", msg}, {"command", "localize"}});
+    } catch (const std::exception& e) {
+      *err << "budget-slam: error: while saving outputs: " << e.what() << std::endl;
+    }
+    return status == "interrupted" ? 130 : 1;
+  };
+
+  RunConfig rc;
+  try {
+    loadConfig();
+    rc = loadRunConfig(params, cli_, config_label_);
+    folder.emplace(rc.outdir, cli_.force);
+  } catch (const Error& e) {
+    if (!cli_.outdir.empty() && !folder) try {
+        folder.emplace(cli_.outdir, cli_.force);
+      } catch (const Error&) {
+      }
+    return fail(e.what(), "failed");
+  }
+
+  try {
+    report::writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
+    metrics::MetricsOptions metric_options;
+    metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);
+    const MapFolder map = loadMapFolder(cli_.map_dir, rc.localization.max_map_landmarks);
+    std::vector<TrajectoryPoint> reference;
+    if (!cli_.reference_trajectory.empty())
+      reference = report::readTrajectoryTum(cli_.reference_trajectory, kMaxReferencePoses);
+    const auto truth = dataset::loadGroundTruth(rc.rawlog, rc.mapping.ground_truth_file,
+                                                rc.mapping.ground_truth_file_robot);
+
+    // The traversal is read whole first: the ground-truth row of a step depends on the count.
+    std::vector<Step> steps;
+    dataset::RawlogReader reader(rc.rawlog);
+    ProgressBar bar(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
+    while (auto s = reader.next()) {
+      steps.push_back(std::move(*s));
+      if (InterruptGuard::requested()) {
+        bar.done();
+        return fail(
+            std::string("interrupted by ") + InterruptGuard::what() + " while reading the rawlog",
+            "interrupted");
+      }
+    }
+    if (reader.bearingRangeSteps() == 0)
+      throw InputError("rawlog '" + rc.rawlog + "' holds no CObservationBearingRange");
+    const std::size_t in_rawlog = steps.size();
+    if (rc.localization.max_steps && steps.size() > rc.localization.max_steps)
+      steps.resize(rc.localization.max_steps);
+
+    std::optional<mrpt::math::TPose2D> given;
+    if (!cli_.start_pose.empty()) given = parseStartPose(cli_.start_pose);
+    if (!truth.path.empty() && !map.alignment && reference.empty() && !given)
+      throw InputError(cli_.map_dir +
+                       "/summary.json: no ground_truth.map_alignment (the map was made without "
+                       "ground truth); give --start-pose or --reference-trajectory");
+    const auto inputs =
+        resolveLocalization(steps, in_rawlog, truth, map.alignment, given,
+                            cli_.reference_trajectory.empty() ? nullptr : &reference,
+                            cli_.reference_trajectory, rc.localization);
+    localizer =
+        std::make_unique<Localizer>(rc.ini, rc.localization, metric_options.reloc_min_landmarks,
+                                    *folder, map.landmarks, inputs);
+    for (const auto& s : steps) {
+      localizer->process(s);
+      bar.update(static_cast<double>(localizer->stepsDone()) / steps.size(),
+                 "step " + std::to_string(s.index));
+      if (on_step) on_step(s.index);
+      if (InterruptGuard::requested()) {
+        bar.done();
+        return fail(std::string("interrupted by ") + InterruptGuard::what() + " after step " +
+                        std::to_string(s.index),
+                    "interrupted");
+      }
+    }
+    bar.done();
+    const auto summary = localizer->finish("ok", "",
+                                           {{"rawlog", rc.rawlog},
+                                            {"sidecar_ini", rc.sidecar},
+                                            {"config", config_label_},
+                                            {"map", cli_.map_dir},
+                                            {"map_status", map.status}});
+    if (!cli_.quiet) {
+      const auto sc = localizer->score();
+      *out << "budget-slam localize: " << sc.steps << " steps in a map of " << map.landmarks.size()
+           << " landmarks, start from " << inputs.start_source << "\n";
+      if (!inputs.truth.kind.empty())
+        *out << "against the "
+             << (inputs.truth.kind == "ground_truth" ? "ground truth" : "reference trajectory")
+             << ": RMSE " << fixed(sc.rmse_m, 3) << " m, max " << fixed(sc.max_m, 3) << " m, lost "
+             << fixed(sc.lost_pct, 1) << "% of the steps (error above "
+             << fixed(rc.localization.lost_threshold, 2) << " m), NEES " << fixed(sc.nees_mean, 2)
+             << "\n";
+      *out << "at least " << metric_options.reloc_min_landmarks << " map landmarks observed at "
+           << fixed(sc.coverage_pct, 1) << "% of the steps (mean " << fixed(sc.mean_landmarks, 2)
+           << ")\n";
+      if (summary["localization"]["diverged_at_step"].is_number())
+        *out << "the filter was lost for good at step "
+             << summary["localization"]["diverged_at_step"] << "\n";
+      *out << "outputs in " << folder->path() << "/\n";
+    }
+    return 0;
+  } catch (const Error& e) {
+    return fail(e.what(), "failed");
+  } catch (const std::exception& e) {
+    return fail(std::string("internal error: ") + e.what(), "failed");
+  }
+}
+
+}  // namespace budget_slam::app

@@ -1,0 +1,246 @@
+#include "Localizer.h"
+
+#include <mrpt/poses/CPose2D.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "budget_slam/core/Error.h"
+#include "budget_slam/metrics/GroundTruthErrors.h"
+#include "budget_slam/report/Pictures.h"
+#include "budget_slam/report/RunFiles.h"
+
+namespace budget_slam::app {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+nlohmann::json poseJson(const mrpt::math::TPose2D& p) {
+  return {{"x", p.x}, {"y", p.y}, {"yaw", p.phi}};
+}
+
+/// The reference pose at time t (timestamps as written by budget-slam: equal to the rawlog's).
+const TrajectoryPoint* atTime(const std::vector<TrajectoryPoint>& ref, double t) {
+  const double tol = 1e-6 * std::max(1.0, std::abs(t));
+  const auto it = std::lower_bound(ref.begin(), ref.end(), t - tol,
+                                   [](const TrajectoryPoint& p, double v) { return p.t < v; });
+  return it != ref.end() && std::abs(it->t - t) <= tol ? &*it : nullptr;
+}
+
+const std::vector<std::string>& localizationStepsColumns() {
+  static const std::vector<std::string> c = {
+      "step",  "t",     "x",       "y",        "yaw",   "var_x", "var_y",
+      "var_yaw", "map_landmarks_seen", "readings_used", "readings_gated", "error_m", "lost",
+      "step_ms"};
+  return c;
+}
+
+}  // namespace
+
+LocalizationInputs resolveLocalization(const std::vector<Step>& steps, std::size_t steps_in_rawlog,
+                                       const dataset::GroundTruth& gt,
+                                       const std::optional<metrics::MapAlignment>& alignment,
+                                       const std::optional<mrpt::math::TPose2D>& given,
+                                       const std::vector<TrajectoryPoint>* reference,
+                                       const std::string& reference_file,
+                                       const LocalizationOptions& options) {
+  LocalizationInputs in;
+  auto& truth = in.truth;
+  truth.poses.assign(steps.size(), std::nullopt);
+  std::optional<mrpt::math::TPose2D> start;
+  if (!gt.path.empty() && alignment) {
+    truth.kind = "ground_truth";
+    truth.file = gt.path_file;
+    const std::size_t rows = gt.path.size();
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      const std::size_t row = metrics::groundTruthRow(steps[k].index, rows, steps_in_rawlog);
+      if (row < rows) truth.poses[k] = alignment->apply(gt.path[row]);
+    }
+    for (const auto& [id, p] : gt.landmarks) truth.landmarks.push_back(alignment->transform.apply(p));
+    // The pose before the first step: row 0 (MRPT's layout: the start pose first), or, with one
+    // row a step, row 0 taken back by the first step's odometry.
+    mrpt::poses::CPose2D s(gt.path.front());
+    if (rows == steps_in_rawlog && !steps.empty() && steps.front().odometry)
+      s = s + (-mrpt::poses::CPose2D(steps.front().odometry->mean));
+    start = alignment->apply(s.asTPose());
+  } else if (reference) {
+    truth.kind = "reference_trajectory";
+    truth.file = reference_file;
+    for (std::size_t k = 0; k < steps.size(); ++k)
+      if (const auto* p = atTime(*reference, steps[k].t)) truth.poses[k] = p->pose;
+    if (!steps.empty()) {
+      const double t0 = steps.front().t, tol = 1e-6 * std::max(1.0, std::abs(t0));
+      const auto it = std::lower_bound(reference->begin(), reference->end(), t0 - tol,
+                                       [](const TrajectoryPoint& p, double v) { return p.t < v; });
+      if (it != reference->begin())
+        start = std::prev(it)->pose;  // the last reference pose before the traversal
+      else if (const auto* p = atTime(*reference, t0))
+        start = p->pose;
+    }
+  }
+  if (given) {
+    in.start.mean = *given;
+    in.start_source = "--start-pose";
+  } else if (start) {
+    in.start.mean = *start;
+    in.start_source = truth.kind == "ground_truth" ? "ground truth" : "reference trajectory";
+  } else if (truth.kind == "reference_trajectory") {
+    throw InputError(reference_file + ": no pose at or before the traversal's first time (" +
+                     std::to_string(steps.empty() ? 0.0 : steps.front().t) +
+                     " s); give --start-pose x,y,yaw");
+  } else {
+    throw ConfigError(
+        "no start pose: give --start-pose x,y,yaw, or a traversal with ground truth and a map "
+        "made with ground truth, or --reference-trajectory");
+  }
+  const double sxy = options.start_std_xy, syaw = options.start_std_yaw_deg * kDeg;
+  in.start.cov = Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal();
+  return in;
+}
+
+Localizer::Localizer(const mrpt::config::CConfigFileBase& ini, const LocalizationOptions& options,
+                     std::size_t min_landmarks, report::OutputFolder folder,
+                     const std::vector<LandmarkView>& map, const LocalizationInputs& inputs)
+    : folder_(std::move(folder)),
+      options_(options),
+      inputs_(inputs),
+      min_landmarks_(min_landmarks),
+      steps_csv_(folder_.file("steps.csv"), localizationStepsColumns()),
+      scorer_(options.lost_threshold, min_landmarks) {
+  kf_.loadOptions(ini);  // MRPT's own sections, as for mapping
+  kf_.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
+  kf_.gate_chi2 = options.gate_chi2;
+  kf_.initialize(inputs.start, map);
+  for (const auto& l : map) map_ids_.insert(l.id);
+}
+
+void Localizer::process(const Step& step) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t k = steps_done_++;
+  std::size_t seen = 0, used = 0, gated = 0;
+  if (!diverged_at_) {
+    try {
+      kf_.processStep(step);
+      const auto p = kf_.robotPose();
+      if (!std::isfinite(p.mean.x) || !std::isfinite(p.mean.y) || !std::isfinite(p.mean.phi) ||
+          !p.cov.allFinite())
+        diverged_at_ = step.index, diverged_why_ = "the robot pose or its covariance is not finite";
+    } catch (const std::exception& e) {
+      const std::string what = e.what();
+      diverged_at_ = step.index, diverged_why_ = "MRPT's filter failed: " + what.substr(0, what.find('\n'));
+    }
+  }
+  if (!diverged_at_) {
+    // Map landmarks observed: readings with a sensor ID the map holds; ID-less readings only
+    // through the filter's pairing.
+    std::set<LandmarkId> in_view;
+    const auto& use = kf_.lastUsed();
+    if (step.scan)
+      for (std::size_t r = 0; r < step.scan->readings.size(); ++r) {
+        const LandmarkId id = step.scan->readings[r].id;
+        if (id != kNoLandmarkId && map_ids_.count(id)) in_view.insert(id);
+        if (id == kNoLandmarkId && r < use.size() && use[r] != kNoLandmarkId) in_view.insert(use[r]);
+        if (r < use.size() && use[r] != kNoLandmarkId) ++used;
+        if (id != kNoLandmarkId && !map_ids_.count(id)) ++not_in_map_;
+      }
+    seen = in_view.size();
+    gated = kf_.lastGated();
+  }
+  used_ += used;
+  gated_ += gated;
+
+  const auto& truth = k < inputs_.truth.poses.size() ? inputs_.truth.poses[k] : std::nullopt;
+  const PoseEstimate pose = diverged_at_ ? PoseEstimate() : kf_.robotPose();
+  double error = std::numeric_limits<double>::quiet_NaN(), nees = error;
+  if (truth) {
+    error = diverged_at_ ? std::numeric_limits<double>::infinity()
+                         : std::hypot(pose.mean.x - truth->x, pose.mean.y - truth->y);
+    if (!diverged_at_ && inputs_.truth.kind == "ground_truth") nees = metrics::poseNees(pose, *truth);
+    truth_rows_.push_back({step.index, step.t, *truth});
+  }
+  const bool lost = scorer_.add(error, seen, nees);
+  if (!diverged_at_) {
+    trajectory_.push_back({step.index, step.t, pose.mean});
+    in_view_.push_back(seen);
+  }
+  const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  total_s_ += dt;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  steps_csv_.cell(step.index)
+      .cell(step.t)
+      .cell(diverged_at_ ? nan : pose.mean.x)
+      .cell(diverged_at_ ? nan : pose.mean.y)
+      .cell(diverged_at_ ? nan : pose.mean.phi)
+      .cell(diverged_at_ ? nan : pose.cov(0, 0))
+      .cell(diverged_at_ ? nan : pose.cov(1, 1))
+      .cell(diverged_at_ ? nan : pose.cov(2, 2))
+      .cell(seen)
+      .cell(used)
+      .cell(gated)
+      .cell(error)
+      .cell(truth ? (lost ? 1 : 0) : -1)
+      .cell(1e3 * dt);
+  steps_csv_.endRow();
+}
+
+nlohmann::json Localizer::finish(const std::string& status, const std::string& error,
+                                 const nlohmann::json& extra) {
+  const auto landmarks = kf_.landmarks();
+  report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory_);
+  report::writeLandmarksCsv(folder_.file("landmarks.csv"), diverged_at_ ? std::vector<LandmarkView>() : landmarks);
+  if (!inputs_.truth.kind.empty())
+    report::writeTrajectoryTum(
+        folder_.file(inputs_.truth.kind == "ground_truth" ? "ground_truth.tum" : "reference.tum"),
+        truth_rows_);
+
+  const auto s = scorer_.score();
+  report::MapContent map;
+  map.title = "localization in a map of " + std::to_string(map_ids_.size()) + " landmarks: " +
+              (std::isfinite(s.lost_pct) ? std::to_string(static_cast<int>(std::lround(s.lost_pct))) +
+                                               "% of the steps lost"
+                                         : "no truth to compare with");
+  for (const auto& p : trajectory_) map.trajectory.push_back(p.pose);
+  map.trajectory_landmarks = in_view_;
+  map.min_landmarks = min_landmarks_;
+  if (!diverged_at_) map.kept = landmarks;
+  for (const auto& p : truth_rows_) map.ground_truth_path.push_back(p.pose);
+  map.ground_truth_landmarks = inputs_.truth.landmarks;
+  report::writeMapPng(folder_.file("map.png"), map);
+
+  nlohmann::json j;
+  j["status"] = status;
+  j["error"] = error;
+  j["command"] = "localize";
+  j["start_pose"] = poseJson(inputs_.start.mean);
+  j["start_pose"]["source"] = inputs_.start_source;
+  j["counts"] = {{"steps", steps_done_}, {"map_landmarks", map_ids_.size()}};
+  j["localization"] = {
+      {"min_landmarks", min_landmarks_},
+      {"lost_threshold_m", options_.lost_threshold},
+      {"error_against", inputs_.truth.kind.empty() ? nlohmann::json() : nlohmann::json(inputs_.truth.kind)},
+      {"error_file", inputs_.truth.file},
+      {"rmse_m", number(s.rmse_m)},
+      {"max_m", number(s.max_m)},
+      {"lost_pct", number(s.lost_pct)},
+      {"steps_compared", s.compared},
+      {"steps_lost", s.lost},
+      {"coverage_pct", number(s.coverage_pct)},
+      {"mean_landmarks", number(s.mean_landmarks)},
+      {"nees_mean", number(s.nees_mean)},
+      {"nees_samples", s.nees_samples},
+      {"readings_used", used_},
+      {"readings_gated", gated_},
+      {"readings_not_in_map", not_in_map_},
+      {"diverged_at_step", diverged_at_ ? nlohmann::json(*diverged_at_) : nlohmann::json()},
+      {"diverged_why", diverged_why_}};
+  j["timings"] = {{"steps_s", total_s_},
+                  {"step_ms_mean", number(steps_done_ ? 1e3 * total_s_ / steps_done_ : NAN)}};
+  for (const auto& [key, v] : extra.items()) j[key] = v;
+  report::writeJson(folder_.file("summary.json"), j);
+  return j;
+}
+
+}  // namespace budget_slam::app

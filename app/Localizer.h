@@ -1,0 +1,91 @@
+#pragma once
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "LocalizationOptions.h"
+#include "budget_slam/core/Step.h"
+#include "budget_slam/dataset/GroundTruth.h"
+#include "budget_slam/ekf/LocalizationKF2D.h"
+#include "budget_slam/metrics/LocalizationScore.h"
+#include "budget_slam/metrics/MapAlignment.h"
+#include "budget_slam/report/CsvWriter.h"
+#include "budget_slam/report/OutputFolder.h"
+
+namespace budget_slam::app {
+
+/// What a localization's position error is measured against, in the map's frame, one pose a
+/// step of the traversal (nullopt: nothing for that step).
+struct LocalizationTruth {
+  std::string kind;  ///< "ground_truth", "reference_trajectory", or "" (none: no errors)
+  std::string file;  ///< where it came from
+  std::vector<std::optional<mrpt::math::TPose2D>> poses;
+  std::vector<Eigen::Vector2d> landmarks;  ///< true landmarks in the map's frame (map.png)
+};
+
+/// The start pose and the truth of a localization, resolved from the map and the traversal.
+struct LocalizationInputs {
+  PoseEstimate start;
+  std::string start_source;  ///< "--start-pose", "ground truth", "reference trajectory"
+  LocalizationTruth truth;
+};
+
+/// Resolves the start pose and the truth (docs/OUTPUTS.md, "budget-slam localize"):
+///  - truth: the traversal's ground-truth path brought into the map's frame by the mapping run's
+///    `alignment`; without ground truth (or without an alignment), the `reference` trajectory
+///    (poses matched by timestamp); else none;
+///  - start: `given` when set, else the truth's pose before the first step (ground truth: the
+///    path's start row; reference: its last pose before the first step's time).
+/// Throws InputError when there is no start pose, naming what to give.
+/// `steps_in_rawlog` maps ground-truth rows (the traversal may be localized only in part).
+LocalizationInputs resolveLocalization(const std::vector<Step>& steps, std::size_t steps_in_rawlog,
+                                       const dataset::GroundTruth& traversal_truth,
+                                       const std::optional<metrics::MapAlignment>& alignment,
+                                       const std::optional<mrpt::math::TPose2D>& given,
+                                       const std::vector<TrajectoryPoint>* reference,
+                                       const std::string& reference_file,
+                                       const LocalizationOptions& options);
+
+/// One localization of a traversal in a fixed map (budget-slam localize): MRPT's EKF through
+/// ekf::LocalizationKF2D, the outputs of `run` in its folder (trajectory.tum, steps.csv,
+/// landmarks.csv, map.png, summary.json, ground_truth.tum or reference.tum), and the score.
+class Localizer {
+ public:
+  Localizer(const mrpt::config::CConfigFileBase& ini, const LocalizationOptions& options,
+            std::size_t min_landmarks, report::OutputFolder folder,
+            const std::vector<LandmarkView>& map, const LocalizationInputs& inputs);
+
+  /// One step. A filter that stops being finite (or that MRPT rejects) is not an error: the robot
+  /// is lost from that step on (summary.json: diverged_at_step).
+  void process(const Step& step);
+
+  /// Writes trajectory.tum, landmarks.csv, map.png, the truth's .tum and summary.json (with
+  /// `extra` merged in). Returns the summary.
+  nlohmann::json finish(const std::string& status, const std::string& error,
+                        const nlohmann::json& extra = {});
+
+  metrics::LocalizationScore score() const { return scorer_.score(); }
+  std::size_t stepsDone() const { return steps_done_; }
+
+ private:
+  report::OutputFolder folder_;
+  LocalizationOptions options_;
+  LocalizationInputs inputs_;
+  std::size_t min_landmarks_;
+  ekf::LocalizationKF2D kf_;
+  std::set<LandmarkId> map_ids_;
+  report::CsvWriter steps_csv_;
+  metrics::LocalizationScorer scorer_;
+  std::vector<TrajectoryPoint> trajectory_, truth_rows_;
+  std::vector<std::size_t> in_view_;  ///< map landmarks observed, one per trajectory pose
+  std::optional<StepIndex> diverged_at_;
+  std::string diverged_why_;
+  std::size_t steps_done_ = 0, used_ = 0, gated_ = 0, not_in_map_ = 0;
+  double total_s_ = 0;
+};
+
+}  // namespace budget_slam::app

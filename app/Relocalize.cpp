@@ -1,0 +1,207 @@
+// compare --relocalize: every run's final map localizes other traversals (docs/OUTPUTS.md).
+#include "Relocalize.h"
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <unordered_set>
+
+#include "Interrupt.h"
+#include "Localizer.h"
+#include "budget_slam/core/Error.h"
+#include "budget_slam/dataset/RawlogReader.h"
+#include "budget_slam/metrics/MetricsOptions.h"
+#include "budget_slam/report/CsvWriter.h"
+
+namespace budget_slam::app {
+namespace {
+
+double meanOfFinite(const std::vector<double>& v) {
+  double s = 0;
+  std::size_t n = 0;
+  for (double x : v)
+    if (std::isfinite(x)) s += x, ++n;
+  return n ? s / n : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// a / b, with 0 / 0 = 1 (both maps perfect) and x / 0 undefined.
+double ratio(double a, double b) {
+  if (!std::isfinite(a) || !std::isfinite(b)) return std::numeric_limits<double>::quiet_NaN();
+  if (b == 0) return a == 0 ? 1.0 : std::numeric_limits<double>::quiet_NaN();
+  return a / b;
+}
+
+}  // namespace
+
+bool withoutLandmarkIds(const std::vector<Step>& steps) {
+  for (const auto& s : steps)
+    if (s.scan)
+      for (const auto& r : s.scan->readings)
+        if (r.id != kNoLandmarkId) return false;
+  return true;
+}
+
+std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& params,
+                                      const CommandLine& cli, const std::string& config_label) {
+  std::vector<Traversal> out;
+  for (const auto& path : cli.relocalize) {
+    Traversal t;
+    CommandLine c = cli;
+    c.rawlog = path;
+    t.rc = loadRunConfig(params, c, config_label);
+    t.name = std::filesystem::path(path).stem().string();
+    for (const auto& other : out)
+      if (other.name == t.name)
+        throw ConfigError("--relocalize: two traversals are named '" + t.name + "'");
+    t.truth = dataset::loadGroundTruth(t.rc.rawlog, t.rc.mapping.ground_truth_file,
+                                       t.rc.mapping.ground_truth_file_robot);
+    dataset::RawlogReader reader(t.rc.rawlog);
+    while (auto s = reader.next()) {
+      t.steps.push_back(std::move(*s));
+      if (InterruptGuard::requested()) throw Error("interrupted while reading '" + path + "'");
+    }
+    if (reader.bearingRangeSteps() == 0)
+      throw InputError("rawlog '" + t.rc.rawlog + "' holds no CObservationBearingRange");
+    t.steps_in_rawlog = t.steps.size();
+    if (t.rc.localization.max_steps && t.steps.size() > t.rc.localization.max_steps)
+      t.steps.resize(t.rc.localization.max_steps);
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& maps,
+                                                const std::vector<Traversal>& traversals,
+                                                const std::vector<TrajectoryPoint>* reference,
+                                                const std::string& reference_file,
+                                                unsigned threads, bool force) {
+  std::vector<RelocalizationResult> results;
+  for (const auto& m : maps)
+    for (const auto& t : traversals) {
+      RelocalizationResult r;
+      r.run = m.run;
+      r.traversal = t.name;
+      results.push_back(r);
+    }
+  std::atomic<std::size_t> next{0};
+  const auto worker = [&] {
+    for (std::size_t i; (i = next++) < results.size();) {
+      auto& r = results[i];
+      const MapOfRun& m = maps[i / traversals.size()];
+      const Traversal& t = traversals[i % traversals.size()];
+      std::unique_ptr<Localizer> loc;
+      try {
+        if (m.landmarks.size() > t.rc.localization.max_map_landmarks)
+          throw ConfigError("the map of '" + m.run + "' has " + std::to_string(m.landmarks.size()) +
+                            " landmarks, more than [Localization] max_map_landmarks = " +
+                            std::to_string(t.rc.localization.max_map_landmarks));
+        if (!t.truth.path.empty() && !m.alignment && !reference)
+          throw InputError("run '" + m.run + "' has no ground-truth alignment for '" + t.name + "'");
+        metrics::MetricsOptions mo;
+        mo.loadFromConfigFile(t.rc.ini, metrics::MetricsOptions::kSection);
+        const auto inputs =
+            resolveLocalization(t.steps, t.steps_in_rawlog, t.truth, m.alignment, std::nullopt,
+                                reference, reference_file, t.rc.localization);
+        report::OutputFolder folder(
+            (std::filesystem::path(m.folder) / "relocalize" / t.name).string(), force);
+        std::ofstream(folder.file("config_used.ini")) << t.rc.ini.getContent();
+        loc = std::make_unique<Localizer>(t.rc.ini, t.rc.localization, mo.reloc_min_landmarks,
+                                          folder, m.landmarks, inputs);
+        for (const auto& s : t.steps) {
+          if (InterruptGuard::requested()) {
+            r.status = "interrupted";
+            r.error = std::string("interrupted by ") + InterruptGuard::what();
+            break;
+          }
+          loc->process(s);
+        }
+        loc->finish(r.status, r.error,
+                    {{"rawlog", t.rc.rawlog}, {"map", m.folder}, {"run", m.run}});
+        r.score = loc->score();
+      } catch (const std::exception& e) {
+        r.status = "failed";
+        r.error = e.what();
+        if (loc) try {
+            loc->finish("failed", r.error, {{"rawlog", t.rc.rawlog}, {"map", m.folder}});
+          } catch (const std::exception&) {
+          }
+      }
+    }
+  };
+  const std::size_t n = std::max<std::size_t>(
+      1, std::min<std::size_t>(threads ? threads : std::thread::hardware_concurrency(),
+                               results.size()));
+  std::vector<std::thread> pool;
+  for (std::size_t k = 0; k < n; ++k) pool.emplace_back(worker);
+  for (auto& th : pool) th.join();
+  return results;
+}
+
+void writeRelocalizationCsv(const std::string& path,
+                            const std::vector<RelocalizationResult>& results) {
+  report::CsvWriter csv(path, {"run", "traversal", "status", "rmse_m", "max_m", "lost_pct",
+                               "coverage_pct", "nees_mean"});
+  for (const auto& r : results) {
+    csv.cell(r.run)
+        .cell(r.traversal)
+        .cell(r.status)
+        .cell(r.score.rmse_m)
+        .cell(r.score.max_m)
+        .cell(r.score.lost_pct)
+        .cell(r.score.coverage_pct)
+        .cell(r.score.nees_mean);
+    csv.endRow();
+  }
+}
+
+void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
+                              const std::vector<RelocalizationResult>& results,
+                              const std::string& reference_run) {
+  std::map<std::string, std::vector<const RelocalizationResult*>> by_run;
+  for (const auto& r : results) by_run[r.run].push_back(&r);
+  const auto mean = [&](const std::string& run, double metrics::LocalizationScore::*field) {
+    std::vector<double> v;
+    for (const auto* r : by_run[run]) v.push_back(r->status == "ok" ? r->score.*field : NAN);
+    return meanOfFinite(v);
+  };
+  using S = metrics::LocalizationScore;
+  for (auto& row : rows) {
+    if (!by_run.count(row.run)) continue;
+    row.reloc_rmse_m = mean(row.run, &S::rmse_m);
+    row.reloc_max_m = mean(row.run, &S::max_m);
+    row.reloc_lost_pct = mean(row.run, &S::lost_pct);
+    row.reloc_traversal_coverage_pct = mean(row.run, &S::coverage_pct);
+  }
+  const report::ComparisonRow* ref = nullptr;
+  for (const auto& row : rows)
+    if (row.run == reference_run) ref = &row;
+  if (!ref) return;
+  const double ref_rmse = ref->reloc_rmse_m, ref_lost = ref->reloc_lost_pct;
+  for (auto& row : rows) {
+    row.reloc_rmse_ratio = ratio(row.reloc_rmse_m, ref_rmse);
+    row.reloc_lost_ratio = ratio(row.reloc_lost_pct, ref_lost);
+  }
+}
+
+Pipeline::FinalCoverage coverageThroughReference(const Pipeline& reference, const Pipeline& run,
+                                                 double gate_chi2) {
+  const auto pairs =
+      metrics::matchLandmarks(run.backend().landmarks(), reference.backend().landmarks(), gate_chi2);
+  std::unordered_set<LandmarkId> matched_reference;
+  for (const auto& [mine, theirs] : pairs) matched_reference.insert(theirs);
+  Pipeline::FinalCoverage c;
+  c.steps = reference.relocalization().steps();
+  c.coverage = metrics::coverageOf(
+      c.steps, [&](LandmarkId id) { return matched_reference.count(id) > 0; },
+      reference.relocalization().minLandmarks(), reference.relocalization().sampled());
+  c.source = "reference_association";
+  c.details = {{"landmarks_matched_to_reference", pairs.size()},
+               {"match_gate_chi2", gate_chi2}};
+  return c;
+}
+
+}  // namespace budget_slam::app

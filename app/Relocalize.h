@@ -1,0 +1,71 @@
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "BudgetSlamApp.h"
+#include "Pipeline.h"
+#include "RunConfig.h"
+#include "budget_slam/metrics/LocalizationScore.h"
+#include "budget_slam/report/ComparisonTable.h"
+
+namespace budget_slam::app {
+
+/// A traversal of `compare --relocalize`, read once: its rawlog, settings (its own sidecar
+/// applied), steps and ground truth.
+struct Traversal {
+  std::string name;  ///< the rawlog's stem: the folder name under <run>/relocalize/
+  RunConfig rc;
+  std::vector<Step> steps;
+  std::size_t steps_in_rawlog = 0;
+  dataset::GroundTruth truth;
+};
+
+/// Reads every --relocalize rawlog with `cli`'s flags and `params` (errors name the file).
+std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& params,
+                                      const CommandLine& cli, const std::string& config_label);
+
+/// A run's final map as compare hands it to the localizations.
+struct MapOfRun {
+  std::string run;         ///< reference or the reducer's name
+  std::string folder;      ///< the run's output folder
+  std::vector<LandmarkView> landmarks;
+  std::optional<metrics::MapAlignment> alignment;
+};
+
+/// One localization of one traversal in one run's map.
+struct RelocalizationResult {
+  std::string run, traversal, status = "ok", error;
+  metrics::LocalizationScore score;
+};
+
+/// Every map localizes every traversal, `threads` at a time; each writes the outputs of
+/// `budget-slam localize` into <run folder>/relocalize/<traversal>/. A traversal without ground
+/// truth is measured against `reference` (a trajectory.tum) when given. Never throws for one
+/// localization: its result says failed and why.
+std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& maps,
+                                                const std::vector<Traversal>& traversals,
+                                                const std::vector<TrajectoryPoint>* reference,
+                                                const std::string& reference_file,
+                                                unsigned threads, bool force);
+
+/// relocalization.csv: run, traversal, status, rmse_m, max_m, lost_pct, coverage_pct, nees_mean.
+void writeRelocalizationCsv(const std::string& path,
+                            const std::vector<RelocalizationResult>& results);
+
+/// Fills the reloc_* columns of `rows` (matched by run name): means over the traversals, and the
+/// ratios to the row of run `reference_run`.
+void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
+                              const std::vector<RelocalizationResult>& results,
+                              const std::string& reference_run);
+
+/// For a rawlog without sensor IDs: the final map of `run` (after complete()) against the steps'
+/// observations as the `reference` run associated them: each of its landmarks paired with a
+/// reference landmark (metrics::matchLandmarks). Returns what Pipeline::finish should report.
+Pipeline::FinalCoverage coverageThroughReference(const Pipeline& reference, const Pipeline& run,
+                                                 double gate_chi2);
+
+/// True when no reading of `steps` carries a sensor landmark ID.
+bool withoutLandmarkIds(const std::vector<Step>& steps);
+
+}  // namespace budget_slam::app

@@ -1,0 +1,124 @@
+#include "budget_slam/ekf/LocalizationKF2D.h"
+
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <stdexcept>
+
+#include "budget_slam/ekf/MrptStepInput.h"
+
+namespace budget_slam::ekf {
+
+void LocalizationKF2D::initialize(const PoseEstimate& start,
+                                  const std::vector<LandmarkView>& map) {
+  const std::size_t n = 3 + 2 * map.size();
+  m_xkk.resize(n);
+  m_pkk.setSize(n, n);
+  m_pkk.setZero();
+  m_xkk[0] = start.mean.x;
+  m_xkk[1] = start.mean.y;
+  m_xkk[2] = mrpt::math::wrapToPi(start.mean.phi);
+  auto P = m_pkk.asEigen();
+  P.block<3, 3>(0, 0) = start.cov;
+  m_IDs.clear();
+  for (std::size_t i = 0; i < map.size(); ++i) {
+    const auto r = static_cast<Eigen::Index>(3 + 2 * i);
+    m_xkk[r] = map[i].mean.x();
+    m_xkk[r + 1] = map[i].mean.y();
+    P.block<2, 2>(r, r) = map[i].cov;
+    if (m_IDs.hasKey(map[i].id))
+      throw std::invalid_argument("landmark id " + std::to_string(map[i].id) + " twice in the map");
+    m_IDs.insert(map[i].id, static_cast<unsigned int>(i));
+  }
+  used_.clear();
+  gated_ = 0;
+}
+
+void LocalizationKF2D::processStep(const Step& step) {
+  auto in = mrptStepInput(step);
+  used_.clear();
+  gated_ = 0;
+  processActionObservation(in.action, in.frame);
+}
+
+PoseEstimate LocalizationKF2D::robotPose() const {
+  PoseEstimate p;
+  p.mean = mrpt::math::TPose2D(m_xkk[0], m_xkk[1], m_xkk[2]);
+  p.cov = m_pkk.asEigen().block<3, 3>(0, 0);
+  return p;
+}
+
+std::vector<LandmarkView> LocalizationKF2D::landmarks() const {
+  std::vector<LandmarkView> out(landmarkCount());
+  const auto& P = m_pkk.asEigen();
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    mrpt::maps::CLandmark::TLandmarkID id;
+    if (!m_IDs.inverse(static_cast<unsigned int>(i), id))
+      throw std::logic_error("localization filter: no id at state index " + std::to_string(i));
+    const auto r = static_cast<Eigen::Index>(3 + 2 * i);
+    out[i].id = id;
+    out[i].mean = Eigen::Vector2d(m_xkk[r], m_xkk[r + 1]);
+    out[i].cov = P.block<2, 2>(r, r);
+  }
+  return out;
+}
+
+void LocalizationKF2D::OnTransitionModel(const KFArray_ACT& in_u, KFArray_VEH& inout_x,
+                                         bool& out_skipPrediction) const {
+  // MRPT's composition x (+) u, done even with no landmark in the state.
+  const mrpt::poses::CPose2D p = mrpt::poses::CPose2D(inout_x[0], inout_x[1], inout_x[2]) +
+                                 mrpt::poses::CPose2D(in_u[0], in_u[1], in_u[2]);
+  inout_x[0] = p.x();
+  inout_x[1] = p.y();
+  inout_x[2] = p.phi();
+  out_skipPrediction = false;
+}
+
+void LocalizationKF2D::OnGetObservationsAndDataAssociation(
+    vector_KFArray_OBS& out_z, std::vector<int>& out_data_association,
+    const vector_KFArray_OBS& in_all_predictions, const KFMatrix& in_S,
+    const std::vector<size_t>& in_lm_indices_in_S, const KFMatrix_OxO& in_R) {
+  // MRPT's own readings and pairing (by sensor ID, else its data association)...
+  vector_KFArray_OBS z;
+  std::vector<int> da;
+  CRangeBearingKFSLAM2D::OnGetObservationsAndDataAssociation(z, da, in_all_predictions, in_S,
+                                                             in_lm_indices_in_S, in_R);
+  // ... then only the paired readings that pass the gate go to the update; the rest (unpaired:
+  // -1, which MRPT would turn into new landmarks) are left out altogether.
+  used_.assign(z.size(), kNoLandmarkId);
+  gated_ = 0;
+  out_z.clear();
+  out_data_association.clear();
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    if (da[i] < 0) continue;
+    const auto lm = static_cast<std::size_t>(da[i]);
+    const auto it = std::find(in_lm_indices_in_S.begin(), in_lm_indices_in_S.end(), lm);
+    if (gate_chi2 > 0) {
+      if (it == in_lm_indices_in_S.end()) {  // MRPT predicts it out of view: far off
+        ++gated_;
+        continue;
+      }
+      const auto k = static_cast<Eigen::Index>(2 * (it - in_lm_indices_in_S.begin()));
+      const Eigen::Matrix2d S = in_S.asEigen().block<2, 2>(k, k);
+      const Eigen::Vector2d v(z[i][0] - in_all_predictions[lm][0],
+                              mrpt::math::wrapToPi(z[i][1] - in_all_predictions[lm][1]));
+      const Eigen::LLT<Eigen::Matrix2d> llt(S);
+      if (llt.info() != Eigen::Success || v.dot(llt.solve(v)) > gate_chi2) {
+        ++gated_;
+        continue;
+      }
+    }
+    out_z.push_back(z[i]);
+    out_data_association.push_back(da[i]);
+    mrpt::maps::CLandmark::TLandmarkID id;
+    if (m_IDs.inverse(static_cast<unsigned int>(lm), id)) used_[i] = id;
+  }
+}
+
+void LocalizationKF2D::OnNewLandmarkAddedToMap(const size_t, const size_t) {
+  throw std::logic_error("localization filter: a landmark was about to enter the map");
+}
+
+}  // namespace budget_slam::ekf

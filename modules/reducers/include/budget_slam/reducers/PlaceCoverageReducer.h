@@ -1,0 +1,120 @@
+#pragma once
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <cstdint>
+#include <set>
+#include <unordered_map>
+#include <vector>
+
+#include "budget_slam/core/ReducerRegistry.h"
+
+namespace budget_slam::reducers {
+
+/// [PlaceCoverageReducer]: the places of `place-coverage` and how many landmarks each should keep
+/// (docs/ALGORITHMS.md "place-coverage").
+struct PlaceCoverageOptions : public mrpt::config::CLoadableOptions {
+  static constexpr const char* kSection = "PlaceCoverageReducer";
+
+  std::size_t min_landmarks = 2;  ///< k: landmarks a place should keep, >= 1 [landmarks]
+  /// Side of a place's grid cell [m]; 0 = a quarter of the sensor's maximum range as the rawlog
+  /// states it (1 m when it does not). >= 0.
+  double place_size = 0;
+  /// Heading sectors a cell is split into (a place is a cell and a sector); 0 = from the
+  /// sensor's field of view: 1 for 360 deg, else round(720 deg / fov) (4 for 180 deg).
+  std::size_t heading_sectors = 0;
+  /// Candidates whose coverage loss is within this many places of the least loss are near-ties,
+  /// decided by information gain [places], >= 0.
+  double near_tie = 0;
+  /// Places remembered at most; beyond, the place visited longest ago is forgotten [places].
+  std::size_t max_places = 100000;
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
+                          const std::string& section) override;
+  void dumpToTextStream(std::ostream& out) const override;
+  static std::vector<std::string> keys();
+};
+
+/// `place-coverage`: keeps, for every place the robot has visited, at least k landmarks it
+/// observed from there, and drops the landmark whose loss least reduces that coverage.
+///
+/// A place is a cell of a square grid in the estimate's frame and a sector of robot heading (a
+/// 180 deg sensor sees different landmarks facing north or south). Each place holds the map's
+/// landmarks observed from it. The coverage of a map K is f(K) = sum over places p of
+/// min(k, |K observed from p|), a monotone submodular function (a sum of concave functions of
+/// counts), so dropping L costs
+///   loss(L) = number of places observing L that hold at most k landmarks,
+/// and the loss of a landmark can only grow as others go. The reducer keeps every loss exact by
+/// updating it only where a place's count crosses k (the incremental form of lazy greedy: nothing
+/// is re-evaluated that cannot have changed). It drops the candidate with the least loss; the
+/// candidates within `near_tie` of it are decided by the lowest information gain
+/// (Backend::informationGain, bits), then the lowest id. Score: the loss [places].
+///
+/// Memory: O(places + sightings of kept landmarks by place), bounded by the area visited (and by
+/// max_places), not by the length of the run; a landmark that leaves the map is forgotten.
+class PlaceCoverageReducer : public Reducer {
+ public:
+  explicit PlaceCoverageReducer(const PlaceCoverageOptions& options) : options_(options) {}
+  std::string name() const override { return "place-coverage"; }
+  ReducerChoice choose(const DropContext& ctx) override;
+  void dumpOptions(std::ostream& out) const override { options_.dumpToTextStream(out); }
+  bool wantsObservations() const override { return true; }
+  void observe(const StepObservation& seen) override;
+  void forget(LandmarkId id) override;
+  static ReducerRegistry::Entry entry();
+
+  /// A place: grid cell and heading sector.
+  struct PlaceKey {
+    std::int64_t ix = 0, iy = 0;
+    std::uint32_t sector = 0;
+    bool operator==(const PlaceKey& o) const {
+      return ix == o.ix && iy == o.iy && sector == o.sector;
+    }
+  };
+  /// The place of a robot pose (after the first observe() has fixed size and sectors).
+  PlaceKey placeOf(const mrpt::math::TPose2D& robot) const;
+
+  /// Coverage loss of dropping `id` now [places] (0 for a landmark never observed).
+  double loss(LandmarkId id) const;
+  /// f(K) of the landmarks the reducer knows (the map): sum over places of min(k, count).
+  double coverage() const;
+  std::size_t placeCount() const { return place_of_key_.size(); }
+  /// Landmarks of the map observed from the place of `robot` (sorted ids).
+  std::vector<LandmarkId> observedFrom(const mrpt::math::TPose2D& robot) const;
+  /// For every place remembered, the landmarks observed from it (sorted ids), in slot order.
+  std::vector<std::vector<LandmarkId>> placeSightings() const;
+  double placeSize() const { return size_; }
+  std::size_t headingSectors() const { return sectors_; }
+
+ private:
+  struct KeyHash {
+    std::size_t operator()(const PlaceKey& k) const;
+  };
+  struct Place {
+    PlaceKey key;
+    std::vector<LandmarkId> seen;  ///< map landmarks observed from here, sorted
+    StepIndex last_visit = 0;
+    bool used = false;
+  };
+  struct Track {
+    std::vector<std::uint32_t> places;  ///< slots of the places observing it
+    double loss = 0;                    ///< places among them holding <= k landmarks
+  };
+
+  void fixGeometry(const StepObservation& seen);
+  std::uint32_t visit(const PlaceKey& key, StepIndex step);
+  void addSighting(std::uint32_t slot, LandmarkId id);
+  /// Takes `id` out of place `slot` (not out of the track's list), updating the losses.
+  void removeFromPlace(std::uint32_t slot, LandmarkId id);
+  void forgetPlace(std::uint32_t slot);
+
+  PlaceCoverageOptions options_;
+  double size_ = 0;          ///< [m], fixed at the first observe()
+  std::size_t sectors_ = 0;  ///< fixed at the first observe()
+  std::vector<Place> places_;
+  std::vector<std::uint32_t> free_slots_;
+  std::unordered_map<PlaceKey, std::uint32_t, KeyHash> place_of_key_;
+  std::set<std::pair<StepIndex, std::uint32_t>> by_visit_;  ///< (last visit, slot), oldest first
+  std::unordered_map<LandmarkId, Track> tracks_;
+};
+
+}  // namespace budget_slam::reducers

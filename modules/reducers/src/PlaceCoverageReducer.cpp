@@ -1,0 +1,229 @@
+#include "budget_slam/reducers/PlaceCoverageReducer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <ostream>
+
+#include "budget_slam/core/IniSection.h"
+
+namespace budget_slam::reducers {
+
+void PlaceCoverageOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
+                                              const std::string& section) {
+  const IniSection s(ini, section);
+  min_landmarks = static_cast<std::size_t>(
+      s.readInt("min_landmarks", static_cast<long long>(min_landmarks), 1, 1000000));
+  place_size = s.readDouble("place_size", place_size, 0.0, 1e6);
+  heading_sectors = static_cast<std::size_t>(
+      s.readInt("heading_sectors", static_cast<long long>(heading_sectors), 0, 360));
+  near_tie = s.readDouble("near_tie", near_tie, 0.0, 1e12);
+  max_places = static_cast<std::size_t>(
+      s.readInt("max_places", static_cast<long long>(max_places), 1, 100000000));
+}
+
+void PlaceCoverageOptions::dumpToTextStream(std::ostream& out) const {
+  out << "\n----------- [" << kSection << "] ------------\n";
+  out << "min_landmarks            = " << min_landmarks << "\n";
+  out << "place_size               = " << place_size << "\n";
+  out << "heading_sectors          = " << heading_sectors << "\n";
+  out << "near_tie                 = " << near_tie << "\n";
+  out << "max_places               = " << max_places << "\n";
+}
+
+std::vector<std::string> PlaceCoverageOptions::keys() {
+  return {"min_landmarks", "place_size", "heading_sectors", "near_tie", "max_places"};
+}
+
+std::size_t PlaceCoverageReducer::KeyHash::operator()(const PlaceKey& k) const {
+  // SplitMix64-style mixing of the three coordinates.
+  auto mix = [](std::uint64_t x) {
+    x += 0x9e3779b97f4a7c15ULL;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    return x ^ (x >> 31);
+  };
+  return static_cast<std::size_t>(mix(static_cast<std::uint64_t>(k.ix) ^
+                                      mix(static_cast<std::uint64_t>(k.iy) ^ mix(k.sector))));
+}
+
+void PlaceCoverageReducer::fixGeometry(const StepObservation& seen) {
+  if (size_ > 0) return;
+  // A quarter of the sensor's range: a place's landmarks stay in view across it.
+  size_ = options_.place_size > 0     ? options_.place_size
+          : seen.sensor_max_range > 0 ? seen.sensor_max_range / 4
+                                      : 1.0;
+  if (options_.heading_sectors > 0) {
+    sectors_ = options_.heading_sectors;
+  } else if (seen.sensor_fov <= 0 || seen.sensor_fov >= 2 * M_PI - 1e-6) {
+    sectors_ = 1;  // all around (or unknown): the heading does not change what is in view
+  } else {
+    sectors_ = static_cast<std::size_t>(std::max(1.0, std::round(4 * M_PI / seen.sensor_fov)));
+  }
+}
+
+PlaceCoverageReducer::PlaceKey PlaceCoverageReducer::placeOf(
+    const mrpt::math::TPose2D& robot) const {
+  const double size = size_ > 0 ? size_ : 1.0;
+  const std::size_t sectors = sectors_ > 0 ? sectors_ : 1;
+  PlaceKey k;
+  k.ix = static_cast<std::int64_t>(std::floor(robot.x / size));
+  k.iy = static_cast<std::int64_t>(std::floor(robot.y / size));
+  double yaw = std::fmod(robot.phi, 2 * M_PI);
+  if (yaw < 0) yaw += 2 * M_PI;
+  k.sector = static_cast<std::uint32_t>(
+      std::min<double>(static_cast<double>(sectors) - 1,
+                       std::floor(yaw / (2 * M_PI / static_cast<double>(sectors)))));
+  return k;
+}
+
+std::uint32_t PlaceCoverageReducer::visit(const PlaceKey& key, StepIndex step) {
+  std::uint32_t slot;
+  const auto it = place_of_key_.find(key);
+  if (it != place_of_key_.end()) {
+    slot = it->second;
+    by_visit_.erase({places_[slot].last_visit, slot});
+  } else {
+    if (!free_slots_.empty()) {
+      slot = free_slots_.back();
+      free_slots_.pop_back();
+    } else {
+      slot = static_cast<std::uint32_t>(places_.size());
+      places_.emplace_back();
+    }
+    places_[slot] = Place{key, {}, step, true};
+    place_of_key_.emplace(key, slot);
+  }
+  places_[slot].last_visit = step;
+  by_visit_.insert({step, slot});
+  while (place_of_key_.size() > options_.max_places) {
+    const auto oldest = by_visit_.begin();
+    if (oldest->second == slot) break;  // never the place being visited
+    forgetPlace(oldest->second);
+  }
+  return slot;
+}
+
+void PlaceCoverageReducer::addSighting(std::uint32_t slot, LandmarkId id) {
+  Place& p = places_[slot];
+  const auto pos = std::lower_bound(p.seen.begin(), p.seen.end(), id);
+  if (pos != p.seen.end() && *pos == id) return;
+  const std::size_t k = options_.min_landmarks;
+  const std::size_t before = p.seen.size();
+  Track& t = tracks_[id];
+  if (before + 1 <= k) {
+    t.loss += 1;  // the place still holds at most k: losing `id` would cost it
+  } else if (before == k) {
+    // The place goes from k to k + 1 landmarks: none of the old ones is needed there any more.
+    for (const LandmarkId other : p.seen) tracks_[other].loss -= 1;
+  }
+  p.seen.insert(pos, id);
+  t.places.push_back(slot);
+}
+
+void PlaceCoverageReducer::removeFromPlace(std::uint32_t slot, LandmarkId id) {
+  Place& p = places_[slot];
+  const auto pos = std::lower_bound(p.seen.begin(), p.seen.end(), id);
+  if (pos == p.seen.end() || *pos != id) return;
+  const std::size_t k = options_.min_landmarks;
+  const std::size_t before = p.seen.size();
+  p.seen.erase(pos);
+  if (before <= k) {
+    tracks_[id].loss -= 1;
+  } else if (before == k + 1) {
+    // Down to k: every remaining landmark of the place is needed there now.
+    for (const LandmarkId other : p.seen) tracks_[other].loss += 1;
+  }
+}
+
+void PlaceCoverageReducer::forgetPlace(std::uint32_t slot) {
+  Place& p = places_[slot];
+  const bool counted = p.seen.size() <= options_.min_landmarks;
+  for (const LandmarkId id : p.seen) {
+    Track& t = tracks_[id];
+    if (counted) t.loss -= 1;
+    t.places.erase(std::find(t.places.begin(), t.places.end(), slot));
+  }
+  by_visit_.erase({p.last_visit, slot});
+  place_of_key_.erase(p.key);
+  p = Place();
+  free_slots_.push_back(slot);
+}
+
+void PlaceCoverageReducer::observe(const StepObservation& seen) {
+  fixGeometry(seen);
+  if (seen.observed.empty()) return;  // a place with no landmark constrains no choice
+  const std::uint32_t slot = visit(placeOf(seen.robot), seen.step);
+  for (const LandmarkId id : seen.observed) addSighting(slot, id);
+}
+
+void PlaceCoverageReducer::forget(LandmarkId id) {
+  const auto it = tracks_.find(id);
+  if (it == tracks_.end()) return;
+  const std::vector<std::uint32_t> slots = it->second.places;
+  for (const std::uint32_t slot : slots) removeFromPlace(slot, id);
+  tracks_.erase(id);
+}
+
+double PlaceCoverageReducer::loss(LandmarkId id) const {
+  const auto it = tracks_.find(id);
+  return it == tracks_.end() ? 0.0 : it->second.loss;
+}
+
+double PlaceCoverageReducer::coverage() const {
+  double f = 0;
+  for (const Place& p : places_)
+    if (p.used)
+      f += static_cast<double>(std::min<std::size_t>(p.seen.size(), options_.min_landmarks));
+  return f;
+}
+
+std::vector<std::vector<LandmarkId>> PlaceCoverageReducer::placeSightings() const {
+  std::vector<std::vector<LandmarkId>> out;
+  for (const Place& p : places_)
+    if (p.used) out.push_back(p.seen);
+  return out;
+}
+
+std::vector<LandmarkId> PlaceCoverageReducer::observedFrom(const mrpt::math::TPose2D& robot) const {
+  const auto it = place_of_key_.find(placeOf(robot));
+  return it == place_of_key_.end() ? std::vector<LandmarkId>() : places_[it->second].seen;
+}
+
+ReducerChoice PlaceCoverageReducer::choose(const DropContext& ctx) {
+  // Least coverage loss; the candidates within near_tie of it go to the information gain.
+  double least = std::numeric_limits<double>::infinity();
+  std::vector<double> losses;
+  losses.reserve(ctx.candidates.size());
+  for (const std::size_t i : ctx.candidates) {
+    losses.push_back(loss(ctx.landmarks[i].id));
+    least = std::min(least, losses.back());
+  }
+  std::vector<LandmarkId> tied;
+  std::vector<double> tied_loss;
+  for (std::size_t c = 0; c < ctx.candidates.size(); ++c)
+    if (losses[c] <= least + options_.near_tie) {
+      tied.push_back(ctx.landmarks[ctx.candidates[c]].id);
+      tied_loss.push_back(losses[c]);
+    }
+  if (tied.size() == 1) return {tied.front(), tied_loss.front()};
+  const std::vector<double> gains = ctx.backend.informationGain(tied);
+  std::size_t best = 0;
+  for (std::size_t j = 1; j < tied.size(); ++j)
+    if (gains[j] < gains[best] || (gains[j] == gains[best] && tied[j] < tied[best])) best = j;
+  return {tied[best], tied_loss[best]};
+}
+
+ReducerRegistry::Entry PlaceCoverageReducer::entry() {
+  return {"place-coverage",
+          "keep k landmarks observed from every visited place (grid cell and heading); drop the "
+          "one whose loss uncovers fewest places, near-ties by information gain",
+          PlaceCoverageOptions::kSection, PlaceCoverageOptions::keys(),
+          [](const mrpt::config::CConfigFileBase& ini, std::uint64_t) {
+            PlaceCoverageOptions o;
+            o.loadFromConfigFile(ini, PlaceCoverageOptions::kSection);
+            return std::make_unique<PlaceCoverageReducer>(o);
+          }};
+}
+
+}  // namespace budget_slam::reducers
