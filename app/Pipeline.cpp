@@ -164,6 +164,8 @@ void Pipeline::process(const Step& raw) {
   const auto drops = manager_->enforce(*backend_, filtered);
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = threadCpuSeconds() - cpu0;
+  // The coverage over time counts the map as it stands after this step's drops.
+  for (const auto& e : drops) reloc_.landmarkRemoved(e.id);
   const std::size_t reloc_landmarks = trackCoverage(raw, filtered, assoc);
   const std::size_t n = backend_->landmarkCount();
   const PoseEstimate pose = backend_->robotPose();
@@ -248,7 +250,6 @@ Pipeline::FinalCoverage Pipeline::finalCoverage() const {
 
 void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
   for (const auto& e : drops) {
-    reloc_.landmarkRemoved(e.id);
     // A refused newcomer never held a place between steps: counted apart from the drops.
     const bool refused = e.reason == "refused";
     ++(refused ? refused_ : evictions_);
@@ -361,7 +362,11 @@ void Pipeline::complete() {
   completed_ = true;
   // The reducer's end-of-run event (mi objective mode: Choudhary et al.'s active minimization),
   // then the backend's (the graph's solve to the batch optimum).
-  if (steps_done_ > 0) logEvictions(manager_->finish(*backend_, last_step_));
+  if (steps_done_ > 0) {
+    const auto drops = manager_->finish(*backend_, last_step_);
+    for (const auto& e : drops) reloc_.landmarkRemoved(e.id);
+    logEvictions(drops);
+  }
   Cancellation::check();  // drops cut short by a stop request are logged above
   backend_->finish();
 }
@@ -415,8 +420,7 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   const FinalCoverage coverage = final_coverage_ ? *final_coverage_ : finalCoverage();
   attempt("map.png", [&] { writeMap(trajectory, landmarks, coverage); });
   if (save_3d_scene_)
-    attempt("map.3Dscene",
-            [&] { writeScene("map.3Dscene", trajectory, landmarks, &coverage); });
+    attempt("map.3Dscene", [&] { writeScene("map.3Dscene", trajectory, landmarks, &coverage); });
   if (truth_ && !truth_->path.empty())
     attempt("ground_truth.tum", [&] { writeGroundTruthTum(trajectory, steps_in_rawlog); });
 

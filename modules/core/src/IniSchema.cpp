@@ -4,25 +4,20 @@
 #include <cctype>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/Text.h"
 
 namespace budget_slam {
 namespace {
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
 bool containsNoCase(const std::vector<std::string>& v, const std::string& w) {
-  const std::string lw = lower(w);
-  return std::any_of(v.begin(), v.end(), [&](const std::string& x) { return lower(x) == lw; });
+  const std::string lw = lowerAscii(w);
+  return std::any_of(v.begin(), v.end(), [&](const std::string& x) { return lowerAscii(x) == lw; });
 }
 
 }  // namespace
 
 std::size_t editDistance(const std::string& a0, const std::string& b0) {
-  const std::string a = lower(a0), b = lower(b0);
+  const std::string a = lowerAscii(a0), b = lowerAscii(b0);
   std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
   for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i) {
@@ -54,18 +49,18 @@ void IniSchema::addSection(const std::string& section, const std::vector<std::st
 
 void IniSchema::addForeignSection(const std::string& section) {
   if (!section.empty() && section.back() == '*')
-    foreign_prefixes_.push_back(lower(section.substr(0, section.size() - 1)));
+    foreign_prefixes_.push_back(lowerAscii(section.substr(0, section.size() - 1)));
   else
     foreign_.push_back(section);
 }
 
 bool IniSchema::hasSection(const std::string& section) const {
   return std::any_of(sections_.begin(), sections_.end(),
-                     [&](const auto& kv) { return lower(kv.first) == lower(section); });
+                     [&](const auto& kv) { return lowerAscii(kv.first) == lowerAscii(section); });
 }
 
 bool IniSchema::isForeign(const std::string& section) const {
-  const std::string l = lower(section);
+  const std::string l = lowerAscii(section);
   return containsNoCase(foreign_, section) ||
          std::any_of(foreign_prefixes_.begin(), foreign_prefixes_.end(), [&](const std::string& p) {
            return l.size() > p.size() && l.rfind(p, 0) == 0;
@@ -85,8 +80,9 @@ void IniSchema::validate(const mrpt::config::CConfigFileBase& ini) const {
   std::vector<std::string> sections;
   ini.getAllSections(sections);
   for (const auto& section : sections) {
-    const auto it = std::find_if(sections_.begin(), sections_.end(),
-                                 [&](const auto& kv) { return lower(kv.first) == lower(section); });
+    const auto it = std::find_if(sections_.begin(), sections_.end(), [&](const auto& kv) {
+      return lowerAscii(kv.first) == lowerAscii(section);
+    });
     if (it == sections_.end()) {
       if (isForeign(section)) continue;  // another application's section
       throw ConfigError(unknownSection(section));

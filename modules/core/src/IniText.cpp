@@ -17,12 +17,6 @@ namespace fs = std::filesystem;
 namespace budget_slam {
 namespace {
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t");
   if (b == std::string::npos) return "";
@@ -193,7 +187,7 @@ class Checker {
     if (!isName(key)) failAt(l.first, "'" + excerpt(key) + "' is not a key name");
     if (!seen_section_) failAt(l.first, "key '" + key + "' before any [section]");
     checkExpansions(l, t.substr(eq + 1));
-    const auto [it, fresh] = keys_.emplace(lower(section_) + "\n" + lower(key), l.first);
+    const auto [it, fresh] = keys_.emplace(lowerAscii(section_) + "\n" + lowerAscii(key), l.first);
     if (!fresh)
       failAt(l.first, "duplicated key [" + section_ + "] " + key + " (first set at line " +
                           std::to_string(it->second + 1) + ")");

@@ -113,4 +113,10 @@ std::string exceptionLine(std::string_view what) {
 
 std::string exceptionLine(const std::exception& e) { return exceptionLine(e.what()); }
 
+std::string lowerAscii(std::string s) {
+  for (char& c : s)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  return s;
+}
+
 }  // namespace budget_slam

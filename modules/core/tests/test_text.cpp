@@ -37,3 +37,9 @@ TEST(Text, MrptExceptionDumpsBecomeTheirMessageLine) {
             "Line 2: Unknown variable `${NOPE}`");
   EXPECT_EQ(exceptionLine("\n\n"), "unknown error");
 }
+
+TEST(Text, LowerAsciiLowersLettersOnlyAndLeavesOtherBytes) {
+  EXPECT_EQ(budget_slam::lowerAscii("LandmarkBudget.Max_Landmarks"),
+            "landmarkbudget.max_landmarks");
+  EXPECT_EQ(budget_slam::lowerAscii("\xC3\x89T\xC3\xA9[1]"), "\xC3\x89t\xC3\xA9[1]");
+}
