@@ -15,6 +15,7 @@
 
 #include "BudgetSlamApp.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/IniText.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/reducers/GaussianStateBackend.h"
 
@@ -36,7 +37,9 @@ AppOutcome runApp(const std::vector<std::string>& args, const std::optional<std:
   std::ostringstream out, err;
   a.out = &out;
   a.err = &err;
-  if (params) a.params.setContent(*params);
+  // The same text checks as a -c file (core/IniText.h): a bad value is a ConfigError, never an
+  // abort inside MRPT's variable expansion.
+  if (params) loadIniText(a.params, *params, "config");
   std::vector<std::string> argv = {"budget-slam"};
   argv.insert(argv.end(), args.begin(), args.end());
   a.initialize(argv);  // throws ConfigError, translated below

@@ -325,6 +325,16 @@ class BadArgumentsRaiseTheCliMessage(unittest.TestCase):
                 budget_slam.run(CONFIG, DEMO, outdir=tmp, cap=20)
             self.assertIn("is not empty (use --force to write into it)", str(ctx.exception))
 
+    def test_in_memory_config_gets_the_ini_checks(self):
+        # A dict config goes through the same text checks as a -c file: an undefined ${...}
+        # is a ConfigError naming the line, not an abort inside MRPT's variable expansion.
+        config = {"MappingApplication": {"rawlog_file": DEMO, "max_steps": 5},
+                  "LandmarkBudget": {"reducer": "${NOPE}"}}
+        with self.assertRaises(budget_slam.ConfigError) as ctx:
+            budget_slam.run(config)
+        self.assertEqual(str(ctx.exception),
+                         "config: line 5: unknown variable ${NOPE} (no @define NOPE above it)")
+
     def test_reducer_scores_arguments(self):
         mean, cov, ids = np.zeros(7), np.eye(7), [4, 9]
         with self.assertRaises(budget_slam.ConfigError) as ctx:
