@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 #include <unordered_set>
@@ -214,7 +215,7 @@ void Pipeline::process(const Step& raw) {
     char name[48];
     std::snprintf(name, sizeof name, "kf_state_%05llu.3Dscene",
                   static_cast<unsigned long long>(raw.index));
-    writeScene(name, backend_->trajectory(), backend_->landmarks(), nullptr);
+    writeScene(name, mapContent(backend_->trajectory(), backend_->landmarks(), nullptr));
   }
 }
 
@@ -306,17 +307,8 @@ report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& traj
   return map;
 }
 
-void Pipeline::writeMap(const std::vector<TrajectoryPoint>& trajectory,
-                        const std::vector<LandmarkView>& landmarks,
-                        const FinalCoverage& coverage) const {
-  report::writeMapPng(folder_.file("map.png"), mapContent(trajectory, landmarks, &coverage));
-}
-
-void Pipeline::writeScene(const std::string& name, const std::vector<TrajectoryPoint>& trajectory,
-                          const std::vector<LandmarkView>& landmarks,
-                          const FinalCoverage* coverage) const {
-  report::writeMapScene(folder_.file(name), mapContent(trajectory, landmarks, coverage),
-                        backend_->robotPose().mean);
+void Pipeline::writeScene(const std::string& name, const report::MapContent& map) const {
+  report::writeMapScene(folder_.file(name), map, backend_->robotPose().mean);
 }
 
 void Pipeline::writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
@@ -418,9 +410,14 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   attempt("landmarks.csv",
           [&] { report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks); });
   const FinalCoverage coverage = final_coverage_ ? *final_coverage_ : finalCoverage();
-  attempt("map.png", [&] { writeMap(trajectory, landmarks, coverage); });
-  if (save_3d_scene_)
-    attempt("map.3Dscene", [&] { writeScene("map.3Dscene", trajectory, landmarks, &coverage); });
+  // One map content (its k-means included) for both pictures of the final map.
+  std::optional<report::MapContent> map;
+  const auto finalMap = [&]() -> const report::MapContent& {
+    if (!map) map = mapContent(trajectory, landmarks, &coverage);
+    return *map;
+  };
+  attempt("map.png", [&] { report::writeMapPng(folder_.file("map.png"), finalMap()); });
+  if (save_3d_scene_) attempt("map.3Dscene", [&] { writeScene("map.3Dscene", finalMap()); });
   if (truth_ && !truth_->path.empty())
     attempt("ground_truth.tum", [&] { writeGroundTruthTum(trajectory, steps_in_rawlog); });
 

@@ -101,16 +101,13 @@ class Pipeline {
   report::MapContent mapContent(const std::vector<TrajectoryPoint>& trajectory,
                                 const std::vector<LandmarkView>& landmarks,
                                 const FinalCoverage* coverage) const;
-  void writeMap(const std::vector<TrajectoryPoint>& trajectory,
-                const std::vector<LandmarkView>& landmarks, const FinalCoverage& coverage) const;
   /// Gives the coverage tracker the landmarks the step observed (`assoc`: the backend's
   /// association of `filtered`'s readings), after the step's map changes; returns how many
   /// landmarks of the map held after the step it observed.
   std::size_t trackCoverage(const Step& raw, const Step& filtered,
                             const std::vector<LandmarkId>& assoc);
   /// map.3Dscene, or kf_state_<step>.3Dscene during the run (MRPT's SceneViewer3D).
-  void writeScene(const std::string& name, const std::vector<TrajectoryPoint>& trajectory,
-                  const std::vector<LandmarkView>& landmarks, const FinalCoverage* coverage) const;
+  void writeScene(const std::string& name, const report::MapContent& map) const;
 
   report::OutputFolder folder_;
   reducers::CoverageOptions coverage_;  ///< how map.png clusters the kept landmarks

@@ -8,16 +8,12 @@
 #include <sstream>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/Text.h"
 
 namespace budget_slam {
 namespace {
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return s.substr(b, e - b + 1);
-}
+std::string trim(const std::string& s) { return trimmed(s, " \t\r\n"); }
 
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(),

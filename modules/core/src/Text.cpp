@@ -113,6 +113,13 @@ std::string exceptionLine(std::string_view what) {
 
 std::string exceptionLine(const std::exception& e) { return exceptionLine(e.what()); }
 
+std::string trimmed(const std::string& s, const char* blanks) {
+  const auto b = s.find_first_not_of(blanks);
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(blanks);
+  return s.substr(b, e - b + 1);
+}
+
 std::string lowerAscii(std::string s) {
   for (char& c : s)
     if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');

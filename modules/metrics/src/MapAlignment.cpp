@@ -34,13 +34,15 @@ std::optional<MapAlignment> mapAlignment(const std::vector<LandmarkView>& landma
     from.push_back(it->second);
     to.push_back(l.mean);
   }
-  if (from.size() >= 3) {
+  // The least-squares rigid fit of the matched points, named for where they came from.
+  const auto fitted = [&](const char* source) {
     MapAlignment a;
     a.transform = alignPoints(from, to);
-    a.source = "landmarks";
+    a.source = source;
     a.points = from.size();
     return a;
-  }
+  };
+  if (from.size() >= 3) return std::optional<MapAlignment>(fitted("landmarks"));
   if (truth.path.empty()) return std::nullopt;
   from.clear(), to.clear();
   for (const auto& p : trajectory) {
@@ -49,13 +51,7 @@ std::optional<MapAlignment> mapAlignment(const std::vector<LandmarkView>& landma
     from.emplace_back(truth.path[row].x, truth.path[row].y);
     to.emplace_back(p.pose.x, p.pose.y);
   }
-  if (from.size() >= 2) {
-    MapAlignment a;
-    a.transform = alignPoints(from, to);
-    a.source = "trajectory";
-    a.points = from.size();
-    return a;
-  }
+  if (from.size() >= 2) return std::optional<MapAlignment>(fitted("trajectory"));
   // The map's nominal frame: the true start pose is its origin.
   const mrpt::poses::CPose2D inv = -mrpt::poses::CPose2D(truth.path.front());
   return MapAlignment::fromPose(inv.x(), inv.y(), inv.phi(), "start_pose", 1);

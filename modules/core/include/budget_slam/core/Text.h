@@ -23,6 +23,9 @@ std::string excerpt(std::string_view s, std::size_t max_chars = 40);
 std::string exceptionLine(const std::exception& e);
 std::string exceptionLine(std::string_view what);
 
+/// `s` without the leading and trailing characters of `blanks`.
+std::string trimmed(const std::string& s, const char* blanks = " \t\r\n");
+
 /// `s` with ASCII letters in lower case (ini section and key names compare without case, as
 /// MRPT's CConfigFile does).
 std::string lowerAscii(std::string s);
