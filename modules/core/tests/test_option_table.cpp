@@ -108,9 +108,11 @@ TEST(OptionTable, DumpSaveAndKeysListTheSameKeys) {
   // What save writes loads back to the same values.
   mrpt::config::CConfigFileMemory ini;
   o.count = 9;
+  o.ratio = 0.1234567891;  // more digits than a default stream shows
   o.colour = Colour::Green;
   o.saveToConfigFile(ini, "Toy");
   ToyOptions back;
   back.loadFromConfigFile(ini, "Toy");
+  EXPECT_EQ(back.ratio, o.ratio);
   EXPECT_EQ(dumpOf(back), dumpOf(o));
 }

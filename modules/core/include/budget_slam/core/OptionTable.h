@@ -2,6 +2,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <cstdlib>
 #include <functional>
 #include <initializer_list>
 #include <iomanip>
@@ -102,10 +103,17 @@ struct TabledOptions : public mrpt::config::CLoadableOptions {
 /// error messages are IniSection's ("[S] k = v: must be at least 1").
 namespace option {
 
+/// The shortest text (6 to 17 significant digits) that reads back as exactly `v`: the dump
+/// stays readable and what save writes loads back to the same value.
 inline std::string numberText(double v) {
-  std::ostringstream o;
-  o << v;
-  return o.str();
+  std::string t;
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::ostringstream o;
+    o << std::setprecision(digits) << v;
+    t = o.str();
+    if (std::strtod(t.c_str(), nullptr) == v) break;
+  }
+  return t;
 }
 
 /// An integer field (any integral type), in [lo, hi].
