@@ -1,4 +1,4 @@
-#include "budget_slam/ekf/BlockMutualInformation.h"
+#include "budget_slam/gaussian/BlockMutualInformation.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -7,7 +7,7 @@
 
 #include "DenseInverseKernels.h"
 
-namespace budget_slam::ekf {
+namespace budget_slam::gaussian {
 
 BlockMutualInformation::BlockMutualInformation(const Eigen::MatrixXd& P) {
   const Eigen::Index n = P.rows();
@@ -115,4 +115,4 @@ void BlockMutualInformation::removeBlock(std::size_t first_row) {
   if (r > 0) p_next_[static_cast<std::size_t>(r - 1)] = 0.0;
 }
 
-}  // namespace budget_slam::ekf
+}  // namespace budget_slam::gaussian
