@@ -4,8 +4,8 @@
 
 #include <stdexcept>
 
-#include "budget_slam/core/EraseRowsCols.h"
 #include "budget_slam/ekf/MrptStepInput.h"
+#include "budget_slam/gaussian/EraseRowsCols.h"
 
 namespace budget_slam::ekf {
 
@@ -61,11 +61,11 @@ void ReducibleKFSLAM2D::removeLandmark(LandmarkId id) {
   const auto start = static_cast<Eigen::Index>(V + F * idx), k = static_cast<Eigen::Index>(F);
 
   // Mean and covariance: delete the landmark's F entries, rows and columns (exact
-  // marginalization of a Gaussian), as the Gaussian evaluators do (core/EraseRowsCols.h).
+  // marginalization of a Gaussian), as the Gaussian evaluators do (gaussian/EraseRowsCols.h).
   KFVector x(n - F);
-  copyWithoutEntries(m_xkk.asEigen(), start, k, x.asEigen());
+  gaussian::copyWithoutEntries(m_xkk.asEigen(), start, k, x.asEigen());
   KFMatrix P(n - F, n - F);
-  copyWithoutRowsCols(m_pkk.asEigen(), start, k, P.asEigen());
+  gaussian::copyWithoutRowsCols(m_pkk.asEigen(), start, k, P.asEigen());
   m_xkk = std::move(x);
   m_pkk = std::move(P);
 

@@ -3,9 +3,9 @@
 #include <Eigen/LU>
 #include <random>
 
-#include "budget_slam/ekf/BlockMutualInformation.h"
+#include "budget_slam/gaussian/BlockMutualInformation.h"
 
-using budget_slam::ekf::BlockMutualInformation;
+using budget_slam::gaussian::BlockMutualInformation;
 
 namespace {
 

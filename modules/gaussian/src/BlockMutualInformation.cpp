@@ -1,4 +1,4 @@
-#include "budget_slam/ekf/BlockMutualInformation.h"
+#include "budget_slam/gaussian/BlockMutualInformation.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -7,7 +7,7 @@
 
 #include "DenseInverseKernels.h"
 
-namespace budget_slam::ekf {
+namespace budget_slam::gaussian {
 
 BlockMutualInformation::BlockMutualInformation(const Eigen::MatrixXd& P) {
   const Eigen::Index n = P.rows();
@@ -39,8 +39,7 @@ BlockMutualInformation::BlockMutualInformation(const Eigen::MatrixXd& P) {
     double mean = 0;
     for (Eigen::Index i : active) mean += P(i, i);
     load(1e-12 * mean / static_cast<double>(std::max<std::size_t>(1, m)));
-    if (!detail::choleskyLowerInPlace(w_.data(), m, m))
-      throw NotPositiveDefinite();
+    if (!detail::choleskyLowerInPlace(w_.data(), m, m)) throw NotPositiveDefinite();
   }
   std::vector<double> scratch(64 * std::max<std::size_t>(1, m));
   detail::invertLowerInPlace(w_.data(), m, m, scratch.data());
@@ -111,4 +110,4 @@ void BlockMutualInformation::removeBlock(std::size_t first_row) {
   if (r > 0) p_next_[static_cast<std::size_t>(r - 1)] = 0.0;
 }
 
-}  // namespace budget_slam::ekf
+}  // namespace budget_slam::gaussian
