@@ -13,6 +13,12 @@ void ReducibleKFSLAM2D::processStep(const Step& step) {
   auto in = mrptStepInput(step);
   last_association_.clear();
   processActionObservation(in.action, in.frame);
+  // MRPT's update P <- P - K S K^T is applied to the full matrix in floating point, so P drifts
+  // from symmetry by round-off; with landmarks removed and re-added every step (the budget) that
+  // drift grows until P is indefinite. Keep the covariance exactly symmetric after every step.
+  // A non-finite P is left as it is, for the divergence check to report at this step.
+  auto P = m_pkk.asEigen();
+  if (P.allFinite()) P = 0.5 * (P + P.transpose()).eval();
 }
 
 void ReducibleKFSLAM2D::OnGetObservationsAndDataAssociation(
