@@ -9,6 +9,16 @@
 
 namespace budget_slam::reducers {
 
+namespace {
+
+const EnumNames<PlaceCoverageOptions::TieBreak>& tieBreakNames() {
+  using T = PlaceCoverageOptions::TieBreak;
+  static const EnumNames<T> n = {{"information_gain", T::InformationGain}, {"spread", T::Spread}};
+  return n;
+}
+
+}  // namespace
+
 const OptionTable<PlaceCoverageOptions>& PlaceCoverageOptions::table() {
   using O = PlaceCoverageOptions;
   static const OptionTable<O> t = {
@@ -17,6 +27,7 @@ const OptionTable<PlaceCoverageOptions>& PlaceCoverageOptions::table() {
       option::integer("heading_sectors", &O::heading_sectors, 0, 360,
                       "0 = from the sensor's field of view"),
       option::real("near_tie", &O::near_tie, 0.0, 1e12, "[places]"),
+      option::choice("tie_break", &O::tie_break, tieBreakNames()),
       option::integer("max_places", &O::max_places, 1, 100000000, "[places]"),
   };
   return t;
@@ -194,6 +205,32 @@ ReducerChoice PlaceCoverageReducer::choose(const DropContext& ctx) {
       tied_loss.push_back(losses[c]);
     }
   if (tied.size() == 1) return {tied.front(), tied_loss.front()};
+  using T = PlaceCoverageOptions::TieBreak;
+  if (options_.tie_break == T::Spread) {
+    // Most crowded first: the least distance [m] to another landmark of the map, then the least
+    // distance to the second nearest, then the lowest id. Unlike information gain, this does not
+    // depend on how long a landmark has been observed, so a newcomer after its one-step
+    // probation is not always the one to go (docs/ALGORITHMS.md "place-coverage").
+    std::size_t best = 0;
+    std::pair<double, double> best_key{0, 0};
+    for (std::size_t j = 0; j < tied.size(); ++j) {
+      const auto& me = *std::find_if(ctx.landmarks.begin(), ctx.landmarks.end(),
+                                     [&](const LandmarkView& l) { return l.id == tied[j]; });
+      double d1 = std::numeric_limits<double>::infinity(), d2 = d1;
+      for (const LandmarkView& o : ctx.landmarks) {
+        if (o.id == me.id) continue;
+        const double d = (o.mean - me.mean).norm();
+        if (d < d1)
+          d2 = d1, d1 = d;
+        else if (d < d2)
+          d2 = d;
+      }
+      const std::pair<double, double> key{d1, d2};
+      if (j == 0 || key < best_key || (key == best_key && tied[j] < tied[best]))
+        best = j, best_key = key;
+    }
+    return {tied[best], tied_loss[best]};
+  }
   const std::vector<double> gains = ctx.backend.informationGain(tied);
   std::size_t best = 0;
   for (std::size_t j = 1; j < tied.size(); ++j)
@@ -204,7 +241,7 @@ ReducerChoice PlaceCoverageReducer::choose(const DropContext& ctx) {
 ReducerRegistry::Entry PlaceCoverageReducer::entry() {
   return {"place-coverage",
           "keep k landmarks observed from every visited place (grid cell and heading); drop the "
-          "one whose loss uncovers fewest places, near-ties by information gain",
+          "one whose loss uncovers fewest places, near-ties by information gain or by spread",
           PlaceCoverageOptions::kSection, PlaceCoverageOptions::keys(),
           [](const mrpt::config::CConfigFileBase& ini, std::uint64_t) {
             PlaceCoverageOptions o;

@@ -204,6 +204,70 @@ TEST(PlaceCoverageReducer, NearTiesGoToInformationGain) {
   EXPECT_EQ(strict.choose({backend, views, all, 2}).id, 2);
 }
 
+/// Landmark `id` at (x, 5) [m], first seen at `first`.
+LandmarkView landmarkAt(LandmarkId id, double x, StepIndex first) {
+  LandmarkView v = landmark(id, 0.1, 0.1, first, first);
+  v.mean = Eigen::Vector2d(x, 5.0);
+  return v;
+}
+
+/// The shipped admission on a scripted stream: cap 3, the robot stays in place 0 (k = 2), which
+/// sees every landmark, so every coverage loss is 0 and the tie-break alone decides admission.
+/// A newcomer has the lowest information gain after its one step of probation, as in the EKF.
+TEST(PlaceCoverageReducer, SpreadTieBreakAdmitsANewcomerAwayFromTheKeptOnesRefusesACrowdedOne) {
+  const auto scripted = [](PlaceCoverageOptions::TieBreak tie_break, std::vector<Eviction>* drops) {
+    PlaceCoverageOptions o = placeOptions(2);
+    o.tie_break = tie_break;
+    BudgetOptions budget;
+    budget.max_landmarks = 3;
+    budget.protect_recent_steps = 5;
+    budget.protect = BudgetOptions::Protect::NewlyAdded;
+    budget.admission = BudgetOptions::Admission::Compete;
+    BudgetManager manager(budget, std::make_unique<PlaceCoverageReducer>(o));
+    // Kept: 1 and 2 half a metre apart, 3 ten metres away; all converged.
+    FakeBackend b({landmarkAt(1, 0.0, 0), landmarkAt(2, 0.5, 0), landmarkAt(3, 10.0, 0)});
+    b.gains = {{1, 6.0}, {2, 5.0}, {3, 7.0}, {4, 0.5}, {5, 0.5}};
+    b.pose = mrpt::math::TPose2D(0.5, 0.5, 0);
+    for (StepIndex s = 0; s < 10; ++s) {
+      for (LandmarkId id = 1; id <= 3; ++id) b.see(id, s);
+      EXPECT_TRUE(manager.enforce(b, s).empty());
+    }
+    // Step 10: newcomer 4, twenty metres from the others.
+    b.add(landmarkAt(4, 30.0, 10));
+    for (LandmarkId id = 1; id <= 4; ++id) b.see(id, 10);
+    auto first = manager.enforce(b, 10);
+    // Step 20: newcomer 5, 0.2 m from landmark 1 (if 1 is still there).
+    b.add(landmarkAt(5, 0.2, 20));
+    for (LandmarkId id = 1; id <= 5; ++id)
+      if (b.has(id)) b.see(id, 20);
+    auto second = manager.enforce(b, 20);
+    EXPECT_EQ(b.landmarkCount(), 3u);
+    drops->insert(drops->end(), first.begin(), first.end());
+    drops->insert(drops->end(), second.begin(), second.end());
+  };
+  using T = PlaceCoverageOptions::TieBreak;
+  std::vector<Eviction> ig, spread;
+  scripted(T::InformationGain, &ig);
+  // Information gain: every newcomer is the least informative after one step and is refused.
+  ASSERT_EQ(ig.size(), 2u);
+  EXPECT_EQ(ig[0].id, 4);
+  EXPECT_EQ(ig[0].reason, "refused");
+  EXPECT_EQ(ig[1].id, 5);
+  EXPECT_EQ(ig[1].reason, "refused");
+
+  scripted(T::Spread, &spread);
+  ASSERT_EQ(spread.size(), 2u);
+  // Newcomer 4 is far from everything: the most crowded kept landmark goes. 1 and 2 share the
+  // least nearest-neighbour distance (0.5 m); 2 is nearer to its second neighbour (9.5 m < 10).
+  EXPECT_EQ(spread[0].id, 2);
+  EXPECT_EQ(spread[0].reason, "over_cap");
+  EXPECT_DOUBLE_EQ(spread[0].score, 0.0);
+  // Newcomer 5 lands 0.2 m from landmark 1: the pair ties at 0.2 m, 5's second neighbour (3,
+  // 9.8 m) is nearer than 1's (10 m), so the newcomer is refused.
+  EXPECT_EQ(spread[1].id, 5);
+  EXPECT_EQ(spread[1].reason, "refused");
+}
+
 TEST(PlaceCoverageReducer, PlacesAreBoundedAndHeadingSectorsSplitACell) {
   PlaceCoverageOptions o = placeOptions(1);
   o.max_places = 2;
@@ -238,4 +302,13 @@ TEST(PlaceCoverageReducer, RegisteredWithItsSectionAndValidatedKeys) {
   mrpt::config::CConfigFileMemory bad;
   bad.write("PlaceCoverageReducer", "min_landmarks", "0");
   EXPECT_THROW(builtinReducers().create("place-coverage", bad, 1), ConfigError);
+  mrpt::config::CConfigFileMemory bad_tie;
+  bad_tie.write("PlaceCoverageReducer", "tie_break", "nearest");
+  try {
+    builtinReducers().create("place-coverage", bad_tie, 1);
+    FAIL() << "tie_break = nearest was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("tie_break"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("nearest"), std::string::npos) << e.what();
+  }
 }

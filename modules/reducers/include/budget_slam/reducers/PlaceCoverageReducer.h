@@ -22,8 +22,14 @@ struct PlaceCoverageOptions : public TabledOptions<PlaceCoverageOptions> {
   /// sensor's field of view: 1 for 360 deg, else round(720 deg / fov) (4 for 180 deg).
   std::size_t heading_sectors = 0;
   /// Candidates whose coverage loss is within this many places of the least loss are near-ties,
-  /// decided by information gain [places], >= 0.
+  /// decided by `tie_break` [places], >= 0.
   double near_tie = 0;
+  /// How (near-)ties of coverage loss are decided (docs/ALGORITHMS.md "place-coverage").
+  enum class TieBreak {
+    InformationGain,  ///< the lowest information gain goes (bits)
+    Spread            ///< the landmark nearest to another one of the map goes (most crowded)
+  };
+  TieBreak tie_break = TieBreak::InformationGain;
   /// Places remembered at most; beyond, the place visited longest ago is forgotten [places].
   std::size_t max_places = 100000;
 
@@ -43,8 +49,9 @@ struct PlaceCoverageOptions : public TabledOptions<PlaceCoverageOptions> {
 /// and the loss of a landmark can only grow as others go. The reducer keeps every loss exact by
 /// updating it only where a place's count crosses k (the incremental form of lazy greedy: nothing
 /// is re-evaluated that cannot have changed). It drops the candidate with the least loss; the
-/// candidates within `near_tie` of it are decided by the lowest information gain
-/// (Backend::informationGain, bits), then the lowest id. Score: the loss [places].
+/// candidates within `near_tie` of it are decided by `tie_break`: the lowest information gain
+/// (Backend::informationGain, bits), or the least distance to the nearest other landmark of the
+/// map (spread, then the second nearest), then the lowest id. Score: the loss [places].
 ///
 /// Memory: O(places + sightings of kept landmarks by place), bounded by the area visited (and by
 /// max_places), not by the length of the run; a landmark that leaves the map is forgotten.
