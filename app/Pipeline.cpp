@@ -36,8 +36,9 @@ constexpr std::size_t kMaxDroppedMarks = 20000;
 constexpr std::size_t kMaxCoverageSteps = 4096;
 /// Steps between two releases of the heap's free pages: a release costs a walk over the free
 /// chunks and the page faults of reusing what it gave back (under 0.1 ms a step on the lifelong
-/// scenario at this spacing); resident memory then exceeds the live heap by at most this many
-/// steps' worth of reused holes (docs/RESULTS.md, lifelong scenario).
+/// scenario at this spacing); resident memory then exceeds the live heap by the holes reused
+/// within this many steps and the partly used pages around free chunks (docs/RESULTS.md,
+/// lifelong scenario).
 constexpr std::size_t kReleaseHeapEverySteps = 100;
 
 std::size_t relocMinLandmarks(const mrpt::config::CConfigFileBase& ini) {

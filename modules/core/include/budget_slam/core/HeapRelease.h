@@ -16,8 +16,9 @@ namespace budget_slam {
 bool releaseFreeHeapPages();
 
 /// Releases the heap's free pages (releaseFreeHeapPages) once every `every_steps` steps, so
-/// that the resident memory of a run is its live memory plus at most that many steps' worth of
-/// reused holes, however long the run and whatever its allocation pattern.
+/// that the resident memory of a run is its live memory plus the holes reused within that many
+/// steps and the partly used pages around free chunks, however long the run. The heap's address
+/// space itself can still grow by fragmentation; only its resident part is bounded this way.
 class HeapRelease {
  public:
   /// `every_steps` = 0 never releases. `release` is the action (tests count its calls).
