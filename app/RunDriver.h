@@ -10,6 +10,7 @@
 #include "RunResult.h"
 #include "RunSummary.h"
 #include "budget_slam/core/Backend.h"
+#include "budget_slam/core/HeapRelease.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/metrics/MapAlignment.h"
@@ -27,14 +28,14 @@ namespace budget_slam::app {
 /// (docs/ARCHITECTURE.md "Data flow"). It measures as it goes (timings, relocalization coverage,
 /// the NEES: metrics::NeesAccumulator) and hands every file to report::RunOutputs (steps.csv and
 /// evictions.csv as the steps happen, the rest in finish(); docs/OUTPUTS.md).
-class Pipeline {
+class RunDriver {
  public:
   /// `keep_history` = false keeps no per-step records in memory (no online poses, no landmark
   /// counts, the EKF keeps only its latest pose): memory stays flat over arbitrarily long runs,
   /// everything per step is still in steps.csv, and NEES is accumulated online.
-  Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
-           const reducers::BudgetOptions& budget, report::OutputFolder folder,
-           std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history = true);
+  RunDriver(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
+            const reducers::BudgetOptions& budget, report::OutputFolder folder,
+            std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history = true);
 
   /// Runs one step: backend update (evicted landmarks filtered out when readmission is off), then
   /// the budget, then its steps.csv row. Throws Error on bad data, on a diverged estimate and when
@@ -115,6 +116,9 @@ class Pipeline {
   std::vector<std::size_t> counts_;
   std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
   metrics::RelocalizationTracker reloc_;
+  /// Gives the heap's free pages back every kReleaseHeapEverySteps steps (core/HeapRelease.h:
+  /// the filter's reallocated state leaves holes in the heap that free() keeps resident).
+  HeapRelease heap_release_;
   bool saw_ids_ = false, saw_idless_ = false;  ///< readings with / without sensor IDs
   std::optional<FinalCoverage> final_coverage_;
   std::optional<metrics::MapAlignment> alignment_;

@@ -1,4 +1,4 @@
-#include "Pipeline.h"
+#include "RunDriver.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -34,6 +34,12 @@ constexpr std::size_t kMaxDroppedMarks = 20000;
 /// Without per-step history, the relocalization coverage follows at most this many evenly spread
 /// steps (bounded memory on lifelong runs; docs/OUTPUTS.md).
 constexpr std::size_t kMaxCoverageSteps = 4096;
+/// Steps between two releases of the heap's free pages: a release costs a walk over the free
+/// chunks and the page faults of reusing what it gave back (under 0.1 ms a step on the lifelong
+/// scenario at this spacing); resident memory then exceeds the live heap by the holes reused
+/// within this many steps and the partly used pages around free chunks (docs/RESULTS.md,
+/// lifelong scenario).
+constexpr std::size_t kReleaseHeapEverySteps = 100;
 
 std::size_t relocMinLandmarks(const mrpt::config::CConfigFileBase& ini) {
   metrics::MetricsOptions m;
@@ -56,9 +62,9 @@ report::EvictionRow evictionRow(const reducers::Eviction& e) {
 
 }  // namespace
 
-Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
-                   const reducers::BudgetOptions& budget, report::OutputFolder folder,
-                   std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history)
+RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
+                     const reducers::BudgetOptions& budget, report::OutputFolder folder,
+                     std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history)
     : backend_(builtinBackends().create(backend, ini, BackendSettings{keep_history})),
       manager_(std::make_unique<reducers::BudgetManager>(
           budget, reducers::builtinReducers().create(budget.reducer, ini, budget.seed),
@@ -66,7 +72,8 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
       truth_(std::move(truth)),
       outputs_(std::move(folder)),
       keep_history_(keep_history),
-      reloc_(relocMinLandmarks(ini), keep_history ? 0 : kMaxCoverageSteps) {
+      reloc_(relocMinLandmarks(ini), keep_history ? 0 : kMaxCoverageSteps),
+      heap_release_(kReleaseHeapEverySteps) {
   if (truth_ && !truth_->path.empty()) nees_.emplace(*truth_);
   // map.png colours the kept landmarks by the coverage clusters ([CoverageReducer], run's seed).
   coverage_.seed = budget.seed;
@@ -80,7 +87,7 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
         [this](const Backend& b, StepIndex step) { outputs_.writeState(b, step); });
 }
 
-void Pipeline::process(const Step& raw) {
+void RunDriver::process(const Step& raw) {
   const auto t0 = std::chrono::steady_clock::now();
   const double cpu0 = threadCpuSeconds();
   // Without the readings of landmarks dropped for good and of refused newcomers still waiting.
@@ -100,6 +107,7 @@ void Pipeline::process(const Step& raw) {
     throw Error("step " + std::to_string(raw.index) + ": the " + backend_->name() +
                 " estimate diverged (the robot pose or its covariance is not finite)");
   const auto drops = manager_->enforce(*backend_, filtered);
+  heap_release_.afterStep();  // timed with the step: its cost is the run's
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = threadCpuSeconds() - cpu0;
   // The coverage over time counts the map as it stands after this step's drops.
@@ -145,8 +153,8 @@ void Pipeline::process(const Step& raw) {
   }
 }
 
-std::size_t Pipeline::trackCoverage(const Step& raw, const Step& filtered,
-                                    const std::vector<LandmarkId>& assoc) {
+std::size_t RunDriver::trackCoverage(const Step& raw, const Step& filtered,
+                                     const std::vector<LandmarkId>& assoc) {
   // A reading with a sensor ID observes that landmark (whether the map holds it or not); one
   // without is known only through the backend's association.
   std::vector<LandmarkId> observed;
@@ -162,7 +170,7 @@ std::size_t Pipeline::trackCoverage(const Step& raw, const Step& filtered,
   return reloc_.addStep(raw.index, observed);
 }
 
-FinalCoverage Pipeline::finalCoverage() const {
+FinalCoverage RunDriver::finalCoverage() const {
   FinalCoverage c;
   std::unordered_set<LandmarkId> ids;
   for (const auto& l : backend_->landmarks()) ids.insert(l.id);
@@ -175,7 +183,7 @@ FinalCoverage Pipeline::finalCoverage() const {
   return c;
 }
 
-void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
+void RunDriver::logEvictions(const std::vector<reducers::Eviction>& drops) {
   for (const auto& e : drops) {
     // A refused newcomer never held a place between steps: counted apart from the drops.
     const bool refused = e.reason == "refused";
@@ -185,9 +193,9 @@ void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
   }
 }
 
-report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& trajectory,
-                                        const std::vector<LandmarkView>& landmarks,
-                                        const FinalCoverage* coverage) const {
+report::MapContent RunDriver::mapContent(const std::vector<TrajectoryPoint>& trajectory,
+                                         const std::vector<LandmarkView>& landmarks,
+                                         const FinalCoverage* coverage) const {
   const auto& budget = manager_->options();
   std::string title = backend_->name() + ", reducer " + budget.reducer +
                       (manager_->capped() ? ", cap " + std::to_string(*budget.max_landmarks) : "") +
@@ -197,7 +205,7 @@ report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& traj
                        truth_.get());
 }
 
-void Pipeline::complete() {
+void RunDriver::complete() {
   if (completed_) return;
   completed_ = true;
   // The reducer's end-of-run event (mi objective mode: Choudhary et al.'s active minimization),
@@ -211,8 +219,8 @@ void Pipeline::complete() {
   backend_->finish();
 }
 
-RunResult Pipeline::finish(const std::string& status, const std::string& error,
-                           std::size_t steps_in_rawlog, const nlohmann::json& extra) {
+RunResult RunDriver::finish(const std::string& status, const std::string& error,
+                            std::size_t steps_in_rawlog, const nlohmann::json& extra) {
   if (status == "ok") {
     complete();
     Cancellation::check();  // a stop request before the outputs: the run ends as interrupted
