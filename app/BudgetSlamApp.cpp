@@ -371,15 +371,14 @@ int BudgetSlamApp::runRun() {
 
     end_phase = true;
     if (on_end_phase) on_end_phase();
-    const auto summary = pipeline->finish("ok", "", steps_read, given);
+    const RunResult result = pipeline->finish("ok", "", steps_read, given);
     // Shadow reducers are only logged; their failures end nothing, but are never silent.
     for (const auto& f : pipeline->budget().shadowFailures())
       *err << "budget-slam: warning: " << shadowFailureLine(f) << std::endl;
-    if (summary["status"] != "ok" || !pipeline->writeError().empty()) {
+    if (result.status != "ok" || !pipeline->writeError().empty()) {
       // An output that could not be written (a full disk): the run failed, summary.json says so
       // when it could still be written.
-      const std::string why =
-          summary["status"] != "ok" ? summary["error"].get<std::string>() : pipeline->writeError();
+      const std::string why = result.status != "ok" ? result.error : pipeline->writeError();
       *err << "budget-slam: error: " << why << std::endl;
       return 1;
     }
@@ -392,14 +391,14 @@ int BudgetSlamApp::runRun() {
            << pipeline->evictions() << " dropped\n"
            << "final pose x=" << fixed(pose.x, 3) << " m y=" << fixed(pose.y, 3)
            << " m yaw=" << fixed(pose.phi * 180 / M_PI, 2) << " deg";
-      if (summary.contains("ground_truth")) {
-        const auto& g = summary["ground_truth"];
-        const auto val = [](const nlohmann::json& v, int d) {
-          return v.is_number() ? fixed(v.get<double>(), d) : std::string("n/a");
+      if (result.ground_truth) {
+        const auto val = [](double v, int d) {
+          return std::isfinite(v) ? fixed(v, d) : std::string("n/a");
         };
-        *out << "; vs ground truth: trajectory RMSE " << val(g["trajectory_rmse_m"], 3)
-             << " m, landmark RMSE " << val(g["landmark_rmse_m"], 3) << " m, mean NEES "
-             << val(g["nees_mean"], 2);
+        *out << "; vs ground truth: trajectory RMSE "
+             << val(result.ground_truth->trajectory_rmse, 3) << " m, landmark RMSE "
+             << val(result.ground_truth->landmark_rmse, 3) << " m, mean NEES "
+             << val(result.nees.mean, 2);
       }
       *out << "\noutputs in " << folder->path() << "/ (" << fixed(pipeline->totalStepSeconds(), 2)
            << " s of SLAM)\n";

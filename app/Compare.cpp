@@ -2,13 +2,12 @@
 // parallel threads, then every run measured against the reference and the ground truth
 // (docs/ARCHITECTURE.md "Data flow", docs/OUTPUTS.md).
 #include <algorithm>
-#include <atomic>
 #include <fstream>
 #include <iostream>
-#include <mutex>
 #include <thread>
 
 #include "BudgetSlamApp.h"
+#include "CompareRuns.h"
 #include "Interrupt.h"
 #include "OfflineOptimum.h"
 #include "Pipeline.h"
@@ -34,13 +33,7 @@ namespace {
 
 constexpr const char* kReference = "reference";
 
-/// One pipeline of the comparison and how it ended.
-struct CompareRun {
-  std::string name;
-  std::unique_ptr<Pipeline> pipeline;
-  std::atomic<std::size_t> steps_done{0};
-  std::string status = "ok", error;
-};
+using Runs = std::vector<std::unique_ptr<CompareRun>>;
 
 nlohmann::json toJson(const metrics::ReferenceMetrics& m) {
   const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
@@ -49,15 +42,169 @@ nlohmann::json toJson(const metrics::ReferenceMetrics& m) {
           {"eig_min", num(m.eig_min)}, {"eig_max", num(m.eig_max)}, {"eig_rows", m.eig_rows}};
 }
 
-double jsonNumber(const nlohmann::json& j, const char* a, const char* b) {
-  if (!j.contains(a) || !j[a].contains(b) || !j[a][b].is_number())
-    return std::numeric_limits<double>::quiet_NaN();
-  return j[a][b].get<double>();
+/// What summary.json holds of a number: a non-finite value is null there, missing in the table.
+double finiteOrNaN(double v) {
+  return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// How compare ends: its exit code, the first error (its summary.json), and one stderr line a
+/// run or localization that did not end ok and a warning a failed shadow reducer.
+struct CompareOutcome {
+  int exit_code = 0;
+  std::string first_error;
+  std::vector<std::string> lines;
+
+  /// A run that ended `status` (failed or interrupted) for the reason `line`. An interrupted run
+  /// exits 130 unless another failed; with `keep_first`, a code already set stays.
+  void add(const std::string& status, const std::string& line, bool keep_first) {
+    if (keep_first) {
+      if (exit_code == 0) exit_code = status == "interrupted" ? 130 : 1;
+    } else {
+      exit_code = status == "interrupted" && exit_code != 1 ? 130 : 1;
+    }
+    if (first_error.empty()) first_error = line;
+    lines.push_back((status == "interrupted" ? "" : "error: ") + line);
+  }
+};
+
+/// The rawlog's steps, read once for every pipeline (at most `limit`, 0 = all); nullopt when a
+/// stop request came while reading. Throws InputError when no step has a bearing-range reading.
+std::optional<std::vector<Step>> readSteps(const std::string& rawlog, std::size_t limit,
+                                           ProgressBar& reading) {
+  std::vector<Step> steps;
+  dataset::RawlogReader reader(rawlog);
+  reader.setStopCheck([] { return InterruptGuard::requested(); });
+  while (limit == 0 || steps.size() < limit) {
+    auto s = reader.next();
+    if (s) {
+      steps.push_back(std::move(*s));
+      reading.update(reader.progress(), "reading step " + std::to_string(steps.size()));
+    } else if (!reader.stopped()) {
+      break;
+    }
+    if (InterruptGuard::requested()) {
+      reading.done();
+      return std::nullopt;
+    }
+  }
+  reading.done();
+  if (reader.bearingRangeSteps() == 0)
+    throw InputError("rawlog '" + rawlog + "' holds no CObservationBearingRange");
+  return steps;
+}
+
+/// The reference run (reducer none) and one run a reducer of `names`, each with its folder under
+/// `top` and its config_used.ini.
+Runs makeRuns(const RunConfig& rc, const std::vector<std::string>& names,
+              const report::OutputFolder& top, bool force,
+              const std::shared_ptr<dataset::GroundTruth>& truth) {
+  Runs runs;
+  std::vector<std::string> all = {kReference};
+  all.insert(all.end(), names.begin(), names.end());
+  for (const auto& name : all) {
+    auto run = std::make_unique<CompareRun>();
+    run->name = name;
+    mrpt::config::CConfigFileMemory ini;
+    copyIni(rc.ini, ini);  // no second ${...} expansion
+    reducers::BudgetOptions budget = rc.budget;
+    budget.reducer = name == kReference ? "none" : name;
+    ini.write(reducers::BudgetOptions::kSection, "reducer", budget.reducer);
+    report::OutputFolder folder(top.file(name), force);
+    report::writeFileAtomically(folder.file("config_used.ini"), ini.getContent());
+    run->pipeline = std::make_unique<Pipeline>(ini, rc.mapping.backend, budget, folder, truth);
+    runs.push_back(std::move(run));
+  }
+  return runs;
+}
+
+/// Ends run `r`: its metrics against the reference (when both are ok) and its outputs
+/// (Pipeline::finish, with `extra` in summary.json). A run whose outputs could not be written,
+/// or whose estimate is not finite, becomes failed.
+metrics::ReferenceMetrics finishRun(CompareRun& r, const CompareRun& ref, std::size_t steps,
+                                    std::size_t eig_max_rows, nlohmann::json extra) {
+  metrics::ReferenceMetrics m;
+  // A stop request after a run's end phase: its outputs are still written (quickly), marked.
+  if (r.status == "ok" && Cancellation::requested()) {
+    r.status = "interrupted";
+    r.error = interruptedLine(r, " before its outputs were written,");
+  }
+  if (ref.status == "ok" && r.status == "ok") {
+    m = metrics::compareWithReference(ref.pipeline->backend(), r.pipeline->backend(), eig_max_rows);
+    extra["reference_metrics"] = toJson(m);
+  }
+  try {
+    r.result = r.pipeline->finish(r.status, r.error, steps, extra);
+    if (r.status == "ok" && r.result->status != "ok") {
+      // An output of the run could not be written (a full disk), or its estimate diverged.
+      r.status = "failed";
+      r.error = r.result->error;
+    }
+  } catch (const std::exception& e) {
+    r.status = "failed";
+    r.error = std::string("while saving outputs: ") + exceptionLine(e);
+  }
+  return m;
+}
+
+/// comparison.csv's row of run `r` (docs/OUTPUTS.md), with `m` its metrics against the
+/// reference, which holds `ref_landmarks` landmarks and `ref_poses` poses.
+report::ComparisonRow comparisonRow(const CompareRun& r, const metrics::ReferenceMetrics& m,
+                                    std::size_t ref_landmarks, std::size_t ref_poses) {
+  const Pipeline& p = *r.pipeline;
+  report::ComparisonRow row;
+  row.run = r.name;
+  row.reducer = p.budget().options().reducer;
+  row.backend = p.backend().name();
+  row.status = r.status;
+  row.cap = p.budget().capped() ? static_cast<long long>(*p.budget().options().max_landmarks) : -1;
+  row.landmarks = p.backend().landmarkCount();
+  row.poses = p.backend().poseCount();
+  if (ref_landmarks)
+    row.landmarks_reduction_pct = 100.0 * (1.0 - double(row.landmarks) / double(ref_landmarks));
+  if (ref_poses) row.poses_reduction_pct = 100.0 * (1.0 - double(row.poses) / double(ref_poses));
+  row.evictions = p.evictions();
+  row.ate_m = m.ate, row.ale_m = m.ale, row.are_deg = m.are_deg, row.ud_pct = m.ud_percent;
+  row.eig_min = m.eig_min, row.eig_max = m.eig_max;
+  if (r.result && r.result->ground_truth) {
+    row.gt_trajectory_rmse_m = finiteOrNaN(r.result->ground_truth->trajectory_rmse);
+    row.gt_trajectory_max_m = finiteOrNaN(r.result->ground_truth->trajectory_max);
+    row.gt_landmark_rmse_m = finiteOrNaN(r.result->ground_truth->landmark_rmse);
+    row.nees_mean = finiteOrNaN(r.result->nees.mean);
+  }
+  row.time_s = p.totalStepSeconds();
+  if (r.result) {
+    row.reloc_coverage_pct = finiteOrNaN(r.result->relocalization.coverage_pct);
+    row.reloc_mean_landmarks = finiteOrNaN(r.result->relocalization.mean_landmarks);
+  }
+  return row;
+}
+
+/// --relocalize: every final map of an ok run (the reference's too) localizes each traversal;
+/// fills the reloc_* columns of `rows` and adds the failed localizations to `outcome`.
+std::vector<RelocalizationResult> relocalizeMaps(const Runs& runs,
+                                                 const std::vector<Traversal>& traversals,
+                                                 const std::vector<TrajectoryPoint>* reference,
+                                                 const CommandLine& cli,
+                                                 std::vector<report::ComparisonRow>& rows,
+                                                 CompareOutcome& outcome) {
+  std::vector<MapOfRun> maps;
+  for (const auto& r : runs)
+    if (r->status == "ok")
+      maps.push_back({r->name, r->pipeline->folder().path(), r->pipeline->backend().landmarks(),
+                      r->pipeline->mapAlignment()});
+  auto relocalized =
+      relocalizeAll(maps, traversals, reference, cli.reference_trajectory, cli.threads, cli.force);
+  addRelocalizationColumns(rows, relocalized, kReference);
+  for (const auto& r : relocalized)
+    if (r.status != "ok")
+      outcome.add(r.status, "run '" + r.run + "', --relocalize '" + r.traversal + "': " + r.error,
+                  true);
+  return relocalized;
 }
 
 /// Position error over the steps of each run, against `truth` rows or the reference run.
-std::vector<report::Series> errorSeries(const std::vector<std::unique_ptr<CompareRun>>& runs,
-                                        const dataset::GroundTruth* truth, std::size_t steps) {
+std::vector<report::Series> errorSeries(const Runs& runs, const dataset::GroundTruth* truth,
+                                        std::size_t steps) {
   std::vector<report::Series> out;
   const auto* ref = runs.front()->pipeline.get();
   for (const auto& r : runs) {
@@ -83,6 +230,46 @@ std::vector<report::Series> errorSeries(const std::vector<std::unique_ptr<Compar
     out.push_back(std::move(s));
   }
   return out;
+}
+
+/// comparison.png: the landmark count over the steps, and the robot position error against
+/// ground truth (else the difference to the reference run).
+void writeComparisonChart(const std::string& path, const Runs& runs, const std::vector<Step>& steps,
+                          const dataset::GroundTruth* truth) {
+  std::vector<report::ChartPanel> panels;
+  report::ChartPanel count{"landmarks in the map", "step", "landmarks", {}, false};
+  for (const auto& r : runs) {
+    report::Series s{r->name, {}, {}};
+    const auto& counts = r->pipeline->landmarkCounts();
+    for (std::size_t k = 0; k < counts.size(); ++k)
+      s.x.push_back(double(steps[k].index)), s.y.push_back(double(counts[k]));
+    count.series.push_back(std::move(s));
+  }
+  panels.push_back(std::move(count));
+  const bool has_path = truth && !truth->path.empty();
+  const auto gt = has_path ? metrics::toEstimateFrame(*truth) : dataset::GroundTruth();
+  panels.push_back({has_path ? "robot position error against ground truth (online estimate)"
+                             : "robot position difference to the reference run (online estimate)",
+                    "step", "m", errorSeries(runs, has_path ? &gt : nullptr, steps.size()), false});
+  report::writeChartPng(path, panels);
+}
+
+/// --offline-optimum: offline_optimum.csv, and its table appended to comparison.md; returns the
+/// table.
+std::string writeOfflineOptimumFiles(const report::OutputFolder& top, const RunConfig& rc,
+                                     const Runs& runs, const std::vector<Step>& steps) {
+  if (!rc.budget.max_landmarks) throw InputError("--offline-optimum needs a cap (not --cap none)");
+  std::vector<FinalMap> maps;
+  for (const auto& r : runs) {
+    FinalMap m{r->name, {}};
+    for (const auto& l : r->pipeline->backend().landmarks()) m.kept.push_back(l.id);
+    maps.push_back(std::move(m));
+  }
+  const std::string table =
+      writeOfflineOptimum(top.file("offline_optimum.csv"), rc.ini, steps,
+                          runs.front()->pipeline->onlinePoses(), maps, *rc.budget.max_landmarks);
+  std::ofstream(top.file("comparison.md"), std::ios::app) << table;
+  return table;
 }
 
 }  // namespace
@@ -130,7 +317,8 @@ int BudgetSlamApp::runCompare() {
     *err << "budget-slam: note: " << top->path() << " held an earlier run; its files were moved to "
          << top->earlierRun() << "/" << std::endl;
 
-  std::vector<std::unique_ptr<CompareRun>> runs;
+  const bool show_progress = !cli_.quiet && err == &std::cerr && stderrIsTerminal();
+  Runs runs;
   std::shared_ptr<dataset::GroundTruth> truth;
   std::vector<Step> steps;
   std::vector<Traversal> traversals;           // --relocalize
@@ -142,118 +330,35 @@ int BudgetSlamApp::runCompare() {
     report::writeFileAtomically(top->file("config_used.ini"), rc.ini.getContent());
     truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
-
-    // The rawlog is parsed once; every pipeline reads the same steps.
-    dataset::RawlogReader reader(rc.rawlog);
-    reader.setStopCheck([] { return InterruptGuard::requested(); });
-    ProgressBar reading(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
-    const std::size_t limit = rc.mapping.max_steps;
-    while (limit == 0 || steps.size() < limit) {
-      auto s = reader.next();
-      if (s) {
-        steps.push_back(std::move(*s));
-        reading.update(reader.progress(), "reading step " + std::to_string(steps.size()));
-      } else if (!reader.stopped()) {
-        break;
-      }
-      if (InterruptGuard::requested()) {
-        reading.done();
-        *err << "budget-slam: interrupted by " << InterruptGuard::what()
-             << " while reading the rawlog" << std::endl;
-        report::writeJson(top->file("summary.json"),
-                          {{"status", "interrupted"}, {"error", "interrupted while reading"}});
-        return 130;
-      }
+    ProgressBar reading(*err, show_progress);
+    auto read = readSteps(rc.rawlog, rc.mapping.max_steps, reading);
+    if (!read) {
+      *err << "budget-slam: interrupted by " << InterruptGuard::what()
+           << " while reading the rawlog" << std::endl;
+      report::writeJson(top->file("summary.json"),
+                        {{"status", "interrupted"}, {"error", "interrupted while reading"}});
+      return 130;
     }
-    reading.done();
-    if (reader.bearingRangeSteps() == 0)
-      throw InputError("rawlog '" + rc.rawlog + "' holds no CObservationBearingRange");
-
-    std::vector<std::string> all = {kReference};
-    all.insert(all.end(), names.begin(), names.end());
-    for (const auto& name : all) {
-      auto run = std::make_unique<CompareRun>();
-      run->name = name;
-      mrpt::config::CConfigFileMemory ini;
-      copyIni(rc.ini, ini);  // no second ${...} expansion
-      reducers::BudgetOptions budget = rc.budget;
-      budget.reducer = name == kReference ? "none" : name;
-      ini.write(reducers::BudgetOptions::kSection, "reducer", budget.reducer);
-      report::OutputFolder folder(top->file(name), cli_.force);
-      report::writeFileAtomically(folder.file("config_used.ini"), ini.getContent());
-      run->pipeline = std::make_unique<Pipeline>(ini, rc.mapping.backend, budget, folder, truth);
-      runs.push_back(std::move(run));
-    }
+    steps = std::move(*read);
+    runs = makeRuns(rc, names, *top, cli_.force, truth);
   } catch (const Error& e) {
     return fail(e.what());
   } catch (const std::exception& e) {
     return fail(std::string("internal error: ") + exceptionLine(e));
   }
 
-  // One thread a core, each taking whole runs. A stop request (Ctrl-C) ends each run between two
-  // steps, or inside a step or the end phase (Interrupted, core/Cancellation.h); every run's
-  // outputs are then written with status interrupted.
-  const auto stopped = [](const CompareRun& r, const char* where) {
-    const auto last = r.pipeline->lastStep();
-    return std::string("interrupted by ") + Cancellation::signalName() + where +
-           (last ? " after step " + std::to_string(*last) : std::string(" before the first step"));
-  };
-  std::atomic<std::size_t> next{0};
-  const auto worker = [&] {
-    for (std::size_t i; (i = next++) < runs.size();) {
-      CompareRun& r = *runs[i];
-      bool end_phase = false;
-      try {
-        for (const auto& s : steps) {
-          if (Cancellation::requested()) {
-            r.status = "interrupted";
-            r.error = stopped(r, "");
-            break;
-          }
-          r.pipeline->process(s);
-          ++r.steps_done;
-        }
-        if (r.status == "ok") {
-          end_phase = true;
-          if (on_end_phase) on_end_phase();
-          r.pipeline->complete();
-        }
-      } catch (const Interrupted&) {
-        r.status = "interrupted";
-        r.error = stopped(r, end_phase ? " in the end phase," : "");
-      } catch (const std::exception& e) {
-        r.status = "failed";
-        r.error = exceptionLine(e);
-      }
-    }
-  };
+  // One thread a core, each taking whole runs; every run's outputs are written whatever its end.
   const std::size_t wanted = cli_.threads ? cli_.threads : std::thread::hardware_concurrency();
   const std::size_t threads = std::max<std::size_t>(1, std::min<std::size_t>(wanted, runs.size()));
-  std::vector<std::thread> pool;
-  for (std::size_t t = 0; t < threads; ++t) pool.emplace_back(worker);
-  ProgressBar bar(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
-  for (;;) {
-    std::size_t done = 0, finished = 0;
-    for (const auto& r : runs) {
-      done += r->steps_done;
-      finished += r->steps_done == steps.size() || r->status != "ok";
-    }
-    bar.update(static_cast<double>(done) / std::max<std::size_t>(1, runs.size() * steps.size()),
-               std::to_string(finished) + "/" + std::to_string(runs.size()) + " runs");
-    if (next >= runs.size() && finished == runs.size()) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  {
+    ProgressBar bar(*err, show_progress);
+    runInThreads(runs, steps, threads, on_end_phase, bar);
   }
-  for (auto& t : pool) t.join();
-  bar.done();
 
   // Metrics against the reference, then every run's files.
-  std::vector<report::ComparisonRow> rows;
   const CompareRun& ref = *runs.front();
   const std::size_t ref_landmarks = ref.pipeline->backend().landmarkCount();
   const std::size_t ref_poses = ref.pipeline->backend().poseCount();
-  int exit_code = 0;
-  std::string first_error;
-  std::vector<std::string> failures;  ///< one stderr line a run that did not end ok
   // Without sensor IDs, a final map's coverage goes through the reference run's association
   // (docs/OUTPUTS.md, "Relocalization coverage").
   if (ref.status == "ok" && withoutLandmarkIds(steps))
@@ -261,90 +366,26 @@ int BudgetSlamApp::runCompare() {
       if (r->status == "ok")
         r->pipeline->setFinalCoverage(
             coverageThroughReference(*ref.pipeline, *r->pipeline, metric_options.reloc_match_chi2));
+  std::vector<report::ComparisonRow> rows;
+  CompareOutcome outcome;
   for (const auto& r : runs) {
-    nlohmann::json extra = {{"rawlog", rc.rawlog},
-                            {"sidecar_ini", rc.sidecar},
-                            {"config", config_label_},
-                            {"run", r->name}};
-    metrics::ReferenceMetrics m;
-    // A stop request after a run's end phase: its outputs are still written (quickly), marked.
-    if (r->status == "ok" && Cancellation::requested()) {
-      r->status = "interrupted";
-      r->error = stopped(*r, " before its outputs were written,");
-    }
-    if (ref.status == "ok" && r->status == "ok") {
-      m = metrics::compareWithReference(ref.pipeline->backend(), r->pipeline->backend(),
-                                        metric_options.eig_max_rows);
-      extra["reference_metrics"] = toJson(m);
-    }
-    nlohmann::json summary;
-    try {
-      summary = r->pipeline->finish(r->status, r->error, steps.size(), extra);
-      if (r->status == "ok" && summary["status"] != "ok") {
-        // An output of the run could not be written (a full disk), or its estimate diverged.
-        r->status = "failed";
-        r->error = summary["error"].get<std::string>();
-      }
-    } catch (const std::exception& e) {
-      r->status = "failed";
-      r->error = std::string("while saving outputs: ") + exceptionLine(e);
-    }
-    if (r->status != "ok") {
-      exit_code = r->status == "interrupted" && exit_code != 1 ? 130 : 1;
-      const std::string line = "run '" + r->name + "': " + r->error;
-      if (first_error.empty()) first_error = line;
-      failures.push_back((r->status == "interrupted" ? "" : "error: ") + line);
-    }
+    const nlohmann::json extra = {{"rawlog", rc.rawlog},
+                                  {"sidecar_ini", rc.sidecar},
+                                  {"config", config_label_},
+                                  {"run", r->name}};
+    const auto m = finishRun(*r, ref, steps.size(), metric_options.eig_max_rows, extra);
+    // The reference's failure fails every comparison, but the others' errors are their own.
+    if (r->status != "ok") outcome.add(r->status, "run '" + r->name + "': " + r->error, false);
     for (const auto& f : r->pipeline->budget().shadowFailures())
-      failures.push_back("warning: run '" + r->name + "': " + shadowFailureLine(f));
-
-    report::ComparisonRow row;
-    row.run = r->name;
-    row.reducer = r->pipeline->budget().options().reducer;
-    row.backend = r->pipeline->backend().name();
-    row.status = r->status;
-    row.cap = r->pipeline->budget().capped()
-                  ? static_cast<long long>(*r->pipeline->budget().options().max_landmarks)
-                  : -1;
-    row.landmarks = r->pipeline->backend().landmarkCount();
-    row.poses = r->pipeline->backend().poseCount();
-    if (ref_landmarks)
-      row.landmarks_reduction_pct = 100.0 * (1.0 - double(row.landmarks) / double(ref_landmarks));
-    if (ref_poses) row.poses_reduction_pct = 100.0 * (1.0 - double(row.poses) / double(ref_poses));
-    row.evictions = r->pipeline->evictions();
-    row.ate_m = m.ate, row.ale_m = m.ale, row.are_deg = m.are_deg, row.ud_pct = m.ud_percent;
-    row.eig_min = m.eig_min, row.eig_max = m.eig_max;
-    row.gt_trajectory_rmse_m = jsonNumber(summary, "ground_truth", "trajectory_rmse_m");
-    row.gt_trajectory_max_m = jsonNumber(summary, "ground_truth", "trajectory_max_m");
-    row.gt_landmark_rmse_m = jsonNumber(summary, "ground_truth", "landmark_rmse_m");
-    row.nees_mean = jsonNumber(summary, "ground_truth", "nees_mean");
-    row.time_s = r->pipeline->totalStepSeconds();
-    row.reloc_coverage_pct = jsonNumber(summary, "relocalization", "coverage_pct");
-    row.reloc_mean_landmarks = jsonNumber(summary, "relocalization", "mean_landmarks");
-    rows.push_back(row);
+      outcome.lines.push_back("warning: run '" + r->name + "': " + shadowFailureLine(f));
+    rows.push_back(comparisonRow(*r, m, ref_landmarks, ref_poses));
   }
 
-  // --relocalize: every final map (the reference's too) localizes each traversal.
   std::vector<RelocalizationResult> relocalized;
-  if (!traversals.empty()) {
-    std::vector<MapOfRun> maps;
-    for (const auto& r : runs)
-      if (r->status == "ok")
-        maps.push_back({r->name, r->pipeline->folder().path(), r->pipeline->backend().landmarks(),
-                        r->pipeline->mapAlignment()});
-    relocalized = relocalizeAll(maps, traversals,
-                                cli_.reference_trajectory.empty() ? nullptr : &reference_tum,
-                                cli_.reference_trajectory, cli_.threads, cli_.force);
-    addRelocalizationColumns(rows, relocalized, kReference);
-    for (const auto& r : relocalized)
-      if (r.status != "ok") {
-        if (exit_code == 0) exit_code = r.status == "interrupted" ? 130 : 1;
-        const std::string line =
-            "run '" + r.run + "', --relocalize '" + r.traversal + "': " + r.error;
-        if (first_error.empty()) first_error = line;
-        failures.push_back((r.status == "interrupted" ? "" : "error: ") + line);
-      }
-  }
+  if (!traversals.empty())
+    relocalized = relocalizeMaps(runs, traversals,
+                                 cli_.reference_trajectory.empty() ? nullptr : &reference_tum, cli_,
+                                 rows, outcome);
 
   try {
     report::writeComparisonCsv(top->file("comparison.csv"), rows);
@@ -354,42 +395,12 @@ int BudgetSlamApp::runCompare() {
                               reducers::BudgetOptions::capText(rc.budget.max_landmarks) + ", " +
                               std::to_string(steps.size()) + " steps";
     std::string md = report::writeComparisonMarkdown(top->file("comparison.md"), title, rows);
-    if (cli_.offline_optimum) {
-      if (!rc.budget.max_landmarks)
-        throw InputError("--offline-optimum needs a cap (not --cap none)");
-      std::vector<FinalMap> maps;
-      for (const auto& r : runs) {
-        FinalMap m{r->name, {}};
-        for (const auto& l : r->pipeline->backend().landmarks()) m.kept.push_back(l.id);
-        maps.push_back(std::move(m));
-      }
-      const std::string table =
-          writeOfflineOptimum(top->file("offline_optimum.csv"), rc.ini, steps,
-                              ref.pipeline->onlinePoses(), maps, *rc.budget.max_landmarks);
-      std::ofstream(top->file("comparison.md"), std::ios::app) << table;
-      md += table;
-    }
-
-    std::vector<report::ChartPanel> panels;
-    report::ChartPanel count{"landmarks in the map", "step", "landmarks", {}, false};
-    for (const auto& r : runs) {
-      report::Series s{r->name, {}, {}};
-      const auto& counts = r->pipeline->landmarkCounts();
-      for (std::size_t k = 0; k < counts.size(); ++k)
-        s.x.push_back(double(steps[k].index)), s.y.push_back(double(counts[k]));
-      count.series.push_back(std::move(s));
-    }
-    panels.push_back(std::move(count));
-    const bool has_path = truth && !truth->path.empty();
-    const auto gt = has_path ? metrics::toEstimateFrame(*truth) : dataset::GroundTruth();
-    panels.push_back({has_path ? "robot position error against ground truth (online estimate)"
-                               : "robot position difference to the reference run (online estimate)",
-                      "step", "m", errorSeries(runs, has_path ? &gt : nullptr, steps.size()),
-                      false});
-    report::writeChartPng(top->file("comparison.png"), panels);
+    if (cli_.offline_optimum) md += writeOfflineOptimumFiles(*top, rc, runs, steps);
+    writeComparisonChart(top->file("comparison.png"), runs, steps, truth.get());
+    const int code = outcome.exit_code;
     nlohmann::json summary = {
-        {"status", exit_code == 0 ? "ok" : (exit_code == 130 ? "interrupted" : "failed")},
-        {"error", first_error},
+        {"status", code == 0 ? "ok" : (code == 130 ? "interrupted" : "failed")},
+        {"error", outcome.first_error},
         {"rawlog", rc.rawlog},
         {"sidecar_ini", rc.sidecar},
         {"config", config_label_},
@@ -402,10 +413,8 @@ int BudgetSlamApp::runCompare() {
   } catch (const std::exception& e) {
     return fail(std::string("while saving outputs: ") + exceptionLine(e));
   }
-  // One line a run that failed or was interrupted (the reference's failure fails every
-  // comparison, but the others' errors are their own), and a warning a failed shadow reducer.
-  for (const auto& line : failures) *err << "budget-slam: " << printable(line) << std::endl;
-  return exit_code;
+  for (const auto& line : outcome.lines) *err << "budget-slam: " << printable(line) << std::endl;
+  return outcome.exit_code;
 }
 
 }  // namespace budget_slam::app

@@ -8,6 +8,7 @@
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
+#include "budget_slam/metrics/NeesAccumulator.h"
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFiles.h"
 

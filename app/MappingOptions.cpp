@@ -1,58 +1,78 @@
 #include "MappingOptions.h"
 
 #include "BuiltinBackends.h"
-
-#include <ostream>
-
 #include "budget_slam/core/Error.h"
-#include "budget_slam/core/IniSection.h"
 
 namespace budget_slam::app {
+namespace {
+
+using O = MappingOptions;
+
+OptionKey<O> backendKey() {
+  return {"backend",
+          [](O& o, const IniSection& s) {
+            o.backend = s.readChoice("backend", o.backend, MappingOptions::backends());
+          },
+          [](const O& o) { return o.backend; }, "a backend's registry name"};
+}
+
+/// kf-slam's SAVE_3D_SCENES and SAVE_LOG_FREQUENCY make one field. kf-slam's default
+/// SAVE_3D_SCENES = true would write a scene a step of a lifelong run, so budget-slam writes them
+/// only when the ini asks; SAVE_LOG_FREQUENCY is read (and checked) only then.
+OptionKey<O> scenesKey() {
+  return {"SAVE_3D_SCENES",
+          [](O& o, const IniSection& s) {
+            o.scene_every_steps =
+                s.readBool("SAVE_3D_SCENES", false)
+                    ? static_cast<std::size_t>(s.readInt("SAVE_LOG_FREQUENCY", 1, 1))
+                    : 0;
+          },
+          [](const O& o) { return std::string(o.scene_every_steps ? "true" : "false"); }, ""};
+}
+
+OptionKey<O> sceneFrequencyKey() {
+  return {"SAVE_LOG_FREQUENCY", [](O&, const IniSection&) {},  // read with SAVE_3D_SCENES
+          [](const O& o) { return std::to_string(o.scene_every_steps ? o.scene_every_steps : 1); },
+          "[steps]"};
+}
+
+/// kf-slam's default is the 3D filter, but an ini that does not say is taken as 2D here.
+OptionKey<O> filterKey() {
+  return {"kf_implementation",
+          [](O& o, const IniSection& s) {
+            o.kf_implementation = s.readChoice("kf_implementation", o.kf_implementation,
+                                               {"CRangeBearingKFSLAM2D", "CRangeBearingKFSLAM"});
+            if (o.kf_implementation != "CRangeBearingKFSLAM2D")
+              throw ConfigError("[" + s.name() + "] kf_implementation = " + o.kf_implementation +
+                                ": budget-slam runs the 2D filter, CRangeBearingKFSLAM2D");
+          },
+          [](const O& o) { return o.kf_implementation; }, ""};
+}
+
+}  // namespace
 
 const std::vector<std::string>& MappingOptions::backends() {
   static const std::vector<std::string> b = builtinBackends().names();
   return b;
 }
 
-void MappingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                                        const std::string& section) {
-  const IniSection s(ini, section);
-  rawlog_file = s.readString("rawlog_file", rawlog_file);
-  backend = s.readChoice("backend", backend, backends());
-  ground_truth_file = s.readString("ground_truth_file", ground_truth_file);
-  ground_truth_file_robot = s.readString("ground_truth_file_robot", ground_truth_file_robot);
-  logOutput_dir = s.readString("logOutput_dir", logOutput_dir);
-  max_steps = static_cast<std::size_t>(s.readInt("max_steps", 0, 0));
-  keep_history = s.readBool("keep_history", keep_history);
-  save_3d_scene = s.readBool("save_3d_scene", save_3d_scene);
-  // kf-slam's keys; its default SAVE_3D_SCENES = true would write a scene a step of a lifelong run,
-  // so budget-slam writes them only when the ini asks.
-  scene_every_steps = s.readBool("SAVE_3D_SCENES", false)
-                          ? static_cast<std::size_t>(s.readInt("SAVE_LOG_FREQUENCY", 1, 1))
-                          : 0;
-  // kf-slam's default is the 3D filter, but an ini that does not say is taken as 2D here.
-  kf_implementation = s.readChoice("kf_implementation", kf_implementation,
-                                   {"CRangeBearingKFSLAM2D", "CRangeBearingKFSLAM"});
-  if (kf_implementation != "CRangeBearingKFSLAM2D")
-    throw ConfigError("[" + section + "] kf_implementation = " + kf_implementation +
-                      ": budget-slam runs the 2D filter, CRangeBearingKFSLAM2D");
-}
-
-void MappingOptions::dumpToTextStream(std::ostream& out) const {
-  out << "\n----------- [" << kSection << "] ------------\n";
-  out << "rawlog_file              = " << rawlog_file << "\n";
-  out << "backend                  = " << backend << "\n";
-  out << "ground_truth_file        = " << ground_truth_file << "\n";
-  out << "ground_truth_file_robot  = " << ground_truth_file_robot << "\n";
-  out << "logOutput_dir            = " << logOutput_dir << "\n";
-  out << "max_steps                = " << max_steps << "\n";
-  out << "keep_history             = " << (keep_history ? "true" : "false") << "\n";
-  out << "save_3d_scene            = " << (save_3d_scene ? "true" : "false") << "\n";
-  out << "3D scene every [steps]   = " << scene_every_steps << " (0: never)\n";
-}
-
-std::vector<std::string> MappingOptions::keys() {
-  return {"backend", "max_steps", "keep_history", "save_3d_scene"};
+const OptionTable<MappingOptions>& MappingOptions::table() {
+  static const OptionTable<O> t = {
+      option::text("rawlog_file", &O::rawlog_file),
+      backendKey(),
+      option::text("ground_truth_file", &O::ground_truth_file, "empty = next to the rawlog"),
+      option::text("ground_truth_file_robot", &O::ground_truth_file_robot,
+                   "empty = next to the rawlog"),
+      option::text("logOutput_dir", &O::logOutput_dir),
+      option::integer("max_steps", &O::max_steps, 0, std::numeric_limits<long long>::max(),
+                      "[steps], 0 = the whole rawlog"),
+      option::flag("keep_history", &O::keep_history),
+      option::flag("save_3d_scene", &O::save_3d_scene),
+      scenesKey(),
+      sceneFrequencyKey(),
+      filterKey(),
+  };
+  return t;
 }
 
 }  // namespace budget_slam::app

@@ -1,14 +1,14 @@
 #pragma once
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <string>
 #include <vector>
+
+#include "budget_slam/core/OptionTable.h"
 
 namespace budget_slam::app {
 
 /// [MappingApplication]: MRPT kf-slam's application section, read the way kf-slam reads it, plus
 /// budget-slam's `backend`.
-struct MappingOptions : public mrpt::config::CLoadableOptions {
+struct MappingOptions : public TabledOptions<MappingOptions> {
   static constexpr const char* kSection = "MappingApplication";
 
   std::string rawlog_file;              ///< input rawlog; -i overrides (relative: to the CWD,
@@ -27,12 +27,10 @@ struct MappingOptions : public mrpt::config::CLoadableOptions {
   /// [steps]
   std::size_t scene_every_steps = 0;
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                          const std::string& section) override;
-  void dumpToTextStream(std::ostream& out) const override;
-
-  /// budget-slam's own keys of the section (MRPT's come from ekf::mrptKfSlamIniKeys()).
-  static std::vector<std::string> keys();
+  /// Every key read here, kf-slam's and budget-slam's own (`backend`, `max_steps`,
+  /// `keep_history`, `save_3d_scene`): name, field, check and unit (the defaults are the
+  /// initializers above). The kf-slam keys read nowhere are in ekf::mrptKfSlamIniKeys().
+  static const OptionTable<MappingOptions>& table();
   static const std::vector<std::string>& backends();  ///< builtinBackends().names()
 };
 

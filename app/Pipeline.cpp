@@ -1,30 +1,20 @@
 #include "Pipeline.h"
 
-#include <sys/resource.h>
-#include <time.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <fstream>
-#include <functional>
-#include <iomanip>
+#include <cstdio>
 #include <optional>
-#include <sstream>
-#include <unordered_map>
 #include <unordered_set>
 
 #include "BuiltinBackends.h"
 #include "MappingOptions.h"
+#include "ProcessProbes.h"
+#include "RunMapContent.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
-#include "budget_slam/core/StepFilter.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
-#include "budget_slam/report/FileWrite.h"
-#include "budget_slam/report/MapScene.h"
-#include "budget_slam/report/Pictures.h"
-#include "budget_slam/report/RunFiles.h"
+#include "budget_slam/report/RunSummaryJson.h"
 
 namespace budget_slam::app {
 namespace {
@@ -37,14 +27,6 @@ std::vector<std::unique_ptr<Reducer>> makeShadows(const mrpt::config::CConfigFil
     if (r) out.push_back(std::move(r));
   }
   return out;
-}
-
-/// CPU time of the calling thread [s]: per run even when compare runs several in one process,
-/// and unaffected by other processes on a shared machine.
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 /// map.png marks at most this many dropped landmarks (a lifelong run drops millions).
@@ -63,75 +45,29 @@ double nanIfEmpty(std::size_t n, double v) {
   return n ? v : std::numeric_limits<double>::quiet_NaN();
 }
 
-/// JSON has no NaN: write null instead.
-nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
-
 bool finite(const LandmarkView& l) {
   return l.mean.allFinite() && l.cov.allFinite() && l.obs_mean.allFinite();
 }
 
-/// A cell of evictions.csv's shadow_choices: `name:id:score` a shadow, `;`-separated; a shadow
-/// that failed at this drop has empty id and score (`name::`).
-std::string shadowChoices(const reducers::Eviction& e) {
-  std::string out;
-  for (const auto& [name, choice] : e.shadow) {
-    out += (out.empty() ? "" : ";") + name + ":";
-    if (choice.id != kNoLandmarkId)
-      out += std::to_string(choice.id) + ":" +
-             (std::isnan(choice.score) ? std::string() : report::formatDouble(choice.score));
-    else
-      out += ":";
-  }
-  return out;
-}
-
-/// A cell of evictions.csv's shadow_errors: `name: why` a failed shadow, `;`-separated (a `;`
-/// inside a message reads as `,`).
-std::string shadowErrors(const reducers::Eviction& e) {
-  std::string out;
-  for (auto [name, why] : e.shadow_errors) {
-    std::replace(why.begin(), why.end(), ';', ',');
-    out += (out.empty() ? "" : ";") + name + ": " + why;
-  }
-  return out;
+report::EvictionRow evictionRow(const reducers::Eviction& e) {
+  return {e.step,    e.id,     e.reducer, e.score,        e.n_before,
+          e.n_after, e.reason, e.shadow,  e.shadow_errors};
 }
 
 }  // namespace
 
-std::string shadowFailureLine(const reducers::ShadowFailures& f) {
-  return "shadow reducer '" + f.shadow + "' failed at " + std::to_string(f.failures) +
-         " drop decision" + (f.failures == 1 ? "" : "s") + " from step " +
-         std::to_string(f.first_step) + " to " + std::to_string(f.last_step) +
-         " (first: " + f.first_error + "); the active reducer's drops stand";
-}
-
-std::size_t peakResidentBytes() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<std::size_t>(u.ru_maxrss) * 1024;  // Linux reports KiB
-}
-
-std::size_t residentBytes() {
-  std::ifstream statm("/proc/self/statm");
-  std::size_t pages_total = 0, pages_resident = 0;
-  if (!(statm >> pages_total >> pages_resident)) return 0;
-  return pages_resident * static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
-}
-
 Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
                    const reducers::BudgetOptions& budget, report::OutputFolder folder,
                    std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history)
-    : folder_(std::move(folder)),
-      backend_(builtinBackends().create(backend, ini, BackendSettings{keep_history})),
+    : backend_(builtinBackends().create(backend, ini, BackendSettings{keep_history})),
       manager_(std::make_unique<reducers::BudgetManager>(
           budget, reducers::builtinReducers().create(budget.reducer, ini, budget.seed),
           makeShadows(ini, budget))),
       truth_(std::move(truth)),
-      steps_csv_(folder_.file("steps.csv"), report::stepsCsvColumns()),
-      evictions_csv_(folder_.file("evictions.csv"), report::evictionsCsvColumns()),
+      outputs_(std::move(folder)),
       keep_history_(keep_history),
       reloc_(relocMinLandmarks(ini), keep_history ? 0 : kMaxCoverageSteps) {
-  if (truth_ && !truth_->path.empty()) truth_frame_ = metrics::toEstimateFrame(*truth_);
+  if (truth_ && !truth_->path.empty()) nees_.emplace(*truth_);
   // map.png colours the kept landmarks by the coverage clusters ([CoverageReducer], run's seed).
   coverage_.seed = budget.seed;
   coverage_.loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
@@ -140,7 +76,8 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
   save_3d_scene_ = mapping.save_3d_scene;
   scene_every_steps_ = mapping.scene_every_steps;
   if (budget.dump_states)
-    manager_->setBeforeDropEvent([this](const Backend& b, StepIndex step) { dumpState(b, step); });
+    manager_->setBeforeDropEvent(
+        [this](const Backend& b, StepIndex step) { outputs_.writeState(b, step); });
 }
 
 void Pipeline::process(const Step& raw) {
@@ -173,24 +110,20 @@ void Pipeline::process(const Step& raw) {
 
   // The row first: a step whose row cannot be written (a full disk) does not count, so that
   // steps.csv, trajectory.tum and summary.json agree on the steps done.
-  steps_csv_.cell(raw.index)
-      .cell(raw.t)
-      .cell(n)
-      .cell(added)
-      .cell(drops.size())
-      .cell(backend_->poseCount())
-      .cell(pose.mean.x)
-      .cell(pose.mean.y)
-      .cell(pose.mean.phi)
-      .cell(pose.cov(0, 0))
-      .cell(pose.cov(1, 1))
-      .cell(pose.cov(2, 2))
-      .cell(1e3 * dt)
-      .cell(1e3 * cpu)
-      .cell(residentBytes())
-      .cell(reloc_landmarks)
-      .cell(reloc_.coverageSoFarPct());
-  steps_csv_.endRow();
+  report::StepRow row;
+  row.step = raw.index;
+  row.t = raw.t;
+  row.landmarks = n;
+  row.added = added;
+  row.dropped = drops.size();
+  row.poses = backend_->poseCount();
+  row.pose = pose;
+  row.step_ms = 1e3 * dt;
+  row.cpu_ms = 1e3 * cpu;
+  row.rss_bytes = residentBytes();
+  row.reloc_landmarks = reloc_landmarks;
+  row.reloc_coverage_so_far_pct = reloc_.coverageSoFarPct();
+  outputs_.addStep(row);
 
   ++steps_done_;
   last_step_ = raw.index;
@@ -200,22 +133,15 @@ void Pipeline::process(const Step& raw) {
   peak_landmarks_ = std::max(peak_landmarks_, n);
   if (keep_history_) counts_.push_back(n);
   if (keep_history_) online_.push_back({raw.index, pose});
-  if (truth_frame_)
-    for (int offset : {0, 1}) {
-      const std::size_t row = raw.index + offset;
-      if (row >= truth_frame_->path.size()) continue;
-      const double nees = metrics::poseNees(pose, truth_frame_->path[row]);
-      if (!std::isfinite(nees)) continue;  // e.g. the zero covariance before the first motion
-      nees_sum_[offset] += nees;
-      ++nees_n_[offset];
-    }
+  if (nees_) nees_->add(raw.index, pose);
 
   logEvictions(drops);
   if (scene_every_steps_ && raw.index % scene_every_steps_ == 0) {
     char name[48];
     std::snprintf(name, sizeof name, "kf_state_%05llu.3Dscene",
                   static_cast<unsigned long long>(raw.index));
-    writeScene(name, mapContent(backend_->trajectory(), backend_->landmarks(), nullptr));
+    outputs_.writeScene(name, mapContent(backend_->trajectory(), backend_->landmarks(), nullptr),
+                        backend_->robotPose().mean);
   }
 }
 
@@ -236,7 +162,7 @@ std::size_t Pipeline::trackCoverage(const Step& raw, const Step& filtered,
   return reloc_.addStep(raw.index, observed);
 }
 
-Pipeline::FinalCoverage Pipeline::finalCoverage() const {
+FinalCoverage Pipeline::finalCoverage() const {
   FinalCoverage c;
   std::unordered_set<LandmarkId> ids;
   for (const auto& l : backend_->landmarks()) ids.insert(l.id);
@@ -255,98 +181,20 @@ void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
     const bool refused = e.reason == "refused";
     ++(refused ? refused_ : evictions_);
     if (!refused && dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
-    evictions_csv_.cell(e.step)
-        .cell(static_cast<long long>(e.id))
-        .cell(e.reducer)
-        .cell(e.score)
-        .cell(e.n_before)
-        .cell(e.n_after)
-        .cell(e.reason)
-        .cell(shadowChoices(e))
-        .cell(shadowErrors(e));
-    evictions_csv_.endRow();
+    outputs_.addEviction(evictionRow(e));
   }
 }
 
 report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& trajectory,
                                         const std::vector<LandmarkView>& landmarks,
                                         const FinalCoverage* coverage) const {
-  report::MapContent map;
   const auto& budget = manager_->options();
-  map.title = backend_->name() + ", reducer " + budget.reducer +
-              (manager_->capped() ? ", cap " + std::to_string(*budget.max_landmarks) : "") + ": " +
-              std::to_string(landmarks.size()) + " landmarks kept, " + std::to_string(evictions_) +
-              " dropped";
-  for (const auto& p : trajectory) map.trajectory.push_back(p.pose);
-  map.kept = landmarks;
-  std::vector<Eigen::Vector2d> obs_means;
-  for (const auto& l : landmarks) obs_means.push_back(l.obs_mean);
-  for (const std::size_t c :
-       reducers::KMeans::cluster(obs_means, coverage_.kmeans(obs_means.size())).label)
-    map.cluster_of_kept.push_back(static_cast<int>(c));
-  map.dropped = dropped_;
-  // The path coloured by the final map's landmarks in view, when every pose's step is known.
-  if (coverage) {
-    std::unordered_map<StepIndex, std::size_t> in_view;
-    for (const auto& st : coverage->steps) in_view[st.step] = st.in_map;
-    map.min_landmarks = coverage->coverage.min_landmarks;
-    for (const auto& p : trajectory) {
-      const auto it = in_view.find(p.step);
-      if (it == in_view.end()) {
-        map.trajectory_landmarks.clear();
-        break;
-      }
-      map.trajectory_landmarks.push_back(it->second);
-    }
-  }
-  if (truth_ && !truth_->empty()) {
-    const auto gt = metrics::toEstimateFrame(*truth_);
-    map.ground_truth_path = gt.path;
-    for (const auto& [id, l] : gt.landmarks) map.ground_truth_landmarks.push_back(l);
-  }
-  return map;
-}
-
-void Pipeline::writeScene(const std::string& name, const report::MapContent& map) const {
-  report::writeMapScene(folder_.file(name), map, backend_->robotPose().mean);
-}
-
-void Pipeline::writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
-                                   std::size_t steps_in_rawlog) const {
-  // The ground truth of every pose in trajectory.tum, same timestamps, in the estimate's frame:
-  // `evo_ape tum ground_truth.tum trajectory.tum` compares them.
-  const auto gt = metrics::toEstimateFrame(*truth_);
-  std::vector<TrajectoryPoint> rows;
-  for (const auto& p : trajectory) {
-    const std::size_t row = metrics::groundTruthRow(p.step, gt.path.size(), steps_in_rawlog);
-    if (row < gt.path.size()) rows.push_back({p.step, p.t, gt.path[row]});
-  }
-  report::writeTrajectoryTum(folder_.file("ground_truth.tum"), rows);
-}
-
-void Pipeline::dumpState(const Backend& backend, StepIndex step) const {
-  // Full mean and covariance, robot pose first then landmarks in the backend's order, so that
-  // any reducer's score can be recomputed by hand.
-  const auto lms = backend.landmarks();
-  std::vector<VariableKey> vars = {VariableKey::pose(step)};
-  for (const auto& l : lms) vars.push_back(VariableKey::landmark(l.id));
-  const Eigen::MatrixXd P = backend.jointCovariance(vars);
-  const PoseEstimate pose = backend.robotPose();
-
-  std::ostringstream out;
-  out << std::setprecision(17);
-  out << "# state before the drop event after step " << step << " (backend " << backend.name()
-      << ")\n# order: robot x y yaw, then x y of each landmark below\n# ids:";
-  for (const auto& l : lms) out << ' ' << l.id;
-  out << "\n# mean\n" << pose.mean.x << ' ' << pose.mean.y << ' ' << pose.mean.phi;
-  for (const auto& l : lms) out << ' ' << l.mean.x() << ' ' << l.mean.y();
-  out << "\n# covariance\n";
-  for (Eigen::Index r = 0; r < P.rows(); ++r) {
-    for (Eigen::Index c = 0; c < P.cols(); ++c) out << (c ? " " : "") << P(r, c);
-    out << '\n';
-  }
-  report::writeFileAtomically(folder_.file("states/step_" + std::to_string(step) + ".txt"),
-                              out.str());
+  std::string title = backend_->name() + ", reducer " + budget.reducer +
+                      (manager_->capped() ? ", cap " + std::to_string(*budget.max_landmarks) : "") +
+                      ": " + std::to_string(landmarks.size()) + " landmarks kept, " +
+                      std::to_string(evictions_) + " dropped";
+  return runMapContent(std::move(title), trajectory, landmarks, coverage_, dropped_, coverage,
+                       truth_.get());
 }
 
 void Pipeline::complete() {
@@ -363,8 +211,8 @@ void Pipeline::complete() {
   backend_->finish();
 }
 
-nlohmann::json Pipeline::finish(const std::string& status, const std::string& error,
-                                std::size_t steps_in_rawlog, const nlohmann::json& extra) {
+RunResult Pipeline::finish(const std::string& status, const std::string& error,
+                           std::size_t steps_in_rawlog, const nlohmann::json& extra) {
   if (status == "ok") {
     complete();
     Cancellation::check();  // a stop request before the outputs: the run ends as interrupted
@@ -374,67 +222,52 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
   const auto finitePose = [](const mrpt::math::TPose2D& p) {
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
   };
-  std::vector<TrajectoryPoint> trajectory;
+  report::RunEndFiles files;
   std::size_t poses_not_finite = 0;
   for (const auto& p : backend_->trajectory()) {
     if (steps_done_ == 0 || p.step > last_step_) continue;  // a step cut short
     if (!finitePose(p.pose) || !std::isfinite(p.t))
       ++poses_not_finite;
     else
-      trajectory.push_back(p);
+      files.trajectory.push_back(p);
   }
-  std::vector<LandmarkView> landmarks;
   std::size_t landmarks_not_finite = 0;
   for (const auto& l : backend_->landmarks()) {
     if (finite(l))
-      landmarks.push_back(l);
+      files.landmarks.push_back(l);
     else
       ++landmarks_not_finite;
   }
+  const std::vector<TrajectoryPoint>& trajectory = files.trajectory;
+  const std::vector<LandmarkView>& landmarks = files.landmarks;
 
   // Every output is attempted; the first failure (a full disk) is the run's error.
-  std::vector<std::string> not_written;
-  std::string first_error;
-  const auto attempt = [&](const std::string& name, const std::function<void()>& write) {
-    try {
-      write();
-    } catch (const std::exception& e) {
-      not_written.push_back(name);
-      if (first_error.empty()) first_error = exceptionLine(e);
-    }
-  };
-  attempt("steps.csv", [&] { steps_csv_.close(); });
-  attempt("evictions.csv", [&] { evictions_csv_.close(); });
-  attempt("trajectory.tum",
-          [&] { report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory); });
-  attempt("landmarks.csv",
-          [&] { report::writeLandmarksCsv(folder_.file("landmarks.csv"), landmarks); });
   const FinalCoverage coverage = final_coverage_ ? *final_coverage_ : finalCoverage();
-  // One map content (its k-means included) for both pictures of the final map.
-  std::optional<report::MapContent> map;
-  const auto finalMap = [&]() -> const report::MapContent& {
-    if (!map) map = mapContent(trajectory, landmarks, &coverage);
-    return *map;
-  };
-  attempt("map.png", [&] { report::writeMapPng(folder_.file("map.png"), finalMap()); });
-  if (save_3d_scene_) attempt("map.3Dscene", [&] { writeScene("map.3Dscene", finalMap()); });
-  if (truth_ && !truth_->path.empty())
-    attempt("ground_truth.tum", [&] { writeGroundTruthTum(trajectory, steps_in_rawlog); });
+  files.map = [&] { return mapContent(trajectory, landmarks, &coverage); };
+  files.scene = save_3d_scene_;
+  if (save_3d_scene_) files.robot = backend_->robotPose().mean;
+  files.truth = truth_.get();
+  files.steps_in_rawlog = steps_in_rawlog;
+  const auto written = outputs_.writeEndFiles(files);
+  std::string first_error = written.first_error;
 
-  std::string st = status, why = error;
-  if (st == "ok" && (poses_not_finite || landmarks_not_finite)) {
-    st = "failed";
-    why = "the " + backend_->name() + " estimate is not finite at the end of the run (" +
-          std::to_string(poses_not_finite) + " poses, " + std::to_string(landmarks_not_finite) +
-          " landmarks)";
+  RunResult result;
+  result.status = status;
+  result.error = error;
+  if (result.status == "ok" && (poses_not_finite || landmarks_not_finite)) {
+    result.status = "failed";
+    result.error = "the " + backend_->name() + " estimate is not finite at the end of the run (" +
+                   std::to_string(poses_not_finite) + " poses, " +
+                   std::to_string(landmarks_not_finite) + " landmarks)";
   }
-  if (st == "ok" && !first_error.empty()) st = "failed", why = first_error;
+  if (result.status == "ok" && !first_error.empty())
+    result.status = "failed", result.error = first_error;
 
   const auto& budget = manager_->options();
   nlohmann::json j;
-  j["status"] = st;
-  j["error"] = why;
-  if (!not_written.empty()) j["files_not_written"] = not_written;
+  j["status"] = result.status;
+  j["error"] = result.error;
+  if (!written.not_written.empty()) j["files_not_written"] = written.not_written;
   j["backend"] = backend_->name();
   j["reducer"] = budget.reducer;
   j["cap"] = manager_->capped() ? nlohmann::json(*budget.max_landmarks) : nlohmann::json();
@@ -448,84 +281,42 @@ nlohmann::json Pipeline::finish(const std::string& status, const std::string& er
                  {"refused", refused_},
                  {"poses_kept", backend_->poseCount()},
                  {"poses_marginalized", manager_->posesMarginalized()}};
-  j["timings"] = {
-      {"steps_s", total_step_s_},
-      {"step_ms_mean", number(nanIfEmpty(steps_done_, 1e3 * total_step_s_ /
-                                                          std::max<std::size_t>(1, steps_done_)))},
-      {"step_ms_max", 1e3 * max_step_s_},
-      {"peak_rss_bytes", peakResidentBytes()}};
-  nlohmann::json agreement = nlohmann::json::array();
-  for (const auto& a : manager_->agreements())
-    agreement.push_back({{"a", a.a},
-                         {"b", a.b},
-                         {"agree", a.agree},
-                         {"total", a.total},
-                         {"rate", number(a.total ? a.rate() : NAN)}});
-  j["agreement"] = agreement;
-  nlohmann::json shadow_failures = nlohmann::json::array();
-  for (const auto& f : manager_->shadowFailures())
-    shadow_failures.push_back({{"shadow", f.shadow},
-                               {"failures", f.failures},
-                               {"first_step", f.first_step},
-                               {"last_step", f.last_step},
-                               {"first_error", f.first_error}});
-  j["shadow_failures"] = shadow_failures;
+  j["timings"] = {{"steps_s", total_step_s_},
+                  {"step_ms_mean",
+                   report::jsonNumber(nanIfEmpty(
+                       steps_done_, 1e3 * total_step_s_ / std::max<std::size_t>(1, steps_done_)))},
+                  {"step_ms_max", 1e3 * max_step_s_},
+                  {"peak_rss_bytes", peakResidentBytes()}};
+  j["agreement"] = agreementJson(*manager_);
+  j["shadow_failures"] = shadowFailuresJson(*manager_);
 
   if (truth_ && !truth_->empty()) {
     metrics::GroundTruthErrors e;
     try {
-      e = metrics::groundTruthErrors(trajectory, {}, landmarks, *truth_, steps_in_rawlog);
+      e = metrics::groundTruthErrors(trajectory, landmarks, *truth_, steps_in_rawlog);
     } catch (const Error& x) {
       if (first_error.empty()) first_error = x.what();  // a bug: inputs are finite here
     }
-    const int offset =
-        truth_->path.empty()
-            ? 1
-            : static_cast<int>(metrics::groundTruthRow(0, truth_->path.size(), steps_in_rawlog));
-    const double nees_mean = nees_n_[offset] ? nees_sum_[offset] / nees_n_[offset] : NAN;
-    j["ground_truth"] = {{"landmarks_file", truth_->landmarks_file},
-                         {"path_file", truth_->path_file},
-                         {"poses", e.poses},
-                         {"trajectory_rmse_m", number(e.trajectory_rmse)},
-                         {"trajectory_max_m", number(e.trajectory_max)},
-                         {"trajectory_rmse_aligned_m", number(e.trajectory_rmse_aligned)},
-                         {"alignment_rotation_deg", number(e.alignment_rotation_deg)},
-                         {"landmark_rmse_aligned_m", number(e.landmark_rmse_aligned)},
-                         {"landmarks", e.landmarks},
-                         {"landmark_rmse_m", number(e.landmark_rmse)},
-                         {"nees_mean", number(nees_mean)},
-                         {"nees_samples", nees_n_[offset]}};
+    if (nees_) result.nees = nees_->result(steps_in_rawlog);
     // Where the ground truth's frame sits in the map's (budget-slam localize starts another
     // traversal's robot there; docs/OUTPUTS.md).
     alignment_ = metrics::mapAlignment(landmarks, trajectory, *truth_, steps_in_rawlog);
-    if (alignment_)
-      j["ground_truth"]["map_alignment"] = {{"x", alignment_->transform.t.x()},
-                                            {"y", alignment_->transform.t.y()},
-                                            {"yaw", alignment_->yaw()},
-                                            {"source", alignment_->source},
-                                            {"points", alignment_->points}};
+    j["ground_truth"] = report::groundTruthJson(*truth_, e, result.nees, alignment_);
+    result.ground_truth = e;
   }
-  {
-    const auto& c = coverage.coverage;
-    nlohmann::json r = {{"min_landmarks", c.min_landmarks},
-                        {"coverage_pct", number(c.coverage_pct)},
-                        {"mean_landmarks", number(c.mean_landmarks)},
-                        {"steps", c.steps},
-                        {"steps_covered", c.steps_covered},
-                        {"sampled", c.sampled},
-                        {"source", coverage.source}};
-    for (const auto& [k, v] : coverage.details.items()) r[k] = v;
-    j["relocalization"] = r;
-  }
+  result.relocalization = coverage.coverage;
+  j["relocalization"] =
+      report::relocalizationJson(coverage.coverage, coverage.source, coverage.details);
   for (const auto& [k, v] : extra.items()) j[k] = v;
   try {
-    report::writeJson(folder_.file("summary.json"), j);
+    outputs_.writeSummary(j);
   } catch (const std::exception& e) {
     summary_error_ = exceptionLine(e);
     if (first_error.empty()) first_error = summary_error_;
   }
   write_error_ = first_error;
-  return j;
+  result.summary = std::move(j);
+  return result;
 }
 
 }  // namespace budget_slam::app

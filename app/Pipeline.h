@@ -6,22 +6,27 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "FinalCoverage.h"
+#include "RunResult.h"
+#include "RunSummary.h"
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/metrics/MapAlignment.h"
+#include "budget_slam/metrics/NeesAccumulator.h"
 #include "budget_slam/metrics/RelocalizationCoverage.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/CoverageOptions.h"
-#include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/report/OutputFolder.h"
 #include "budget_slam/report/Pictures.h"
+#include "budget_slam/report/RunOutputs.h"
 
 namespace budget_slam::app {
 
-/// One SLAM run under a budget: backend + budget manager + the run's output folder
-/// (docs/ARCHITECTURE.md "Data flow", docs/OUTPUTS.md). Steps go in one at a time; steps.csv and
-/// evictions.csv are written as they happen, the rest by finish().
+/// The run driver: one SLAM run under a budget, backend + budget manager, fed one step at a time
+/// (docs/ARCHITECTURE.md "Data flow"). It measures as it goes (timings, relocalization coverage,
+/// the NEES: metrics::NeesAccumulator) and hands every file to report::RunOutputs (steps.csv and
+/// evictions.csv as the steps happen, the rest in finish(); docs/OUTPUTS.md).
 class Pipeline {
  public:
   /// `keep_history` = false keeps no per-step records in memory (no online poses, no landmark
@@ -47,10 +52,11 @@ class Pipeline {
   /// or drawn (a diverged estimate leaves its non-finite poses and landmarks out, counted in
   /// summary.json). Each output is attempted even when another fails; an ok run whose outputs
   /// could not all be written becomes failed, with the first write error (see writeError()).
-  /// `steps_in_rawlog` maps ground truth rows. Returns the summary. With status ok, throws
-  /// Interrupted when a stop request came before the outputs were written.
-  nlohmann::json finish(const std::string& status, const std::string& error,
-                        std::size_t steps_in_rawlog, const nlohmann::json& extra = {});
+  /// `steps_in_rawlog` maps ground truth rows. Returns the summary and, in memory, its numbers.
+  /// With status ok, throws Interrupted when a stop request came before the outputs were
+  /// written.
+  RunResult finish(const std::string& status, const std::string& error, std::size_t steps_in_rawlog,
+                   const nlohmann::json& extra = {});
   /// The first output finish() could not write ("" when all were written).
   const std::string& writeError() const { return write_error_; }
   /// Why finish() could not write summary.json ("" when it did).
@@ -62,7 +68,7 @@ class Pipeline {
 
   const Backend& backend() const { return *backend_; }
   const reducers::BudgetManager& budget() const { return *manager_; }
-  const report::OutputFolder& folder() const { return folder_; }
+  const report::OutputFolder& folder() const { return outputs_.folder(); }
   std::size_t stepsDone() const { return steps_done_; }
   /// Landmarks dropped after holding a place in the map (evictions.csv rows but the refusals).
   std::size_t evictions() const { return evictions_; }
@@ -73,14 +79,6 @@ class Pipeline {
   const std::vector<std::size_t>& landmarkCounts() const { return counts_; }
   double totalStepSeconds() const { return total_step_s_; }
 
-  /// Relocalization coverage of the final map (docs/OUTPUTS.md): the coverage, the steps with
-  /// their counts against the final map, and where the observations came from.
-  struct FinalCoverage {
-    metrics::RelocalizationCoverage coverage;
-    std::vector<metrics::ObservedAtStep> steps;
-    std::string source;  ///< landmark_ids | own_association | reference_association | ...
-    nlohmann::json details = nlohmann::json::object();  ///< extra fields for summary.json
-  };
   /// The tracker's steps against the backend's landmarks now (call after complete()).
   FinalCoverage finalCoverage() const;
   /// Replaces what finish() reports (compare on ID-less rawlogs: through the reference run).
@@ -91,13 +89,10 @@ class Pipeline {
   const std::optional<metrics::MapAlignment>& mapAlignment() const { return alignment_; }
 
  private:
-  void dumpState(const Backend& backend, StepIndex step) const;
   /// evictions.csv rows, counts and map marks of drops.
   void logEvictions(const std::vector<reducers::Eviction>& drops);
-  void writeGroundTruthTum(const std::vector<TrajectoryPoint>& trajectory,
-                           std::size_t steps_in_rawlog) const;
-  /// What map.png and map.3Dscene show; with `coverage`, the path coloured by the final map's
-  /// landmarks in view.
+  /// What map.png and map.3Dscene show (runMapContent); with `coverage`, the path coloured by
+  /// the final map's landmarks in view.
   report::MapContent mapContent(const std::vector<TrajectoryPoint>& trajectory,
                                 const std::vector<LandmarkView>& landmarks,
                                 const FinalCoverage* coverage) const;
@@ -106,24 +101,17 @@ class Pipeline {
   /// landmarks of the map held after the step it observed.
   std::size_t trackCoverage(const Step& raw, const Step& filtered,
                             const std::vector<LandmarkId>& assoc);
-  /// map.3Dscene, or kf_state_<step>.3Dscene during the run (MRPT's SceneViewer3D).
-  void writeScene(const std::string& name, const report::MapContent& map) const;
 
-  report::OutputFolder folder_;
   reducers::CoverageOptions coverage_;  ///< how map.png clusters the kept landmarks
   bool save_3d_scene_ = true;           ///< [MappingApplication] save_3d_scene
   std::size_t scene_every_steps_ = 0;   ///< kf-slam's SAVE_3D_SCENES / SAVE_LOG_FREQUENCY
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<reducers::BudgetManager> manager_;
   std::shared_ptr<const dataset::GroundTruth> truth_;
-  report::CsvWriter steps_csv_, evictions_csv_;
+  report::RunOutputs outputs_;
   std::vector<metrics::PoseRecord> online_;
   bool keep_history_ = true;
-  /// Ground truth in the estimate's frame, and the NEES sums for the two row conventions
-  /// (metrics::groundTruthRow: step k is row k, or row k+1) until the step count is known.
-  std::optional<dataset::GroundTruth> truth_frame_;
-  double nees_sum_[2] = {0, 0};
-  std::size_t nees_n_[2] = {0, 0};
+  std::optional<metrics::NeesAccumulator> nees_;  ///< when the ground truth has a path
   std::vector<std::size_t> counts_;
   std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
   metrics::RelocalizationTracker reloc_;
@@ -137,13 +125,5 @@ class Pipeline {
               landmarks_added_ = 0;
   double total_step_s_ = 0, max_step_s_ = 0;
 };
-
-/// One line saying how a shadow reducer failed over a run (a warning on stderr).
-std::string shadowFailureLine(const reducers::ShadowFailures& f);
-
-/// Peak resident memory of this process [bytes].
-std::size_t peakResidentBytes();
-/// Resident memory of this process now [bytes] (/proc/self/statm; 0 where unavailable).
-std::size_t residentBytes();
 
 }  // namespace budget_slam::app

@@ -77,8 +77,8 @@ std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& par
 std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& maps,
                                                 const std::vector<Traversal>& traversals,
                                                 const std::vector<TrajectoryPoint>* reference,
-                                                const std::string& reference_file,
-                                                unsigned threads, bool force) {
+                                                const std::string& reference_file, unsigned threads,
+                                                bool force) {
   std::vector<RelocalizationResult> results;
   for (const auto& m : maps)
     for (const auto& t : traversals) {
@@ -100,7 +100,8 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
                             " landmarks, more than [Localization] max_map_landmarks = " +
                             std::to_string(t.rc.localization.max_map_landmarks));
         if (!t.truth.path.empty() && !m.alignment && !reference)
-          throw InputError("run '" + m.run + "' has no ground-truth alignment for '" + t.name + "'");
+          throw InputError("run '" + m.run + "' has no ground-truth alignment for '" + t.name +
+                           "'");
         metrics::MetricsOptions mo;
         mo.loadFromConfigFile(t.rc.ini, metrics::MetricsOptions::kSection);
         const auto inputs =
@@ -187,20 +188,19 @@ void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
   }
 }
 
-Pipeline::FinalCoverage coverageThroughReference(const Pipeline& reference, const Pipeline& run,
-                                                 double gate_chi2) {
-  const auto pairs =
-      metrics::matchLandmarks(run.backend().landmarks(), reference.backend().landmarks(), gate_chi2);
+FinalCoverage coverageThroughReference(const Pipeline& reference, const Pipeline& run,
+                                       double gate_chi2) {
+  const auto pairs = metrics::matchLandmarks(run.backend().landmarks(),
+                                             reference.backend().landmarks(), gate_chi2);
   std::unordered_set<LandmarkId> matched_reference;
   for (const auto& [mine, theirs] : pairs) matched_reference.insert(theirs);
-  Pipeline::FinalCoverage c;
+  FinalCoverage c;
   c.steps = reference.relocalization().steps();
   c.coverage = metrics::coverageOf(
       c.steps, [&](LandmarkId id) { return matched_reference.count(id) > 0; },
       reference.relocalization().minLandmarks(), reference.relocalization().sampled());
   c.source = "reference_association";
-  c.details = {{"landmarks_matched_to_reference", pairs.size()},
-               {"match_gate_chi2", gate_chi2}};
+  c.details = {{"landmarks_matched_to_reference", pairs.size()}, {"match_gate_chi2", gate_chi2}};
   return c;
 }
 

@@ -27,8 +27,8 @@ std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& par
 
 /// A run's final map as compare hands it to the localizations.
 struct MapOfRun {
-  std::string run;         ///< reference or the reducer's name
-  std::string folder;      ///< the run's output folder
+  std::string run;     ///< reference or the reducer's name
+  std::string folder;  ///< the run's output folder
   std::vector<LandmarkView> landmarks;
   std::optional<metrics::MapAlignment> alignment;
 };
@@ -46,8 +46,8 @@ struct RelocalizationResult {
 std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& maps,
                                                 const std::vector<Traversal>& traversals,
                                                 const std::vector<TrajectoryPoint>* reference,
-                                                const std::string& reference_file,
-                                                unsigned threads, bool force);
+                                                const std::string& reference_file, unsigned threads,
+                                                bool force);
 
 /// relocalization.csv: run, traversal, status, rmse_m, max_m, lost_pct, coverage_pct, nees_mean.
 void writeRelocalizationCsv(const std::string& path,
@@ -62,8 +62,8 @@ void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
 /// For a rawlog without sensor IDs: the final map of `run` (after complete()) against the steps'
 /// observations as the `reference` run associated them: each of its landmarks paired with a
 /// reference landmark (metrics::matchLandmarks). Returns what Pipeline::finish should report.
-Pipeline::FinalCoverage coverageThroughReference(const Pipeline& reference, const Pipeline& run,
-                                                 double gate_chi2);
+FinalCoverage coverageThroughReference(const Pipeline& reference, const Pipeline& run,
+                                       double gate_chi2);
 
 /// True when no reading of `steps` carries a sensor landmark ID.
 bool withoutLandmarkIds(const std::vector<Step>& steps);

@@ -106,11 +106,11 @@ TEST(Failures, LostDefinitenessNamesTheStep) {
 }
 
 TEST(Failures, ADivergedRunWritesNoNonFiniteLandmark) {
-  // random with tiny noise: the EKF diverges (its landmarks turn NaN) after 22 steps.
+  // random with tiny noise: the EKF diverges (its landmarks turn NaN) after 4 steps.
   const auto dir = freshDir("diverged_landmarks");
   const auto r = runApp(plus({"run", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--quiet",
                               "--reducer", "random", "--cap", "10"},
-                             tinyNoise("1e-4")));
+                             tinyNoise("1e-6")));
   EXPECT_EQ(r.exit_code, 1);
   const auto s = readJson(dir / "summary.json");
   EXPECT_EQ(s["status"], "failed");
@@ -129,7 +129,7 @@ TEST(Failures, CompareNamesEveryFailedRun) {
   const auto dir = freshDir("compare_failures");
   const auto r = runApp(plus({"compare", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--quiet",
                               "--reducers", "mi,coverage-mi", "--cap", "10"},
-                             tinyNoise("1e-6")));
+                             tinyNoise("1e-8")));
   EXPECT_EQ(r.exit_code, 1);
   const auto err = lines(r.err);
   ASSERT_EQ(err.size(), 3u) << r.err;

@@ -1,6 +1,7 @@
 // Relocalization: the coverage of a final map (counted by hand on a made-up rawlog), budget-slam
 // localize on the shipped second traversals, and compare --relocalize (docs/OUTPUTS.md).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 
@@ -83,8 +84,10 @@ std::vector<std::string> column(const fs::path& csv, const std::string& name) {
 
 /// The unreduced EKF map of rooms, made once for the localize tests.
 const fs::path& roomsMap() {
+  // One folder per process: ctest runs each test in its own process, in parallel, and two
+  // processes sharing one folder would delete each other's map.
   static const fs::path dir = [] {
-    const auto d = freshDir("reloc_rooms_map");
+    const auto d = freshDir("reloc_rooms_map_" + std::to_string(::getpid()));
     const auto r = runApp(
         {"run", "-c", kConfig, "-i", kRooms, "-o", d.string(), "--reducer", "none", "--quiet"});
     EXPECT_EQ(r.exit_code, 0) << r.err;

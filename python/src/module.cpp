@@ -16,8 +16,8 @@
 #include "BudgetSlamApp.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniText.h"
+#include "budget_slam/gaussian/GaussianStateBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
-#include "budget_slam/reducers/GaussianStateBackend.h"
 
 namespace py = pybind11;
 
@@ -149,7 +149,7 @@ py::dict reducerScores(const std::string& name, const py::array_t<double>& mean_
   ReducerChoice choice;
   {
     py::gil_scoped_release release;
-    const reducers::GaussianStateBackend backend(landmarks, P, static_cast<StepIndex>(step));
+    const gaussian::GaussianStateBackend backend(landmarks, P, static_cast<StepIndex>(step));
     const auto views = backend.landmarks();  // marginal covariances filled in from P
     const auto stepIndex = static_cast<StepIndex>(step);
     for (std::size_t i = 0; i < n; ++i) {

@@ -87,7 +87,7 @@ void EkfBackend::removeLandmark(LandmarkId id) {
 std::vector<double> EkfBackend::informationGain(const std::vector<LandmarkId>& ids) const {
   if (!mi_) try {
       mi_.emplace(kf_.covariance().asEigen());
-    } catch (const BlockMutualInformation::NotPositiveDefinite&) {
+    } catch (const gaussian::BlockMutualInformation::NotPositiveDefinite&) {
       // A property of the data and the filter's numerics (e.g. sensor noise far below what the
       // readings carry), not of the program: a one-line error naming the step.
       throw Error("step " + std::to_string(last_step_) +

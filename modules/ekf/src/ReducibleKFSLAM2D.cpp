@@ -4,8 +4,8 @@
 
 #include <stdexcept>
 
-#include "budget_slam/core/EraseRowsCols.h"
 #include "budget_slam/ekf/MrptStepInput.h"
+#include "budget_slam/gaussian/EraseRowsCols.h"
 
 namespace budget_slam::ekf {
 
@@ -13,6 +13,12 @@ void ReducibleKFSLAM2D::processStep(const Step& step) {
   auto in = mrptStepInput(step);
   last_association_.clear();
   processActionObservation(in.action, in.frame);
+  // MRPT's update P <- P - K S K^T is applied to the full matrix in floating point, so P drifts
+  // from symmetry by round-off; with landmarks removed and re-added every step (the budget) that
+  // drift grows until P is indefinite. Keep the covariance exactly symmetric after every step.
+  // A non-finite P is left as it is, for the divergence check to report at this step.
+  auto P = m_pkk.asEigen();
+  if (P.allFinite()) P = 0.5 * (P + P.transpose()).eval();
 }
 
 void ReducibleKFSLAM2D::OnGetObservationsAndDataAssociation(
@@ -61,11 +67,11 @@ void ReducibleKFSLAM2D::removeLandmark(LandmarkId id) {
   const auto start = static_cast<Eigen::Index>(V + F * idx), k = static_cast<Eigen::Index>(F);
 
   // Mean and covariance: delete the landmark's F entries, rows and columns (exact
-  // marginalization of a Gaussian), as the Gaussian evaluators do (core/EraseRowsCols.h).
+  // marginalization of a Gaussian), as the Gaussian evaluators do (gaussian/EraseRowsCols.h).
   KFVector x(n - F);
-  copyWithoutEntries(m_xkk.asEigen(), start, k, x.asEigen());
+  gaussian::copyWithoutEntries(m_xkk.asEigen(), start, k, x.asEigen());
   KFMatrix P(n - F, n - F);
-  copyWithoutRowsCols(m_pkk.asEigen(), start, k, P.asEigen());
+  gaussian::copyWithoutRowsCols(m_pkk.asEigen(), start, k, P.asEigen());
   m_xkk = std::move(x);
   m_pkk = std::move(P);
 

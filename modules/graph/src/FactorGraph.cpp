@@ -139,28 +139,51 @@ std::size_t FactorGraph::factorCount() const {
   return n;
 }
 
-void FactorGraph::updateLayout() const {
-  if (layout_version_ == structure_version_) return;
+const FactorGraph::Layout& FactorGraph::layout() const {
+  Layout& L = layout_;
+  if (L.version == structure_version_) return L;
+  L.poses.clear();
+  L.landmarks.clear();
+  L.starts.clear();
+  L.by_step.clear();
+  L.poses.reserve(poses_.size());
+  L.landmarks.reserve(landmarks_.size());
+  L.starts.reserve(poses_.size() + landmarks_.size() + 1);
+  // The nodes belong to this graph; const only because the layout is a cache.
+  auto& poses = const_cast<std::map<StepIndex, PoseNode>&>(poses_);
+  auto& landmarks = const_cast<std::map<LandmarkId, LandmarkNode>&>(landmarks_);
   int c = 0;
-  for (const auto& [s, p] : poses_) {
+  for (auto& [s, p] : poses) {
     p.col = c;
+    L.starts.push_back(c);
+    L.poses.push_back(&p);
     c += 3;
   }
-  for (const auto& [id, l] : landmarks_) {
+  for (auto& [id, l] : landmarks) {
     l.col = c;
+    L.starts.push_back(c);
+    L.landmarks.push_back(&l);
     c += 2;
   }
-  dim_ = c;
-  layout_version_ = structure_version_;
+  L.starts.push_back(c);
+  L.dim = c;
+  if (!poses_.empty()) {
+    // Steps between kept poses (marginalized ones) are holes: the span is at most the steps the
+    // graph covers, 8 bytes a step.
+    L.first_step = poses_.begin()->first;
+    L.by_step.assign(poses_.rbegin()->first - L.first_step + 1, nullptr);
+    for (auto& [s, p] : poses) L.by_step[s - L.first_step] = &p;
+  }
+  L.version = structure_version_;
+  return L;
 }
 
-int FactorGraph::dim() const {
-  updateLayout();
-  return dim_;
-}
+int FactorGraph::dim() const { return layout().dim; }
+
+const std::vector<int>& FactorGraph::variableStarts() const { return layout().starts; }
 
 int FactorGraph::column(const VariableKey& v) const {
-  updateLayout();
+  layout();
   if (v.kind == VariableKey::Kind::Pose) {
     auto p = poses_.find(static_cast<StepIndex>(v.id));
     if (p == poses_.end()) throw std::out_of_range("graph: no pose " + std::to_string(v.id));
@@ -173,55 +196,58 @@ int FactorGraph::column(const VariableKey& v) const {
 
 double FactorGraph::chi2() const {
   if (poses_.empty()) return 0;
-  double c = (prior_.sqrt_info * prior_.error(poses_.begin()->second.x)).squaredNorm();
-  const PoseNode* prev = nullptr;
-  for (const auto& [s, p] : poses_) {
-    if (prev) c += (p.odo->sqrt_info * p.odo->error(prev->x, p.x)).squaredNorm();
-    prev = &p;
+  const Layout& L = layout();
+  double c = (prior_.sqrt_info * prior_.error(L.poses.front()->x)).squaredNorm();
+  for (std::size_t k = 1; k < L.poses.size(); ++k) {
+    const PoseNode& p = *L.poses[k];
+    c += (p.odo->sqrt_info * p.odo->error(L.poses[k - 1]->x, p.x)).squaredNorm();
   }
-  for (const auto& [id, l] : landmarks_) {
-    for (const Observation& o : l.obs)
-      c += (o.f.sqrt_info * o.f.error(poses_.at(o.pose).x, l.x)).squaredNorm();
-    if (l.prior) c += (l.prior->sqrt_info * (l.x - l.prior->mean)).squaredNorm();
+  for (const LandmarkNode* l : L.landmarks) {
+    for (const Observation& o : l->obs)
+      c += (o.f.sqrt_info * o.f.error(L.pose(o.pose).x, l->x)).squaredNorm();
+    if (l->prior) c += (l->prior->sqrt_info * (l->x - l->prior->mean)).squaredNorm();
   }
   return c;
 }
 
-void FactorGraph::linearize(Eigen::SparseMatrix<double>* H, Eigen::VectorXd* g) const {
-  updateLayout();
+void FactorGraph::linearize(Eigen::SparseMatrix<double>* H, Eigen::VectorXd* g,
+                            double* chi2) const {
+  const Layout& L = layout();
   // Kept per thread between calls: the list is megabytes on a long run (Victoria Park: 265k
   // entries), and a fresh one is page-faulted in on every linearization.
   thread_local Triplets t;
   t.clear();
   std::size_t n_obs = 0;
-  for (const auto& [id, l] : landmarks_) n_obs += l.obs.size();
-  t.reserve(poses_.size() * 27 + n_obs * 21);
-  g->setZero(dim_);
-  if (!poses_.empty()) {
-    const PoseNode& p0 = poses_.begin()->second;
+  for (const LandmarkNode* l : L.landmarks) n_obs += l->obs.size();
+  t.reserve(L.poses.size() * 27 + n_obs * 21);
+  g->setZero(L.dim);
+  double c2 = 0;
+  if (!L.poses.empty()) {
+    const PoseNode& p0 = *L.poses.front();
     Eigen::Matrix3d J;
     const Eigen::Vector3d r = prior_.sqrt_info * prior_.error(p0.x, &J);
     const Eigen::Matrix3d A = prior_.sqrt_info * J;
     addBlock(&t, p0.col, A, p0.col, A);
     g->segment<3>(p0.col) += A.transpose() * r;
+    c2 += r.squaredNorm();
   }
-  const PoseNode* prev = nullptr;
-  for (const auto& [s, p] : poses_) {
-    if (prev) {
-      Eigen::Matrix3d Ji, Jj;
-      const Eigen::Vector3d r = p.odo->sqrt_info * p.odo->error(prev->x, p.x, &Ji, &Jj);
-      const Eigen::Matrix3d Ai = p.odo->sqrt_info * Ji, Aj = p.odo->sqrt_info * Jj;
-      addBlock(&t, prev->col, Ai, prev->col, Ai);
-      addBlock(&t, p.col, Aj, p.col, Aj);
-      addBlock(&t, p.col, Aj, prev->col, Ai);
-      g->segment<3>(prev->col) += Ai.transpose() * r;
-      g->segment<3>(p.col) += Aj.transpose() * r;
-    }
-    prev = &p;
+  for (std::size_t k = 1; k < L.poses.size(); ++k) {
+    const PoseNode& p = *L.poses[k];
+    const PoseNode* prev = L.poses[k - 1];
+    Eigen::Matrix3d Ji, Jj;
+    const Eigen::Vector3d r = p.odo->sqrt_info * p.odo->error(prev->x, p.x, &Ji, &Jj);
+    const Eigen::Matrix3d Ai = p.odo->sqrt_info * Ji, Aj = p.odo->sqrt_info * Jj;
+    addBlock(&t, prev->col, Ai, prev->col, Ai);
+    addBlock(&t, p.col, Aj, p.col, Aj);
+    addBlock(&t, p.col, Aj, prev->col, Ai);
+    g->segment<3>(prev->col) += Ai.transpose() * r;
+    g->segment<3>(p.col) += Aj.transpose() * r;
+    c2 += r.squaredNorm();
   }
-  for (const auto& [id, l] : landmarks_) {
+  for (const LandmarkNode* lp : L.landmarks) {
+    const LandmarkNode& l = *lp;
     for (const Observation& o : l.obs) {
-      const PoseNode& p = poses_.at(o.pose);
+      const PoseNode& p = L.pose(o.pose);
       Eigen::Matrix<double, 2, 3> Jx;
       Eigen::Matrix2d Jl;
       const Eigen::Vector2d r = o.f.sqrt_info * o.f.error(p.x, l.x, &Jx, &Jl);
@@ -232,40 +258,44 @@ void FactorGraph::linearize(Eigen::SparseMatrix<double>* H, Eigen::VectorXd* g) 
       addBlock(&t, l.col, Al, p.col, Ax);
       g->segment<3>(p.col) += Ax.transpose() * r;
       g->segment<2>(l.col) += Al.transpose() * r;
+      c2 += r.squaredNorm();
     }
     if (l.prior) {
       const Eigen::Matrix2d& A = l.prior->sqrt_info;
+      const Eigen::Vector2d r = A * (l.x - l.prior->mean);
       addBlock(&t, l.col, A, l.col, A);
-      g->segment<2>(l.col) += A.transpose() * (A * (l.x - l.prior->mean));
+      g->segment<2>(l.col) += A.transpose() * r;
+      c2 += r.squaredNorm();
     }
   }
-  H->resize(dim_, dim_);
+  H->resize(L.dim, L.dim);
   H->setFromTriplets(t.begin(), t.end());
+  if (chi2) *chi2 = c2;
 }
 
 void FactorGraph::retract(const Eigen::VectorXd& dx) {
-  updateLayout();
-  for (auto& [s, p] : poses_) {
-    p.x += dx.segment<3>(p.col);
-    p.x.z() = wrapAngle(p.x.z());
+  const Layout& L = layout();
+  for (PoseNode* p : L.poses) {
+    p->x += dx.segment<3>(p->col);
+    p->x.z() = wrapAngle(p->x.z());
   }
-  for (auto& [id, l] : landmarks_) l.x += dx.segment<2>(l.col);
+  for (LandmarkNode* l : L.landmarks) l->x += dx.segment<2>(l->col);
   ++revision_;
 }
 
 Eigen::VectorXd FactorGraph::values() const {
-  updateLayout();
-  Eigen::VectorXd v(dim_);
-  for (const auto& [s, p] : poses_) v.segment<3>(p.col) = p.x;
-  for (const auto& [id, l] : landmarks_) v.segment<2>(l.col) = l.x;
+  const Layout& L = layout();
+  Eigen::VectorXd v(L.dim);
+  for (const PoseNode* p : L.poses) v.segment<3>(p->col) = p->x;
+  for (const LandmarkNode* l : L.landmarks) v.segment<2>(l->col) = l->x;
   return v;
 }
 
 void FactorGraph::setValues(const Eigen::VectorXd& v) {
-  updateLayout();
-  if (v.size() != dim_) throw std::invalid_argument("graph: setValues with a wrong size");
-  for (auto& [s, p] : poses_) p.x = v.segment<3>(p.col);
-  for (auto& [id, l] : landmarks_) l.x = v.segment<2>(l.col);
+  const Layout& L = layout();
+  if (v.size() != L.dim) throw std::invalid_argument("graph: setValues with a wrong size");
+  for (PoseNode* p : L.poses) p->x = v.segment<3>(p->col);
+  for (LandmarkNode* l : L.landmarks) l->x = v.segment<2>(l->col);
   ++revision_;
 }
 

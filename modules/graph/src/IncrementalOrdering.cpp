@@ -12,7 +12,7 @@ bool samePose(const VariableKey& v) { return v.kind == VariableKey::Kind::Pose; 
 bool IncrementalOrdering::fresh(const FactorGraph& graph, const Eigen::SparseMatrix<double>& H,
                                 SparseCholesky* chol) {
   ++fresh_;
-  if (!chol->factorize(H, 0)) return false;
+  if (!chol->factorize(H, 0, &graph.variableStarts())) return false;
   // The scalar ordering back to variables: a variable's first column stands for it (CHOLMOD may
   // split a variable's columns; keeping the order of first columns loses nothing essential).
   std::map<int, VariableKey> at_column;
@@ -36,7 +36,7 @@ bool IncrementalOrdering::factorize(const FactorGraph& graph, const Eigen::Spars
   chol_ = chol;
   if (refresh_fill_ <= 0) {  // the batch path: CHOLMOD's analysis whenever the structure changed
     version_ = version;
-    return chol->factorize(H, version);
+    return chol->factorize(H, version, &graph.variableStarts());
   }
   if (same_chol && version == version_ && chol->size() == H.rows()) {
     ++reused_;

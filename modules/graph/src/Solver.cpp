@@ -11,7 +11,8 @@ namespace {
 bool factorizeWith(const FactorGraph& graph, const Eigen::SparseMatrix<double>& H,
                    SparseCholesky* chol, IncrementalOrdering* ordering) {
   if (ordering) return ordering->factorize(graph, H, chol);
-  return chol->factorize(H, graph.structureVersion() + 1);  // 0 means "always analyse"
+  // 0 means "always analyse"
+  return chol->factorize(H, graph.structureVersion() + 1, &graph.variableStarts());
 }
 }  // namespace
 
@@ -27,18 +28,26 @@ void factorizeAtEstimate(const FactorGraph& graph, SparseCholesky* chol,
 SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky* chol,
                      IncrementalOrdering* ordering) {
   SolveReport rep;
-  rep.initial_chi2 = rep.final_chi2 = graph.chi2();
   if (graph.dim() == 0) {
+    rep.initial_chi2 = rep.final_chi2 = graph.chi2();
     rep.converged = true;
     return rep;
   }
   Eigen::SparseMatrix<double> H;
   Eigen::VectorXd g;
   double lambda = s.lm_initial_lambda;
-  double chi2 = rep.initial_chi2;
+  double chi2 = 0;
+  if (s.max_iterations <= 0) rep.initial_chi2 = rep.final_chi2 = chi2 = graph.chi2();
   for (int it = 0; it < s.max_iterations; ++it) {
     if (s.stop_on_request) Cancellation::check();
-    graph.linearize(&H, &g);
+    if (it == 0) {
+      // The starting cost comes with the first linearization (same residuals); later ones are
+      // known from the accepted step's evaluation.
+      graph.linearize(&H, &g, &chi2);
+      rep.initial_chi2 = rep.final_chi2 = chi2;
+    } else {
+      graph.linearize(&H, &g);
+    }
     rep.iterations = it + 1;
     if (s.method == SolverSettings::Method::GaussNewton) {
       if (!factorizeWith(graph, H, chol, ordering))

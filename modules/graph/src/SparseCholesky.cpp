@@ -317,19 +317,89 @@ SparseCholesky SparseCholesky::copy() const {
   return out;
 }
 
-bool SparseCholesky::factorize(const SpMat& H, std::uint64_t pattern_version) {
+namespace {
+/// AMD on the variable graph (one node per variable, an edge where H has a non-zero block) and
+/// the variable order expanded to scalar columns, each variable's columns together. H's blocks
+/// are dense, so this is the scalar graph with every variable's columns merged: the same fill
+/// AMD finds on the scalar pattern (AMD merges indistinguishable columns itself), for the cost
+/// of a pattern with about a ninth of the entries. Returns an empty vector if AMD fails.
+std::vector<int> variableAmdOrdering(const SpMat& H, const std::vector<int>& starts,
+                                     cholmod_common* c) {
+  const int n = static_cast<int>(H.rows());
+  const int nv = static_cast<int>(starts.size()) - 1;
+  if (nv <= 0 || starts.front() != 0 || starts.back() != n) return {};
+  std::vector<int> var_of(static_cast<std::size_t>(n));
+  for (int v = 0; v < nv; ++v) {
+    if (starts[v + 1] <= starts[v]) return {};
+    for (int j = starts[v]; j < starts[v + 1]; ++j) var_of[j] = v;
+  }
+  // Lower triangle of the variable pattern, CSC, rows sorted, no duplicates.
+  std::vector<int> Bp(static_cast<std::size_t>(nv) + 1, 0), Bi, mark(nv, -1);
+  Bi.reserve(static_cast<std::size_t>(H.nonZeros()) / 4 + 1);
+  const int* Hp = H.outerIndexPtr();
+  const int* Hi = H.innerIndexPtr();
+  for (int v = 0; v < nv; ++v) {
+    const std::size_t first = Bi.size();
+    for (int j = starts[v]; j < starts[v + 1]; ++j)
+      for (int k = Hp[j]; k < Hp[j + 1]; ++k) {
+        const int w = var_of[Hi[k]];
+        if (w > v && mark[w] != v) {
+          mark[w] = v;
+          Bi.push_back(w);
+        }
+      }
+    std::sort(Bi.begin() + static_cast<std::ptrdiff_t>(first), Bi.end());
+    Bp[v + 1] = static_cast<int>(Bi.size());
+  }
+  if (Bi.empty()) Bi.push_back(0);  // a valid pointer for CHOLMOD; nzmax counts none
+  cholmod_sparse B{};
+  B.nrow = B.ncol = static_cast<std::size_t>(nv);
+  B.nzmax = static_cast<std::size_t>(Bp[nv]);
+  B.p = Bp.data();
+  B.i = Bi.data();
+  B.stype = -1;
+  B.itype = CHOLMOD_INT;
+  B.xtype = CHOLMOD_PATTERN;
+  B.dtype = CHOLMOD_DOUBLE;
+  B.sorted = 1;
+  B.packed = 1;
+  std::vector<int> pv(static_cast<std::size_t>(nv));
+  if (!cholmod_amd(&B, nullptr, 0, pv.data(), c)) return {};
+  std::vector<int> perm;
+  perm.reserve(static_cast<std::size_t>(n));
+  for (int v : pv)
+    for (int j = starts[v]; j < starts[v + 1]; ++j) perm.push_back(j);
+  return perm;
+}
+}  // namespace
+
+bool SparseCholesky::factorize(const SpMat& H, std::uint64_t pattern_version,
+                               const std::vector<int>* variable_starts) {
   Impl& m = *impl_;
   m.invalidate();
   const int n = static_cast<int>(H.rows());
   cholmod_sparse A = viewLower(H);
   if (!m.analysed || pattern_version == 0 || pattern_version != m.version || n != m.n) {
-    // CHOLMOD's default strategy: AMD, then METIS/NESDIS when AMD gives much fill; simplicial
-    // or supernodal as the flop count says.
     if (m.F) cholmod_free_factor(&m.F, &m.c);
-    m.c.nmethods = 0;
     m.c.postorder = 1;
     m.c.supernodal = CHOLMOD_AUTO;
-    m.F = cholmod_analyze(&A, &m.c);
+    const std::vector<int> perm =
+        variable_starts ? variableAmdOrdering(H, *variable_starts, &m.c) : std::vector<int>();
+    if (!perm.empty()) {
+      // AMD on the variables, postordered; simplicial or supernodal as the flop count says.
+      m.c.nmethods = 1;
+      m.c.method[0].ordering = CHOLMOD_GIVEN;
+      m.F = cholmod_analyze_p(&A, const_cast<int*>(perm.data()), nullptr, 0, &m.c);
+      m.c.nmethods = 0;
+      // CHOLMOD's own rule for trying METIS after AMD: much fill and many flops.
+      if (m.F && m.c.lnz >= 5.0 * static_cast<double>(H.nonZeros()) && m.c.fl >= 500.0 * m.c.lnz)
+        cholmod_free_factor(&m.F, &m.c);
+    }
+    if (!m.F) {
+      // CHOLMOD's default strategy: AMD, then METIS/NESDIS when AMD gives much fill.
+      m.c.nmethods = 0;
+      m.F = cholmod_analyze(&A, &m.c);
+    }
     if (!m.F) throw std::runtime_error("CHOLMOD: analysis failed");
     m.analysed = true;
     m.version = pattern_version;

@@ -1,10 +1,8 @@
 #include "budget_slam/metrics/GroundTruthErrors.h"
 
-#include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPoint2D.h>
 #include <mrpt/poses/CPose2D.h>
 
-#include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <cmath>
@@ -26,15 +24,6 @@ void requireFinite(const std::vector<TrajectoryPoint>& trajectory,
 
 std::size_t groundTruthRow(StepIndex step, std::size_t path_rows, std::size_t steps) {
   return path_rows == steps ? step : step + 1;
-}
-
-double poseNees(const PoseEstimate& estimate, const mrpt::math::TPose2D& truth) {
-  const Eigen::Vector3d e(estimate.mean.x - truth.x, estimate.mean.y - truth.y,
-                          mrpt::math::wrapToPi(estimate.mean.phi - truth.phi));
-  const Eigen::LDLT<Eigen::Matrix3d> ldlt(estimate.cov);
-  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all())
-    return std::numeric_limits<double>::quiet_NaN();
-  return e.dot(ldlt.solve(e));
 }
 
 dataset::GroundTruth toEstimateFrame(const dataset::GroundTruth& truth) {
@@ -67,15 +56,9 @@ RigidTransform2 alignPoints(const std::vector<Eigen::Vector2d>& a,
 }
 
 GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajectory,
-                                    const std::vector<PoseRecord>& online,
                                     const std::vector<LandmarkView>& landmarks,
                                     const dataset::GroundTruth& raw_truth, std::size_t steps) {
   requireFinite(trajectory, landmarks, "errors against ground truth");
-  for (const auto& r : online)
-    if (!std::isfinite(r.estimate.mean.x) || !std::isfinite(r.estimate.mean.y) ||
-        !std::isfinite(r.estimate.mean.phi))
-      throw Error("errors against ground truth: the pose of step " + std::to_string(r.step) +
-                  " is not finite");
   GroundTruthErrors out;
   // Frame of the estimate: the ground-truth start pose is its origin.
   const dataset::GroundTruth truth = toEstimateFrame(raw_truth);
@@ -110,16 +93,6 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
       out.trajectory_rmse_aligned = std::sqrt(asum / est.size());
       out.alignment_rotation_deg = std::atan2(align.R(1, 0), align.R(0, 0)) * 180.0 / M_PI;
     }
-    double nees = 0;
-    for (const auto& r : online) {
-      const std::size_t row = groundTruthRow(r.step, path.size(), steps);
-      if (row >= path.size()) continue;
-      const double n = poseNees(r.estimate, path[row]);
-      if (!std::isfinite(n)) continue;  // e.g. the zero covariance before the first motion
-      nees += n;
-      ++out.nees_samples;
-    }
-    if (out.nees_samples) out.nees_mean = nees / out.nees_samples;
   }
 
   if (!truth.landmarks.empty()) {

@@ -1,8 +1,8 @@
 // Time of one drop decision of mi, coverage and coverage-mi at N landmarks (docs/PERFORMANCE.md
 // "Reducers"). The state is EKF-like: a random dense SPD covariance of size 3 + 2N (robot, then
 // landmarks) behind GaussianStateBackend, whose information gain is the EKF backend's own
-// evaluator (ekf::BlockMutualInformation). Each iteration forgets the factorization first, as a
-// new filter step does, so a decision includes it: O(N^3) for mi and coverage-mi.
+// evaluator (gaussian::BlockMutualInformation). Each iteration forgets the factorization first, as
+// a new filter step does, so a decision includes it: O(N^3) for mi and coverage-mi.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -10,12 +10,13 @@
 #include <numeric>
 #include <random>
 
+#include "budget_slam/gaussian/GaussianStateBackend.h"
 #include "budget_slam/reducers/CoverageReducer.h"
-#include "budget_slam/reducers/GaussianStateBackend.h"
 #include "budget_slam/reducers/MutualInformationReducer.h"
 
 using namespace budget_slam;
 using namespace budget_slam::reducers;
+using budget_slam::gaussian::GaussianStateBackend;
 
 namespace {
 

@@ -5,7 +5,7 @@
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
-#include "budget_slam/reducers/GaussianStateBackend.h"
+#include "budget_slam/gaussian/GaussianStateBackend.h"
 
 namespace budget_slam::reducers {
 
@@ -71,10 +71,10 @@ std::unique_ptr<Backend> scratchFor(const ScheduleContext& ctx,
   const std::string why = "[MutualInformationReducer] mode = " + mode +
                           " needs a look-ahead copy of backend '" + ctx.backend.name() +
                           "' for Alg. 3";
-  std::unique_ptr<GaussianStateBackend> g;
+  std::unique_ptr<gaussian::GaussianStateBackend> g;
   try {
-    g = std::make_unique<GaussianStateBackend>(
-        GaussianStateBackend::snapshot(ctx.backend, ctx.step));
+    g = std::make_unique<gaussian::GaussianStateBackend>(
+        gaussian::GaussianStateBackend::snapshot(ctx.backend, ctx.step));
   } catch (const std::exception& e) {
     throw ConfigError(why + ": its joint covariance is unavailable (" + e.what() + ")");
   }

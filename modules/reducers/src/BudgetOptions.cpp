@@ -1,78 +1,69 @@
 #include "budget_slam/reducers/BudgetOptions.h"
 
-#include <ostream>
-
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSection.h"
 
 namespace budget_slam::reducers {
+namespace {
 
-std::string BudgetOptions::toString(Protect p) {
-  return p == Protect::RecentlySeen ? "recently_seen" : "newly_added";
+const EnumNames<BudgetOptions::Protect>& protectNames() {
+  static const EnumNames<BudgetOptions::Protect> n = {
+      {"recently_seen", BudgetOptions::Protect::RecentlySeen},
+      {"newly_added", BudgetOptions::Protect::NewlyAdded}};
+  return n;
 }
 
-std::string BudgetOptions::toString(Admission a) {
-  return a == Admission::Always ? "always" : "compete";
+const EnumNames<BudgetOptions::Admission>& admissionNames() {
+  static const EnumNames<BudgetOptions::Admission> n = {
+      {"always", BudgetOptions::Admission::Always}, {"compete", BudgetOptions::Admission::Compete}};
+  return n;
 }
 
-void BudgetOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                                       const std::string& section) {
-  const IniSection s(ini, section);
-  reducer = s.readString("reducer", reducer);
-  if (s.readString("max_landmarks", "") == "none") {
-    max_landmarks.reset();
-  } else if (s.has("max_landmarks")) {
-    try {
-      max_landmarks = static_cast<std::size_t>(s.readInt("max_landmarks", 50, 1));
-    } catch (const ConfigError& e) {
-      throw ConfigError(std::string(e.what()) + " (or none for no cap)");
-    }
-  }
-  protect_recent_steps = static_cast<std::size_t>(
-      s.readInt("protect_recent_steps", static_cast<long long>(protect_recent_steps), 0));
-  protect = s.readChoice("protect", toString(protect), {"recently_seen", "newly_added"}) ==
-                    "recently_seen"
-                ? Protect::RecentlySeen
-                : Protect::NewlyAdded;
-  admission = s.readChoice("admission", toString(admission), {"always", "compete"}) == "always"
-                  ? Admission::Always
-                  : Admission::Compete;
-  retry_after_steps = static_cast<std::size_t>(
-      s.readInt("retry_after_steps", static_cast<long long>(retry_after_steps), 1, 1000000000));
-  refusal_memory = static_cast<std::size_t>(
-      s.readInt("refusal_memory", static_cast<long long>(refusal_memory), 1, 100000000));
-  readmit_evicted = s.readBool("readmit_evicted", readmit_evicted);
-  if (s.has("shadow_reducers")) shadow_reducers = s.readList("shadow_reducers");
-  seed = static_cast<std::uint64_t>(s.readInt("seed", static_cast<long long>(seed), 0));
-  dump_states = s.readBool("dump_states", dump_states);
+/// `max_landmarks`: a count >= 1, or `none` for no cap.
+OptionKey<BudgetOptions> capKey() {
+  return {"max_landmarks",
+          [](BudgetOptions& o, const IniSection& s) {
+            if (s.readString("max_landmarks", "") == "none") {
+              o.max_landmarks.reset();
+            } else if (s.has("max_landmarks")) {
+              try {
+                o.max_landmarks = static_cast<std::size_t>(s.readInt("max_landmarks", 50, 1));
+              } catch (const ConfigError& e) {
+                throw ConfigError(std::string(e.what()) + " (or none for no cap)");
+              }
+            }
+          },
+          [](const BudgetOptions& o) { return BudgetOptions::capText(o.max_landmarks); },
+          "[landmarks], >= 1, or none"};
 }
 
-void BudgetOptions::dumpToTextStream(std::ostream& out) const {
-  out << "\n----------- [" << kSection << "] ------------\n";
-  out << "reducer                  = " << reducer << "\n";
-  out << "max_landmarks            = " << capText(max_landmarks) << "\n";
-  out << "protect_recent_steps     = " << protect_recent_steps << "\n";
-  out << "protect                  = " << toString(protect) << "\n";
-  out << "admission                = " << toString(admission) << "\n";
-  out << "retry_after_steps        = " << retry_after_steps << "\n";
-  out << "refusal_memory           = " << refusal_memory << "\n";
-  out << "readmit_evicted          = " << (readmit_evicted ? "true" : "false") << "\n";
-  out << "shadow_reducers          = ";
-  for (std::size_t i = 0; i < shadow_reducers.size(); ++i)
-    out << (i ? "," : "") << shadow_reducers[i];
-  out << "\nseed                     = " << seed << "\n";
-  out << "dump_states              = " << (dump_states ? "true" : "false") << "\n";
+}  // namespace
+
+const OptionTable<BudgetOptions>& BudgetOptions::table() {
+  using O = BudgetOptions;
+  static const OptionTable<O> t = {
+      option::text("reducer", &O::reducer, "registry name; none = no cap"),
+      capKey(),
+      option::integer("protect_recent_steps", &O::protect_recent_steps, 0,
+                      std::numeric_limits<long long>::max(), "[steps]"),
+      option::choice("protect", &O::protect, protectNames()),
+      option::choice("admission", &O::admission, admissionNames()),
+      option::integer("retry_after_steps", &O::retry_after_steps, 1, 1000000000, "[steps]"),
+      option::integer("refusal_memory", &O::refusal_memory, 1, 100000000, "[entries]"),
+      option::flag("readmit_evicted", &O::readmit_evicted),
+      option::list("shadow_reducers", &O::shadow_reducers, "comma-separated registry names"),
+      option::integer("seed", &O::seed, 0),
+      option::flag("dump_states", &O::dump_states),
+  };
+  return t;
 }
+
+std::string BudgetOptions::toString(Protect p) { return nameOf(protectNames(), p); }
+
+std::string BudgetOptions::toString(Admission a) { return nameOf(admissionNames(), a); }
 
 std::string BudgetOptions::capText(const std::optional<std::size_t>& cap) {
   return cap ? std::to_string(*cap) : "none";
-}
-
-std::vector<std::string> BudgetOptions::keys() {
-  return {"reducer",        "max_landmarks",   "protect_recent_steps",
-          "protect",        "admission",       "retry_after_steps",
-          "refusal_memory", "readmit_evicted", "shadow_reducers",
-          "seed",           "dump_states"};
 }
 
 }  // namespace budget_slam::reducers

@@ -2,34 +2,29 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ostream>
-
-#include "budget_slam/core/IniSection.h"
 
 namespace budget_slam::reducers {
 
-void CoverageOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                                         const std::string& section) {
-  const IniSection s(ini, section);
-  cluster_ratio = s.readDouble("cluster_ratio", cluster_ratio, 1e-9, 1.0);
-  const std::string d =
-      s.readChoice("distance", distance == KMeans::Distance::L1 ? "L1" : "L2", {"L1", "L2"});
-  distance = d == "L1" ? KMeans::Distance::L1 : KMeans::Distance::L2;
-  max_iterations = static_cast<std::size_t>(
-      s.readInt("max_iterations", static_cast<long long>(max_iterations), 1));
-  seed = static_cast<std::uint64_t>(s.readInt("seed", static_cast<long long>(seed), 0));
+namespace {
+
+const EnumNames<KMeans::Distance>& distanceNames() {
+  static const EnumNames<KMeans::Distance> n = {{"L1", KMeans::Distance::L1},
+                                                {"L2", KMeans::Distance::L2}};
+  return n;
 }
 
-void CoverageOptions::dumpToTextStream(std::ostream& out) const {
-  out << "\n----------- [" << kSection << "] ------------\n";
-  out << "cluster_ratio            = " << cluster_ratio << "\n";
-  out << "distance                 = " << (distance == KMeans::Distance::L1 ? "L1" : "L2") << "\n";
-  out << "max_iterations           = " << max_iterations << "\n";
-  out << "seed                     = " << seed << "\n";
-}
+}  // namespace
 
-std::vector<std::string> CoverageOptions::keys() {
-  return {"cluster_ratio", "distance", "max_iterations", "seed"};
+const OptionTable<CoverageOptions>& CoverageOptions::table() {
+  using O = CoverageOptions;
+  static const OptionTable<O> t = {
+      option::real("cluster_ratio", &O::cluster_ratio, 1e-9, 1.0, "k / N, in (0, 1]"),
+      option::choice("distance", &O::distance, distanceNames()),
+      option::integer("max_iterations", &O::max_iterations, 1,
+                      std::numeric_limits<long long>::max(), "[iterations]"),
+      option::integer("seed", &O::seed, 0),
+  };
+  return t;
 }
 
 KMeans::Options CoverageOptions::kmeans(std::size_t n_points) const {

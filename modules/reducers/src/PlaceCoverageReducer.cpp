@@ -9,30 +9,17 @@
 
 namespace budget_slam::reducers {
 
-void PlaceCoverageOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                                              const std::string& section) {
-  const IniSection s(ini, section);
-  min_landmarks = static_cast<std::size_t>(
-      s.readInt("min_landmarks", static_cast<long long>(min_landmarks), 1, 1000000));
-  place_size = s.readDouble("place_size", place_size, 0.0, 1e6);
-  heading_sectors = static_cast<std::size_t>(
-      s.readInt("heading_sectors", static_cast<long long>(heading_sectors), 0, 360));
-  near_tie = s.readDouble("near_tie", near_tie, 0.0, 1e12);
-  max_places = static_cast<std::size_t>(
-      s.readInt("max_places", static_cast<long long>(max_places), 1, 100000000));
-}
-
-void PlaceCoverageOptions::dumpToTextStream(std::ostream& out) const {
-  out << "\n----------- [" << kSection << "] ------------\n";
-  out << "min_landmarks            = " << min_landmarks << "\n";
-  out << "place_size               = " << place_size << "\n";
-  out << "heading_sectors          = " << heading_sectors << "\n";
-  out << "near_tie                 = " << near_tie << "\n";
-  out << "max_places               = " << max_places << "\n";
-}
-
-std::vector<std::string> PlaceCoverageOptions::keys() {
-  return {"min_landmarks", "place_size", "heading_sectors", "near_tie", "max_places"};
+const OptionTable<PlaceCoverageOptions>& PlaceCoverageOptions::table() {
+  using O = PlaceCoverageOptions;
+  static const OptionTable<O> t = {
+      option::integer("min_landmarks", &O::min_landmarks, 1, 1000000, "[landmarks]"),
+      option::real("place_size", &O::place_size, 0.0, 1e6, "[m], 0 = from the sensor's range"),
+      option::integer("heading_sectors", &O::heading_sectors, 0, 360,
+                      "0 = from the sensor's field of view"),
+      option::real("near_tie", &O::near_tie, 0.0, 1e12, "[places]"),
+      option::integer("max_places", &O::max_places, 1, 100000000, "[places]"),
+  };
+  return t;
 }
 
 std::size_t PlaceCoverageReducer::KeyHash::operator()(const PlaceKey& k) const {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <random>
 
-#include "budget_slam/reducers/GaussianStateBackend.h"
+#include "budget_slam/gaussian/GaussianStateBackend.h"
 
 namespace budget_slam::testing {
 
@@ -18,7 +18,7 @@ inline Eigen::MatrixXd randomSpd(int n, std::mt19937& rng) {
 }
 
 /// N landmarks with ids 10, 11, ..., last seen at step 0, over a random SPD state.
-inline reducers::GaussianStateBackend randomState(int n_landmarks, std::mt19937& rng,
+inline gaussian::GaussianStateBackend randomState(int n_landmarks, std::mt19937& rng,
                                                   StepIndex step = 100) {
   std::vector<LandmarkView> lms(n_landmarks);
   std::uniform_real_distribution<double> u(0, 50);
@@ -27,7 +27,7 @@ inline reducers::GaussianStateBackend randomState(int n_landmarks, std::mt19937&
     lms[i].n_obs = 3;
     lms[i].obs_mean = Eigen::Vector2d(u(rng), u(rng));
   }
-  return reducers::GaussianStateBackend(lms, randomSpd(3 + 2 * n_landmarks, rng), step);
+  return gaussian::GaussianStateBackend(lms, randomSpd(3 + 2 * n_landmarks, rng), step);
 }
 
 /// Independent brute force of I(L; rest) [bits]: 1/2 log2(det(P_LL) det((P^-1)_LL)) with a full

@@ -155,7 +155,7 @@ TEST(ActiveMinimization, AgreesWithABruteForceEvaluationOnGaussianStates) {
     for (int l = 0; l < 10; ++l) scale.segment<2>(3 + 2 * l).setConstant(std::pow(10.0, u(rng)));
     Eigen::MatrixXd Pc = scale.asDiagonal() * P0 * scale.asDiagonal();
     Pc.diagonal() = P0.diagonal();
-    reducers::GaussianStateBackend s(lms, Pc, 100);
+    gaussian::GaussianStateBackend s(lms, Pc, 100);
     const double lambda = 0.2 + 0.06 * seed;
 
     // Brute force: full inverses of the reduced matrix at every greedy step.

@@ -11,6 +11,8 @@ answer. `value()` is the design; the tests import it to compute what the tables 
   DIR/relocalization.csv (run, traversal (the file's stem), status, rmse_m, max_m, lost_pct,
   coverage_pct, nees_mean), the app's columns.
 - `compare --help` lists --relocalize unless FAKE_NO_RELOCALIZE is set in the environment.
+- FAKE_REFERENCE_FAILS=<rawlog>:<seed> (e.g. park:7): that compare's unreduced run ends `failed`
+  (the EKF diverged, as the real park seed 7 does); its reducers' runs stay ok.
 - As budget-simulate (argv[0] ends in budget-simulate): writes the -o rawlog (a stub) and a
   sidecar; `--help` lists --route.
 Every command line is appended to $FAKE_LOG when that is set.
@@ -21,7 +23,8 @@ import sys
 import zlib
 
 # Quality of each reducer's map: lower is a better map (smaller errors, more coverage).
-QUALITY = {"none": 0, "coverage": 1, "coverage-mi": 2, "mi": 3, "info-content": 4, "random": 5, "oldest": 5}
+QUALITY = {"none": 0, "coverage": 1, "coverage-mi": 2, "mi": 3, "info-content": 4, "random": 5, "oldest": 5,
+           "place-coverage": 6}
 
 
 def noise(*key):
@@ -98,8 +101,10 @@ def compare(args):
               "gt_trajectory_rmse_m", "gt_trajectory_max_m", "gt_landmark_rmse_m", "nees_mean", "time_s"] + reloc
     os.makedirs(out, exist_ok=True)
     lines, per_traversal = [",".join(header)], ["run,traversal,status,rmse_m,max_m,lost_pct,coverage_pct,nees_mean"]
+    fails = os.environ.get("FAKE_REFERENCE_FAILS", "") == f"{rawlog.removeprefix('sim-')}:{seed}"
     for run, red in [("reference", "none")] + [(r, r) for r in reducers]:
-        row = dict(run=run, reducer=red, backend="ekf", status="ok", cap="" if red == "none" else arg(args, "--cap"),
+        failed = fails and red == "none"
+        row = dict(run=run, reducer=red, backend="ekf", status="failed" if failed else "ok", cap="" if red == "none" else arg(args, "--cap"),
                    landmarks=40 if red == "none" else arg(args, "--cap"), landmarks_reduction_pct=0, poses=1,
                    poses_reduction_pct=0, evictions=0, ate_m=value(rawlog, red, seed, "ate_m"), ale_m="",
                    are_deg="nan", ud_pct="", eig_min="nan", eig_max="nan", gt_trajectory_rmse_m=0.5,
@@ -111,10 +116,13 @@ def compare(args):
                 row[m] = ratio(rawlog, red, seed, m.replace("_ratio", "_m" if "rmse" in m else "_pct"))
             else:
                 row[m] = value(rawlog, red, seed, m)
+        if failed:  # the app leaves a failed run's metrics empty
+            row.update({m: "" for m in reloc + ["ate_m"]})
         lines.append(",".join(str(row[h]) for h in header))
         os.makedirs(os.path.join(out, run), exist_ok=True)
         write(os.path.join(out, run, "summary.json"), json.dumps({
-            "status": "ok", "counts": {"steps": 100, "landmarks_final": row["landmarks"]},
+            "status": "failed" if failed else "ok",
+            **({"error": "step 12: the ekf estimate diverged"} if failed else {}), "counts": {"steps": 100, "landmarks_final": row["landmarks"]},
             "ground_truth": {"trajectory_rmse_aligned_m": value(rawlog, red, seed, "gt_trajectory_rmse_aligned_m"),
                              "landmark_rmse_aligned_m": None},
             "timings": {"step_ms_mean": 1.0, "step_ms_max": 2.0, "peak_rss_bytes": 1000000}}))

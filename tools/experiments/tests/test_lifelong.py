@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""Tests of tools/experiments/lifelong: the ratios on a hand-made steps.csv, and a one-lap run
-(two reducers, the uncapped run stopped by SIGINT after 3 s) that writes the "Lifelong run" block
-of a PERFORMANCE.md without touching the rest.
+"""Tests of tools/experiments/lifelong: the ratios on a hand-made steps.csv, the arguments of a
+reducer/protect/admission entry, and a one-lap run (a reducer with the config's policy, one with its
+own policy, the uncapped run stopped by SIGINT after 3 s) that writes the "Lifelong run" block of a
+PERFORMANCE.md without touching the rest.
 
     test_lifelong.py --budget-slam build/bin/budget-slam --budget-simulate build/bin/budget-simulate
 """
@@ -43,6 +44,20 @@ class Ratios(unittest.TestCase):
             self.assertEqual(r["steps"], 1000)
 
 
+class PolicyEntries(unittest.TestCase):
+    def test_a_name_keeps_the_config_policy_and_a_triple_sets_it(self):
+        ll = scripttest.load_script("lifelong")
+        self.assertEqual(ll.policy_args("mi"), ["--reducer", "mi"])
+        self.assertEqual(ll.policy_args("coverage/recently_seen/always"),
+                         ["--reducer", "coverage", "--set", "LandmarkBudget.protect=recently_seen",
+                          "--set", "LandmarkBudget.admission=always"])
+        for bad in ("coverage/recently_seen", "coverage//always", "a/b/c/d"):
+            with self.assertRaises(SystemExit) as e:
+                ll.policy_args(bad)
+            self.assertEqual(str(e.exception), f"lifelong: --reducers entry '{bad}' is not reducer or "
+                             "reducer/protect/admission")
+
+
 class OneLap(unittest.TestCase):
     def test_one_lap_writes_the_section(self):
         with tempfile.TemporaryDirectory() as tmp:
@@ -53,7 +68,7 @@ class OneLap(unittest.TestCase):
             with open(perf, "w") as f:
                 f.write(before + ll.BEGIN + "\nold\n" + ll.END + after)
             out = os.path.join(tmp, "work")
-            p = subprocess.run(["/usr/bin/python3", SCRIPT, "--laps", "1", "--reducers", "random,coverage",
+            p = subprocess.run(["/usr/bin/python3", SCRIPT, "--laps", "1", "--reducers", "random,coverage/recently_seen/always",
                                 "--uncapped-budget", "3", "-o", out, "--performance-md", perf,
                                 "--plot", os.path.join(tmp, "results", "lifelong.png"),
                                 "--budget-slam", BUDGET_SLAM, "--budget-simulate", BUDGET_SIMULATE],
@@ -64,17 +79,22 @@ class OneLap(unittest.TestCase):
             self.assertTrue(text.startswith(before + ll.BEGIN + "\n"))
             self.assertTrue(text.endswith(ll.END + after))
             self.assertNotIn("\nold\n", text)
-            rows = [l for l in text.splitlines() if l.startswith("| random |") or l.startswith("| coverage |")]
+            rows = [l for l in text.splitlines() if l.startswith("| random |") or l.startswith("| coverage/recently_seen/always |")]
             self.assertEqual(len(rows), 2)
             with open(os.path.join(out, "lifelong.json")) as f:
                 res = json.load(f)
-            self.assertEqual(sorted(res), ["coverage", "none (no cap)", "random"])
+            self.assertEqual(sorted(res), ["coverage/recently_seen/always", "none (no cap)", "random"])
             steps = res["random"]["steps"]
-            for r in ("random", "coverage"):
+            for r in ("random", "coverage/recently_seen/always"):
                 self.assertEqual(res[r]["steps"], steps)
                 self.assertEqual(res[r]["landmarks_max"], 100)
                 self.assertGreater(res[r]["time_ratio"], 0)
                 self.assertGreater(res[r]["memory_ratio"], 0.5)
+            # the entry's own policy, over the config's (newly_added / compete)
+            with open(os.path.join(out, "coverage_recently_seen_always", "config_used.ini")) as f:
+                used = f.read()
+            self.assertIn("\nprotect = recently_seen\n", used)
+            self.assertIn("\nadmission = always\n", used)
             # the uncapped run was stopped by SIGINT: ended cleanly, interrupted, fewer steps
             with open(os.path.join(out, "none", "summary.json")) as f:
                 self.assertEqual(json.load(f)["status"], "interrupted")
@@ -83,7 +103,7 @@ class OneLap(unittest.TestCase):
             self.assertIn("**No cap** (stopped with Ctrl-C after a budget of 3 s wall time)", text)
             self.assertGreater(os.path.getsize(os.path.join(tmp, "results", "lifelong.png")), 5000)
             # finished runs are not run again
-            p = subprocess.run(["/usr/bin/python3", SCRIPT, "--laps", "1", "--reducers", "random,coverage",
+            p = subprocess.run(["/usr/bin/python3", SCRIPT, "--laps", "1", "--reducers", "random,coverage/recently_seen/always",
                                 "--uncapped-budget", "3", "-o", out, "--budget-slam", BUDGET_SLAM,
                                 "--budget-simulate", BUDGET_SIMULATE], capture_output=True, text=True, timeout=600)
             self.assertEqual(p.returncode, 0, p.stderr)

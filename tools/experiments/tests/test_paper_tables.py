@@ -119,7 +119,8 @@ class RatioCells(unittest.TestCase):
 
 class PartD(unittest.TestCase):
     """Part d with fake binaries (tests/fake_budget_slam.py as budget-slam and budget-simulate), the
-    real Victoria Park rawlog (cut with rawlog-edit) and stub MRCLAM files; 20 seeds."""
+    real Victoria Park rawlog (cut with rawlog-edit) and stub MRCLAM files; 20 seeds, the unreduced
+    run of park seed 7 failing (as the real one diverges)."""
 
     @classmethod
     def setUpClass(cls):
@@ -146,7 +147,7 @@ class PartD(unittest.TestCase):
                    "--budget-simulate", os.path.join(t, "bin", "budget-simulate")]
         cls.log = os.path.join(t, "fake.log")
         cls.proc = subprocess.run(cls.cmd, capture_output=True, text=True, timeout=600,
-                                  env=dict(os.environ, FAKE_LOG=cls.log))
+                                  env=dict(os.environ, FAKE_LOG=cls.log, FAKE_REFERENCE_FAILS="park:7"))
         with open(cls.results) as f:
             cls.text = f.read()
         with open(os.path.join(cls.work, "d", "out", "jobs.txt")) as f:
@@ -241,6 +242,42 @@ class PartD(unittest.TestCase):
         self.assertIn("- MRCLAM 7 at 25%, coverage [%]: highest coverage 92.0; one run, no test", self.text)
         self.assertNotIn("**", "".join(self.table_row("MRCLAM 7", "25%", "coverage")))
 
+    def test_best_lines_say_by_how_much(self):
+        import paired_stats
+        rmse = {r: {sd: fake.value("sim-rooms", r, sd, "reloc_rmse_m") for sd in range(1, 21)}
+                for r in ("none", "coverage", "coverage-mi", "random")}
+
+        def margin(other):
+            x = paired_stats.compare(rmse["coverage"], rmse[other])
+            return (f"{x.median_diff:.3f} [{x.ci_low:.3f}, {x.ci_high:.3f}]".replace("-", "−"),
+                    paired_stats.p_phrase(x.p_value))
+        (d1, p1), (d2, p2) = margin("coverage-mi"), margin("random")
+        self.assertTrue(d1.startswith("−0.10") and d2.startswith("−0.40"), (d1, d2))
+        self.assertIn(f"- rooms at 25%, relocalization RMSE [m]: **coverage** 0.405, lower than the runner-up "
+                      f"coverage-mi 0.505 (p < 0.0001); best − other: {d1} over the runner-up coverage-mi ({p1}, 20 seeds), "
+                      f"{d2} over random ({p2}, 20 seeds); unreduced map {statistics.fmean(rmse['none'].values()):.3f}\n",
+                      self.text)
+        # one run: no test, no margin, the unreduced map for scale
+        self.assertRegex(self.text, r"- MRCLAM 7 at 25%, coverage \[%\]: highest coverage 92.0; one run, no test; "
+                                    r"unreduced map \d+\.\d\n")
+
+    def test_seed_whose_unreduced_run_failed_is_left_out_everywhere(self):
+        self.assertIn("Seeds left out because the unreduced run did not end ok: park 25% (seed 7); park 50% (seed 7).",
+                      self.text)
+        self.assertIn("- failed: step 12: the ekf estimate diverged: sim:park none 25% (seed 7); "
+                      "sim:park none 50% (seed 7)", self.text)
+        # the reducers' own runs of seed 7 ended ok, and still count nowhere: means over 19 seeds
+        seeds = [sd for sd in range(1, 21) if sd != 7]
+        cov = [fake.value("sim-park", "mi", sd, "reloc_coverage_pct") for sd in seeds]
+        self.assertEqual(self.table_row("park", "50%", "mi")[0].strip("*"),
+                         f"{statistics.fmean(cov):.1f} ± {statistics.stdev(cov):.1f}")
+        self.assertIn("over random (p < 0.0001, 19 seeds)", self.text)
+
+    def test_place_coverage_is_run_and_shown(self):
+        self.assertTrue(all("--reducers random,oldest,info-content,mi,coverage,coverage-mi,place-coverage " in l
+                            for l in self.jobs), self.jobs[0])
+        self.assertEqual(len(self.table_row("rooms", "50%", "place-coverage")), 6)
+
     def test_mrclam_table_per_robot(self):
         self.assertIn("| cap | reducer | mrclam7_robot2 | mrclam7_robot3 | mrclam7_robot4 | mrclam7_robot5 |", self.text)
         cell = (f"{fake.value('mrclam7_robot1', 'mi', 1, 'reloc_rmse_m'):.3f} / "
@@ -255,6 +292,15 @@ class PartD(unittest.TestCase):
              == ("rooms", "25%", "reloc_rmse_m", "random", "oldest")]
         self.assertEqual(len(r), 1)
         self.assertEqual((r[0]["n_pairs"], r[0]["p_value"], r[0]["significant"]), ("20", "1.0", "0"))
+        # the same tests beside the figures, each reducer against the unreduced map too; park without seed 7
+        with open(os.path.join(self.tmp.name, "results", "map_kept_pairwise.csv"), newline="") as f:
+            self.assertEqual(list(csv.DictReader(f)), rows)
+        r = [r for r in rows if (r["rawlog"], r["cap"], r["metric"], r["reducer_a"], r["reducer_b"])
+             == ("park", "50%", "reloc_lost_pct", "none", "mi")]
+        self.assertEqual((r[0]["n_pairs"], r[0]["significant"]), ("19", "1"))
+        self.assertLess(float(r[0]["median_diff"]), 0)
+        self.assertFalse([r for r in rows if r["metric"].endswith("_ratio") and r["reducer_a"] == "none"])
+        self.assertIn("[results/map_kept_pairwise.csv](results/map_kept_pairwise.csv)", self.text)
 
     def test_budget_slam_without_relocalize_is_refused_in_one_line(self):
         with open(self.results) as f:

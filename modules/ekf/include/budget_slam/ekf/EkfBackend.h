@@ -6,8 +6,8 @@
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/core/BackendRegistry.h"
 #include "budget_slam/core/LandmarkTracks.h"
-#include "budget_slam/ekf/BlockMutualInformation.h"
 #include "budget_slam/ekf/ReducibleKFSLAM2D.h"
+#include "budget_slam/gaussian/BlockMutualInformation.h"
 
 namespace budget_slam::ekf {
 
@@ -34,7 +34,7 @@ class EkfBackend : public Backend {
   std::vector<LandmarkId> lastAssociation() const override { return last_ids_; }
   void removeLandmark(LandmarkId id) override;
   /// I(L; rest of the state) in bits; one factorization per drop event, updated by Schur
-  /// complements across the drops of that event (see BlockMutualInformation).
+  /// complements across the drops of that event (see gaussian::BlockMutualInformation).
   std::vector<double> informationGain(const std::vector<LandmarkId>& ids) const override;
   Eigen::Matrix2d landmarkCovariance(LandmarkId id) const override;
   /// Only the latest pose (StepIndex of the last processed step) and landmarks.
@@ -61,7 +61,7 @@ class EkfBackend : public Backend {
   StepIndex last_step_ = 0;
   std::vector<LandmarkId> last_ids_;  ///< lastAssociation()
   /// Valid from the first informationGain() after a step until the next step.
-  mutable std::optional<BlockMutualInformation> mi_;
+  mutable std::optional<gaussian::BlockMutualInformation> mi_;
 };
 
 }  // namespace budget_slam::ekf

@@ -113,10 +113,14 @@ class FactorGraph {
   int dim() const;
   /// First column of a variable; throws std::out_of_range if unknown.
   int column(const VariableKey& v) const;
+  /// First column of every variable in column order (poses, then landmarks), then dim(): the
+  /// variable partition of H's columns (SparseCholesky orders variables, not scalars).
+  const std::vector<int>& variableStarts() const;
   /// Sum of squared whitened residuals (twice the negative log-likelihood up to a constant).
   double chi2() const;
-  /// H (lower triangle only, as CHOLMOD reads it) and g at the current estimate.
-  void linearize(Eigen::SparseMatrix<double>* H, Eigen::VectorXd* g) const;
+  /// H (lower triangle only, as CHOLMOD reads it) and g at the current estimate; with `chi2`,
+  /// also the chi2() of that estimate from the same residuals (no second pass over the factors).
+  void linearize(Eigen::SparseMatrix<double>* H, Eigen::VectorXd* g, double* chi2 = nullptr) const;
   /// x <- x + dx (yaw wrapped), dx laid out as column().
   void retract(const Eigen::VectorXd& dx);
   /// The current estimate stacked as column() (for tests and comparisons).
@@ -125,16 +129,37 @@ class FactorGraph {
   void setValues(const Eigen::VectorXd& v);
 
  private:
+  /// The variables in column order with a dense step -> pose lookup, rebuilt once per structure
+  /// change: every pass over the factors (linearize, chi2, retract) walks these arrays instead of
+  /// the maps, and a sighting finds its pose by an index instead of a tree search. The pointers
+  /// are to this graph's own map nodes (std::map never moves them), so a copy of the graph starts
+  /// with an empty layout and builds its own.
+  struct Layout {
+    std::uint64_t version = ~std::uint64_t(0);
+    int dim = 0;
+    std::vector<PoseNode*> poses;          ///< in step order
+    std::vector<LandmarkNode*> landmarks;  ///< in id order
+    StepIndex first_step = 0;
+    std::vector<PoseNode*> by_step;  ///< by_step[s - first_step]; nullptr for a step not kept
+    std::vector<int> starts;         ///< variableStarts()
+    Layout() = default;
+    Layout(const Layout&) {}
+    Layout& operator=(const Layout&) {
+      version = ~std::uint64_t(0);
+      return *this;
+    }
+    const PoseNode& pose(StepIndex s) const { return *by_step[s - first_step]; }
+  };
+
   void changed();
-  void updateLayout() const;
+  const Layout& layout() const;
 
   std::map<StepIndex, PoseNode> poses_;
   std::map<LandmarkId, LandmarkNode> landmarks_;
   PriorFactor prior_;
   std::uint64_t structure_version_ = 0;
   std::uint64_t revision_ = 0;
-  mutable std::uint64_t layout_version_ = ~std::uint64_t(0);
-  mutable int dim_ = 0;
+  mutable Layout layout_;
 };
 
 }  // namespace budget_slam::graph

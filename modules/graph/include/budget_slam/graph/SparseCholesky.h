@@ -40,8 +40,13 @@ class SparseCholesky {
 
   /// Factorizes H (only its lower triangle is read). The symbolic analysis (ordering) is reused
   /// when `pattern_version` equals the previous call's and is not 0 (0: always analyse).
+  /// With `variable_starts` (the first column of each variable, then the size of H;
+  /// FactorGraph::variableStarts) the ordering is AMD on the variable graph, each variable's
+  /// columns kept together; CHOLMOD's own choice (AMD on the scalars, or METIS) otherwise, and
+  /// whenever the variable ordering fills much (CHOLMOD's rule for trying METIS).
   /// Returns false when H is not positive definite.
-  bool factorize(const Eigen::SparseMatrix<double>& H, std::uint64_t pattern_version = 0);
+  bool factorize(const Eigen::SparseMatrix<double>& H, std::uint64_t pattern_version = 0,
+                 const std::vector<int>* variable_starts = nullptr);
   /// Factorizes H as a simplicial L D L^T with the fill-reducing ordering `perm` (perm[k] = the
   /// column of H eliminated k-th), exactly as given (no postordering). Returns false when H is
   /// not positive definite.

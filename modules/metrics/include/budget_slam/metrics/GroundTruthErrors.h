@@ -28,10 +28,6 @@ struct GroundTruthErrors {
   std::size_t landmarks = 0;                                        ///< landmarks matched by id
   double landmark_rmse = std::numeric_limits<double>::quiet_NaN();  ///< [m]
   double landmark_rmse_aligned = std::numeric_limits<double>::quiet_NaN();  ///< [m], same transform
-  /// Mean normalized estimation error squared of the robot pose (x, y, yaw) over the steps: 3 for
-  /// a consistent filter; much larger means overconfident.
-  double nees_mean = std::numeric_limits<double>::quiet_NaN();
-  std::size_t nees_samples = 0;
 };
 
 /// Ground-truth row of step k: MRPT's simul-landmarks writes the start pose as the first row, so
@@ -46,9 +42,9 @@ void requireFinite(const std::vector<TrajectoryPoint>& trajectory,
 
 /// The estimate starts at the origin; ground truth is brought into that frame by the inverse of
 /// its start pose (the row before step 0, or row 0), which is the identity for MRPT's files.
-/// Non-finite estimates are an Error (requireFinite).
+/// Non-finite estimates are an Error (requireFinite). The pose NEES, which needs the online
+/// covariances, is accumulated during the run (NeesAccumulator.h).
 GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajectory,
-                                    const std::vector<PoseRecord>& online,
                                     const std::vector<LandmarkView>& landmarks,
                                     const dataset::GroundTruth& truth, std::size_t steps);
 
@@ -64,8 +60,5 @@ struct RigidTransform2 {
 };
 RigidTransform2 alignPoints(const std::vector<Eigen::Vector2d>& a,
                             const std::vector<Eigen::Vector2d>& b);
-
-/// (x, y, yaw) error e of `estimate` w.r.t. `truth` (yaw wrapped) and its NEES e' P^-1 e.
-double poseNees(const PoseEstimate& estimate, const mrpt::math::TPose2D& truth);
 
 }  // namespace budget_slam::metrics

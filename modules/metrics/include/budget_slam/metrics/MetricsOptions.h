@@ -1,13 +1,13 @@
 #pragma once
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <string>
 #include <vector>
+
+#include "budget_slam/core/OptionTable.h"
 
 namespace budget_slam::metrics {
 
 /// [Metrics]: limits of the comparison against the reference run.
-struct MetricsOptions : public mrpt::config::CLoadableOptions {
+struct MetricsOptions : public TabledOptions<MetricsOptions> {
   static constexpr const char* kSection = "Metrics";
 
   /// EIG needs the eigenvalues of a dense covariance difference (O(n^3)); above this many rows it
@@ -22,10 +22,8 @@ struct MetricsOptions : public mrpt::config::CLoadableOptions {
   /// Default: 13.8155 (chi-square, 2 degrees of freedom, 99.9%).
   double reloc_match_chi2 = 13.8155;
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                          const std::string& section) override;
-  void dumpToTextStream(std::ostream& out) const override;
-  static std::vector<std::string> keys() { return {"eig_max_rows", "reloc_min_landmarks", "reloc_match_chi2"}; }
+  /// Every key: name, field, check and unit (the defaults are the initializers above).
+  static const OptionTable<MetricsOptions>& table();
 };
 
 }  // namespace budget_slam::metrics

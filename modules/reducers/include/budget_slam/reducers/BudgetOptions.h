@@ -1,17 +1,17 @@
 #pragma once
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "budget_slam/core/OptionTable.h"
 
 namespace budget_slam::reducers {
 
 /// [LandmarkBudget]: how many landmarks the map may hold, who decides which one goes, which
 /// landmarks may not go yet and how a newcomer gets in (docs/ALGORITHMS.md "Common to every
 /// reducer").
-struct BudgetOptions : public mrpt::config::CLoadableOptions {
+struct BudgetOptions : public TabledOptions<BudgetOptions> {
   static constexpr const char* kSection = "LandmarkBudget";
 
   /// Which landmarks `protect_recent_steps` shields from a cap decision.
@@ -44,12 +44,8 @@ struct BudgetOptions : public mrpt::config::CLoadableOptions {
   std::uint64_t seed = 1;                    ///< seed of every randomized reducer
   bool dump_states = false;                  ///< write states/step_<k>.txt before each drop event
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                          const std::string& section) override;
-  void dumpToTextStream(std::ostream& out) const override;
-
-  /// Keys of the section, for unknown-key checks.
-  static std::vector<std::string> keys();
+  /// Every key: name, field, check and unit (the defaults are the initializers above).
+  static const OptionTable<BudgetOptions>& table();
   /// The cap as written in the ini and on the command line: a number, or `none`.
   static std::string capText(const std::optional<std::size_t>& cap);
 

@@ -1,17 +1,16 @@
 #pragma once
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "budget_slam/core/OptionTable.h"
 #include "budget_slam/reducers/KMeans.h"
 
 namespace budget_slam::reducers {
 
 /// [CoverageReducer]: the clustering of Hochdorfer & Schlegel Sec. III-C, shared by `coverage`
 /// and `coverage-mi` (docs/ALGORITHMS.md "coverage").
-struct CoverageOptions : public mrpt::config::CLoadableOptions {
+struct CoverageOptions : public TabledOptions<CoverageOptions> {
   static constexpr const char* kSection = "CoverageReducer";
 
   double cluster_ratio = 0.25;  ///< k = max(1, round(cluster_ratio * N)), N landmarks; in (0, 1]
@@ -21,12 +20,8 @@ struct CoverageOptions : public mrpt::config::CLoadableOptions {
   /// Seed of the k-means++ start. Absent: the run's [LandmarkBudget] seed.
   std::uint64_t seed = 1;
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                          const std::string& section) override;
-  void dumpToTextStream(std::ostream& out) const override;
-
-  /// Keys of the section, for unknown-key checks.
-  static std::vector<std::string> keys();
+  /// Every key: name, field, check and unit (the defaults are the initializers above).
+  static const OptionTable<CoverageOptions>& table();
   /// The options of the KMeans for N landmarks.
   KMeans::Options kmeans(std::size_t n_points) const;
 };

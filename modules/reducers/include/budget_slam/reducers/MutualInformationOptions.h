@@ -1,15 +1,15 @@
 #pragma once
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <cstddef>
 #include <string>
 #include <vector>
+
+#include "budget_slam/core/OptionTable.h"
 
 namespace budget_slam::reducers {
 
 /// [MutualInformationReducer]: the `mi` reducer (Choudhary et al. ICRA 2015; docs/ALGORITHMS.md
 /// "mi").
-struct MutualInformationOptions : public mrpt::config::CLoadableOptions {
+struct MutualInformationOptions : public TabledOptions<MutualInformationOptions> {
   static constexpr const char* kSection = "MutualInformationReducer";
 
   /// When landmarks go:
@@ -29,12 +29,8 @@ struct MutualInformationOptions : public mrpt::config::CLoadableOptions {
   enum class Stop { FirstIncrease, GlobalMinimum };
   Stop stop = Stop::FirstIncrease;
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                          const std::string& section) override;
-  void dumpToTextStream(std::ostream& out) const override;
-
-  /// Keys of the section, for unknown-key checks.
-  static std::vector<std::string> keys();
+  /// Every key: name, field, check and unit (the defaults are the initializers above).
+  static const OptionTable<MutualInformationOptions>& table();
   static std::string modeName(Mode m);
   static std::string stopName(Stop s);
 };

@@ -1,18 +1,17 @@
 #pragma once
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <cstdint>
 #include <set>
 #include <unordered_map>
 #include <vector>
 
+#include "budget_slam/core/OptionTable.h"
 #include "budget_slam/core/ReducerRegistry.h"
 
 namespace budget_slam::reducers {
 
 /// [PlaceCoverageReducer]: the places of `place-coverage` and how many landmarks each should keep
 /// (docs/ALGORITHMS.md "place-coverage").
-struct PlaceCoverageOptions : public mrpt::config::CLoadableOptions {
+struct PlaceCoverageOptions : public TabledOptions<PlaceCoverageOptions> {
   static constexpr const char* kSection = "PlaceCoverageReducer";
 
   std::size_t min_landmarks = 2;  ///< k: landmarks a place should keep, >= 1 [landmarks]
@@ -28,10 +27,8 @@ struct PlaceCoverageOptions : public mrpt::config::CLoadableOptions {
   /// Places remembered at most; beyond, the place visited longest ago is forgotten [places].
   std::size_t max_places = 100000;
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                          const std::string& section) override;
-  void dumpToTextStream(std::ostream& out) const override;
-  static std::vector<std::string> keys();
+  /// Every key: name, field, check and unit (the defaults are the initializers above).
+  static const OptionTable<PlaceCoverageOptions>& table();
 };
 
 /// `place-coverage`: keeps, for every place the robot has visited, at least k landmarks it

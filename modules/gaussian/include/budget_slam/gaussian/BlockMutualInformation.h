@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace budget_slam::ekf {
+namespace budget_slam::gaussian {
 
 /// Mutual information between one 2-D block L of a Gaussian state and all the rest, in bits:
 ///   I(L; rest) = 1/2 log2( |P_LL| * |Lambda_LL| ),  Lambda = P^-1
@@ -56,4 +56,4 @@ class BlockMutualInformation {
   Eigen::MatrixXd V_;             ///< m x 2k: current information = Lambda - V V^T
 };
 
-}  // namespace budget_slam::ekf
+}  // namespace budget_slam::gaussian

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace budget_slam::ekf::detail {
+namespace budget_slam::gaussian::detail {
 
 namespace {
 
@@ -149,4 +149,4 @@ void invertLowerInPlace(double* L, std::size_t n, std::size_t ld, double* scratc
   }
 }
 
-}  // namespace budget_slam::ekf::detail
+}  // namespace budget_slam::gaussian::detail

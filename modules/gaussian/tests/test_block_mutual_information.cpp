@@ -1,11 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <random>
 
-#include "budget_slam/ekf/BlockMutualInformation.h"
+#include "budget_slam/gaussian/BlockMutualInformation.h"
 
-using budget_slam::ekf::BlockMutualInformation;
+using budget_slam::gaussian::BlockMutualInformation;
 
 namespace {
 
@@ -120,4 +121,26 @@ TEST(BlockMutualInformation, IndefiniteCovarianceIsAnError) {
   Eigen::MatrixXd P = Eigen::MatrixXd::Identity(7, 7);
   P(3, 4) = P(4, 3) = 2.0;
   EXPECT_THROW(BlockMutualInformation{P}, std::runtime_error);
+}
+
+TEST(BlockMutualInformation, AsymmetricRoundOffReadsTheSymmetricPart) {
+  // A filter covariance whose triangles differ by round-off larger than its smallest eigenvalue:
+  // its lower triangle alone is indefinite, its symmetric part is not. The gains are those of the
+  // symmetric part.
+  std::mt19937 rng(3);
+  const Eigen::MatrixXd S = randomSpd(9, rng);
+  Eigen::MatrixXd P = S;
+  // v = (e3 + e4) / sqrt(2) gives v^T lower v = (S33 + S44 + 2 S34) / 2 - shift < 0.
+  const double shift = 0.2 + 0.5 * (S(3, 3) + S(4, 4) + 2 * S(3, 4));
+  for (int i = 1; i < 9; ++i)
+    for (int j = 0; j < i; ++j) {
+      P(i, j) += i == 4 && j == 3 ? -shift : 0.0;
+      P(j, i) += i == 4 && j == 3 ? shift : 0.0;
+    }
+  Eigen::MatrixXd lower = P.triangularView<Eigen::Lower>();
+  lower.triangularView<Eigen::StrictlyUpper>() =
+      P.triangularView<Eigen::StrictlyLower>().transpose();
+  ASSERT_LT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(lower).eigenvalues()(0), 0.0);
+  const BlockMutualInformation mi(P);
+  for (int r = 3; r < 9; r += 2) EXPECT_NEAR(mi.gain(r), bruteForce(S, r), 1e-9) << "row " << r;
 }

@@ -2,7 +2,7 @@
 #include <Eigen/Core>
 #include <utility>
 
-namespace budget_slam {
+namespace budget_slam::gaussian {
 
 /// Writes into `out` ((n-k) x (n-k), already sized) the square matrix `M` (n x n) without its
 /// rows and columns [r, r+k): what dropping a variable's block does to a covariance (exact
@@ -33,4 +33,4 @@ inline void eraseRowsCols(Eigen::MatrixXd& M, Eigen::Index r, Eigen::Index k) {
   M = std::move(out);
 }
 
-}  // namespace budget_slam
+}  // namespace budget_slam::gaussian

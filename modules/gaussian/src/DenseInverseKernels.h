@@ -1,7 +1,7 @@
 #pragma once
 #include <cstddef>
 
-namespace budget_slam::ekf::detail {
+namespace budget_slam::gaussian::detail {
 
 // Dense kernels of BlockMutualInformation: the Cholesky factor of a covariance and the inverse of
 // that factor, whose column norms are the diagonal of the information matrix. Column-major
@@ -18,4 +18,4 @@ bool choleskyLowerInPlace(double* A, std::size_t n, std::size_t ld);
 /// doubles.
 void invertLowerInPlace(double* L, std::size_t n, std::size_t ld, double* scratch);
 
-}  // namespace budget_slam::ekf::detail
+}  // namespace budget_slam::gaussian::detail

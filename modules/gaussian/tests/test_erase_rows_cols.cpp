@@ -3,9 +3,9 @@
 // order (MRPT's matrices are row-major, Eigen's default column-major).
 #include <gtest/gtest.h>
 
-#include "budget_slam/core/EraseRowsCols.h"
+#include "budget_slam/gaussian/EraseRowsCols.h"
 
-using namespace budget_slam;
+using namespace budget_slam::gaussian;
 
 namespace {
 Eigen::MatrixXd numbered(Eigen::Index n) {

@@ -3,14 +3,14 @@
 #include <optional>
 
 #include "budget_slam/core/Backend.h"
-#include "budget_slam/ekf/BlockMutualInformation.h"
+#include "budget_slam/gaussian/BlockMutualInformation.h"
 
-namespace budget_slam::reducers {
+namespace budget_slam::gaussian {
 
 /// A Backend that is nothing but a Gaussian over the latest robot pose and the landmarks (the
 /// EKF's state): mean and covariance frozen, landmarks removable by exact marginalization, and
 /// information gain I(L; rest) = 1/2 log2(|P_LL| |Lambda_LL|) from one factorization updated by
-/// Schur complements (ekf::BlockMutualInformation, the evaluator the EKF backend itself uses).
+/// Schur complements (BlockMutualInformation, the evaluator the EKF backend itself uses).
 ///
 /// Uses: the disposable copy on which `mi` looks ahead over the whole greedy sequence of
 /// Choudhary et al. Alg. 3 (for any backend whose joint covariance reproduces its own
@@ -46,7 +46,7 @@ class GaussianStateBackend : public Backend {
   std::vector<LandmarkView> landmarks_;
   Eigen::MatrixXd P_;
   StepIndex step_;
-  mutable std::optional<ekf::BlockMutualInformation> mi_;
+  mutable std::optional<BlockMutualInformation> mi_;
 };
 
-}  // namespace budget_slam::reducers
+}  // namespace budget_slam::gaussian

@@ -1,4 +1,4 @@
-#include "budget_slam/ekf/BlockMutualInformation.h"
+#include "budget_slam/gaussian/BlockMutualInformation.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -7,7 +7,7 @@
 
 #include "DenseInverseKernels.h"
 
-namespace budget_slam::ekf {
+namespace budget_slam::gaussian {
 
 BlockMutualInformation::BlockMutualInformation(const Eigen::MatrixXd& P) {
   const Eigen::Index n = P.rows();
@@ -16,9 +16,13 @@ BlockMutualInformation::BlockMutualInformation(const Eigen::MatrixXd& P) {
   p_diag_.resize(static_cast<std::size_t>(n));
   p_next_.assign(static_cast<std::size_t>(n), 0.0);
   std::vector<Eigen::Index> active;
+  // The filter's covariance is symmetric only up to its update's round-off (MRPT's
+  // P - K S K^T): on the lifelong run the two triangles differ by 1e-4 where the smallest
+  // eigenvalue is 2e-5, so either triangle alone can be indefinite. The gains are those of the
+  // symmetric part (P + P^T) / 2, which is what the filter means.
   for (Eigen::Index i = 0; i < n; ++i) {
     p_diag_[i] = P(i, i);
-    if (i + 1 < n) p_next_[i] = P(i, i + 1);
+    if (i + 1 < n) p_next_[i] = 0.5 * (P(i, i + 1) + P(i + 1, i));
     if (P(i, i) > 1e-15 * max_diag) {
       lambda_row_[static_cast<std::size_t>(i)] = static_cast<long>(active.size());
       active.push_back(i);
@@ -29,7 +33,8 @@ BlockMutualInformation::BlockMutualInformation(const Eigen::MatrixXd& P) {
   w_.resize(m * m);
   const auto load = [&](double jitter) {
     for (std::size_t c = 0; c < m; ++c)
-      for (std::size_t r = c; r < m; ++r) w_[r + c * m] = P(active[r], active[c]);
+      for (std::size_t r = c; r < m; ++r)
+        w_[r + c * m] = 0.5 * (P(active[r], active[c]) + P(active[c], active[r]));
     for (std::size_t c = 0; c < m; ++c) w_[c + c * m] += jitter;
   };
   load(0.0);
@@ -39,8 +44,7 @@ BlockMutualInformation::BlockMutualInformation(const Eigen::MatrixXd& P) {
     double mean = 0;
     for (Eigen::Index i : active) mean += P(i, i);
     load(1e-12 * mean / static_cast<double>(std::max<std::size_t>(1, m)));
-    if (!detail::choleskyLowerInPlace(w_.data(), m, m))
-      throw NotPositiveDefinite();
+    if (!detail::choleskyLowerInPlace(w_.data(), m, m)) throw NotPositiveDefinite();
   }
   std::vector<double> scratch(64 * std::max<std::size_t>(1, m));
   detail::invertLowerInPlace(w_.data(), m, m, scratch.data());
@@ -111,4 +115,4 @@ void BlockMutualInformation::removeBlock(std::size_t first_row) {
   if (r > 0) p_next_[static_cast<std::size_t>(r - 1)] = 0.0;
 }
 
-}  // namespace budget_slam::ekf
+}  // namespace budget_slam::gaussian

@@ -1,11 +1,11 @@
-#include "budget_slam/reducers/GaussianStateBackend.h"
+#include "budget_slam/gaussian/GaussianStateBackend.h"
 
-#include "budget_slam/core/EraseRowsCols.h"
+#include "budget_slam/gaussian/EraseRowsCols.h"
 
 #include <stdexcept>
 #include <string>
 
-namespace budget_slam::reducers {
+namespace budget_slam::gaussian {
 
 GaussianStateBackend::GaussianStateBackend(std::vector<LandmarkView> landmarks, Eigen::MatrixXd P,
                                            StepIndex step)
@@ -83,4 +83,4 @@ Eigen::MatrixXd GaussianStateBackend::jointCovariance(const std::vector<Variable
   return out;
 }
 
-}  // namespace budget_slam::reducers
+}  // namespace budget_slam::gaussian
