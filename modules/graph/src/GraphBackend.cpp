@@ -211,7 +211,7 @@ void GraphBackend::boundPoses() {
 }
 
 void GraphBackend::incrementalUpdate() {
-  SolverSettings s = options_.solverSettings();
+  SolverSettings s = options_.solver;
   s.method = SolverSettings::Method::GaussNewton;
   s.max_iterations = options_.incremental_iterations;
   s.step_tolerance = std::max(s.step_tolerance, options_.relinearize_threshold);
@@ -277,7 +277,7 @@ std::vector<double> GraphBackend::informationGain(const std::vector<LandmarkId>&
     if (!graph_.hasLandmark(id))
       throw std::out_of_range("graph backend: no landmark " + std::to_string(id));
   if (ids.empty()) return {};
-  if (options_.information_gain == "conditional")
+  if (options_.information_gain == GraphSlamOptions::InformationGain::Conditional)
     return graph::conditionalInformationGain(graph_, factorization_.factor(graph_), ids);
   return graph::informationGain(graph_, factorization_.factor(graph_), ids);
 }
@@ -312,7 +312,7 @@ std::size_t GraphBackend::marginalizePosesWithoutLandmarks(std::size_t keep_last
 }
 
 SolveReport GraphBackend::optimize() {
-  SolverSettings settings = options_.solverSettings();
+  SolverSettings settings = options_.solver;
   settings.stop_on_request = true;  // a full solve of a long run takes seconds
   SolveReport r;
   try {
