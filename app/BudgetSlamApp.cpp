@@ -13,9 +13,9 @@
 
 #include "BuiltinBackends.h"
 #include "Interrupt.h"
-#include "Pipeline.h"
 #include "ProgressBar.h"
 #include "RunConfig.h"
+#include "RunDriver.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
@@ -264,7 +264,7 @@ int BudgetSlamApp::run() {
 
 int BudgetSlamApp::runRun() {
   std::optional<report::OutputFolder> folder;
-  std::unique_ptr<Pipeline> pipeline;
+  std::unique_ptr<RunDriver> driver;
   std::size_t steps_read = 0;
   nlohmann::json given = {{"config", config_label_}};  // what the run was given, in summary.json
 
@@ -275,9 +275,9 @@ int BudgetSlamApp::runRun() {
     *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ") << msg << std::endl;
     std::string not_saved;
     try {
-      if (pipeline) {
-        pipeline->finish(status, msg, steps_read, given);
-        not_saved = pipeline->summaryError();
+      if (driver) {
+        driver->finish(status, msg, steps_read, given);
+        not_saved = driver->summaryError();
       } else if (folder) {
         nlohmann::json j = {{"status", status}, {"error", msg}};
         j.update(given);
@@ -293,7 +293,7 @@ int BudgetSlamApp::runRun() {
   };
   // Where a stop request (Ctrl-C) found the run: the last step whose outputs are written.
   const auto interrupted = [&](const char* where) {
-    const auto last = pipeline ? pipeline->lastStep() : std::nullopt;
+    const auto last = driver ? driver->lastStep() : std::nullopt;
     return std::string("interrupted by ") + InterruptGuard::what() + where +
            (last ? " after step " + std::to_string(*last) : std::string(" before the first step"));
   };
@@ -336,8 +336,8 @@ int BudgetSlamApp::runRun() {
     report::writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
     auto truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
-    pipeline = std::make_unique<Pipeline>(rc.ini, rc.mapping.backend, rc.budget, *folder, truth,
-                                          rc.mapping.keep_history);
+    driver = std::make_unique<RunDriver>(rc.ini, rc.mapping.backend, rc.budget, *folder, truth,
+                                         rc.mapping.keep_history);
 
     dataset::RawlogReader reader(rc.rawlog);
     // A signal ends the reading within one read of the file, even inside a large object.
@@ -354,9 +354,9 @@ int BudgetSlamApp::runRun() {
       }
       if (!step) break;
       steps_read = reader.stepsRead();
-      pipeline->process(*step);
+      driver->process(*step);
       bar.update(reader.progress(), "step " + std::to_string(step->index) + ", " +
-                                        std::to_string(pipeline->backend().landmarkCount()) +
+                                        std::to_string(driver->backend().landmarkCount()) +
                                         " landmarks");
       if (on_step) on_step(step->index);
       if (InterruptGuard::requested()) {
@@ -371,24 +371,24 @@ int BudgetSlamApp::runRun() {
 
     end_phase = true;
     if (on_end_phase) on_end_phase();
-    const RunResult result = pipeline->finish("ok", "", steps_read, given);
+    const RunResult result = driver->finish("ok", "", steps_read, given);
     // Shadow reducers are only logged; their failures end nothing, but are never silent.
-    for (const auto& f : pipeline->budget().shadowFailures())
+    for (const auto& f : driver->budget().shadowFailures())
       *err << "budget-slam: warning: " << shadowFailureLine(f) << std::endl;
-    if (result.status != "ok" || !pipeline->writeError().empty()) {
+    if (result.status != "ok" || !driver->writeError().empty()) {
       // An output that could not be written (a full disk): the run failed, summary.json says so
       // when it could still be written.
-      const std::string why = result.status != "ok" ? result.error : pipeline->writeError();
+      const std::string why = result.status != "ok" ? result.error : driver->writeError();
       *err << "budget-slam: error: " << why << std::endl;
       return 1;
     }
     if (!cli_.quiet) {
-      const auto pose = pipeline->backend().robotPose().mean;
+      const auto pose = driver->backend().robotPose().mean;
       *out << "budget-slam run: " << steps_read << " steps, backend " << rc.mapping.backend
            << ", reducer " << rc.budget.reducer;
-      if (pipeline->budget().capped()) *out << ", cap " << *rc.budget.max_landmarks;
-      *out << ": " << pipeline->backend().landmarkCount() << " landmarks kept, "
-           << pipeline->evictions() << " dropped\n"
+      if (driver->budget().capped()) *out << ", cap " << *rc.budget.max_landmarks;
+      *out << ": " << driver->backend().landmarkCount() << " landmarks kept, "
+           << driver->evictions() << " dropped\n"
            << "final pose x=" << fixed(pose.x, 3) << " m y=" << fixed(pose.y, 3)
            << " m yaw=" << fixed(pose.phi * 180 / M_PI, 2) << " deg";
       if (result.ground_truth) {
@@ -400,7 +400,7 @@ int BudgetSlamApp::runRun() {
              << val(result.ground_truth->landmark_rmse, 3) << " m, mean NEES "
              << val(result.nees.mean, 2);
       }
-      *out << "\noutputs in " << folder->path() << "/ (" << fixed(pipeline->totalStepSeconds(), 2)
+      *out << "\noutputs in " << folder->path() << "/ (" << fixed(driver->totalStepSeconds(), 2)
            << " s of SLAM)\n";
     }
     return 0;

@@ -10,10 +10,10 @@
 #include "CompareRuns.h"
 #include "Interrupt.h"
 #include "OfflineOptimum.h"
-#include "Pipeline.h"
 #include "ProgressBar.h"
 #include "Relocalize.h"
 #include "RunConfig.h"
+#include "RunDriver.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniText.h"
@@ -67,7 +67,7 @@ struct CompareOutcome {
   }
 };
 
-/// The rawlog's steps, read once for every pipeline (at most `limit`, 0 = all); nullopt when a
+/// The rawlog's steps, read once for every driver (at most `limit`, 0 = all); nullopt when a
 /// stop request came while reading. Throws InputError when no step has a bearing-range reading.
 std::optional<std::vector<Step>> readSteps(const std::string& rawlog, std::size_t limit,
                                            ProgressBar& reading) {
@@ -111,14 +111,14 @@ Runs makeRuns(const RunConfig& rc, const std::vector<std::string>& names,
     ini.write(reducers::BudgetOptions::kSection, "reducer", budget.reducer);
     report::OutputFolder folder(top.file(name), force);
     report::writeFileAtomically(folder.file("config_used.ini"), ini.getContent());
-    run->pipeline = std::make_unique<Pipeline>(ini, rc.mapping.backend, budget, folder, truth);
+    run->driver = std::make_unique<RunDriver>(ini, rc.mapping.backend, budget, folder, truth);
     runs.push_back(std::move(run));
   }
   return runs;
 }
 
 /// Ends run `r`: its metrics against the reference (when both are ok) and its outputs
-/// (Pipeline::finish, with `extra` in summary.json). A run whose outputs could not be written,
+/// (RunDriver::finish, with `extra` in summary.json). A run whose outputs could not be written,
 /// or whose estimate is not finite, becomes failed.
 metrics::ReferenceMetrics finishRun(CompareRun& r, const CompareRun& ref, std::size_t steps,
                                     std::size_t eig_max_rows, nlohmann::json extra) {
@@ -129,11 +129,11 @@ metrics::ReferenceMetrics finishRun(CompareRun& r, const CompareRun& ref, std::s
     r.error = interruptedLine(r, " before its outputs were written,");
   }
   if (ref.status == "ok" && r.status == "ok") {
-    m = metrics::compareWithReference(ref.pipeline->backend(), r.pipeline->backend(), eig_max_rows);
+    m = metrics::compareWithReference(ref.driver->backend(), r.driver->backend(), eig_max_rows);
     extra["reference_metrics"] = toJson(m);
   }
   try {
-    r.result = r.pipeline->finish(r.status, r.error, steps, extra);
+    r.result = r.driver->finish(r.status, r.error, steps, extra);
     if (r.status == "ok" && r.result->status != "ok") {
       // An output of the run could not be written (a full disk), or its estimate diverged.
       r.status = "failed";
@@ -150,7 +150,7 @@ metrics::ReferenceMetrics finishRun(CompareRun& r, const CompareRun& ref, std::s
 /// reference, which holds `ref_landmarks` landmarks and `ref_poses` poses.
 report::ComparisonRow comparisonRow(const CompareRun& r, const metrics::ReferenceMetrics& m,
                                     std::size_t ref_landmarks, std::size_t ref_poses) {
-  const Pipeline& p = *r.pipeline;
+  const RunDriver& p = *r.driver;
   report::ComparisonRow row;
   row.run = r.name;
   row.reducer = p.budget().options().reducer;
@@ -190,8 +190,8 @@ std::vector<RelocalizationResult> relocalizeMaps(const Runs& runs,
   std::vector<MapOfRun> maps;
   for (const auto& r : runs)
     if (r->status == "ok")
-      maps.push_back({r->name, r->pipeline->folder().path(), r->pipeline->backend().landmarks(),
-                      r->pipeline->mapAlignment()});
+      maps.push_back({r->name, r->driver->folder().path(), r->driver->backend().landmarks(),
+                      r->driver->mapAlignment()});
   auto relocalized =
       relocalizeAll(maps, traversals, reference, cli.reference_trajectory, cli.threads, cli.force);
   addRelocalizationColumns(rows, relocalized, kReference);
@@ -206,12 +206,12 @@ std::vector<RelocalizationResult> relocalizeMaps(const Runs& runs,
 std::vector<report::Series> errorSeries(const Runs& runs, const dataset::GroundTruth* truth,
                                         std::size_t steps) {
   std::vector<report::Series> out;
-  const auto* ref = runs.front()->pipeline.get();
+  const auto* ref = runs.front()->driver.get();
   for (const auto& r : runs) {
     if (!truth && r->name == kReference) continue;
     report::Series s;
     s.name = r->name;
-    const auto& online = r->pipeline->onlinePoses();
+    const auto& online = r->driver->onlinePoses();
     for (std::size_t k = 0; k < online.size(); ++k) {
       const auto& p = online[k].estimate.mean;
       double e;
@@ -240,7 +240,7 @@ void writeComparisonChart(const std::string& path, const Runs& runs, const std::
   report::ChartPanel count{"landmarks in the map", "step", "landmarks", {}, false};
   for (const auto& r : runs) {
     report::Series s{r->name, {}, {}};
-    const auto& counts = r->pipeline->landmarkCounts();
+    const auto& counts = r->driver->landmarkCounts();
     for (std::size_t k = 0; k < counts.size(); ++k)
       s.x.push_back(double(steps[k].index)), s.y.push_back(double(counts[k]));
     count.series.push_back(std::move(s));
@@ -262,12 +262,12 @@ std::string writeOfflineOptimumFiles(const report::OutputFolder& top, const RunC
   std::vector<FinalMap> maps;
   for (const auto& r : runs) {
     FinalMap m{r->name, {}};
-    for (const auto& l : r->pipeline->backend().landmarks()) m.kept.push_back(l.id);
+    for (const auto& l : r->driver->backend().landmarks()) m.kept.push_back(l.id);
     maps.push_back(std::move(m));
   }
   const std::string table =
       writeOfflineOptimum(top.file("offline_optimum.csv"), rc.ini, steps,
-                          runs.front()->pipeline->onlinePoses(), maps, *rc.budget.max_landmarks);
+                          runs.front()->driver->onlinePoses(), maps, *rc.budget.max_landmarks);
   std::ofstream(top.file("comparison.md"), std::ios::app) << table;
   return table;
 }
@@ -357,15 +357,15 @@ int BudgetSlamApp::runCompare() {
 
   // Metrics against the reference, then every run's files.
   const CompareRun& ref = *runs.front();
-  const std::size_t ref_landmarks = ref.pipeline->backend().landmarkCount();
-  const std::size_t ref_poses = ref.pipeline->backend().poseCount();
+  const std::size_t ref_landmarks = ref.driver->backend().landmarkCount();
+  const std::size_t ref_poses = ref.driver->backend().poseCount();
   // Without sensor IDs, a final map's coverage goes through the reference run's association
   // (docs/OUTPUTS.md, "Relocalization coverage").
   if (ref.status == "ok" && withoutLandmarkIds(steps))
     for (const auto& r : runs)
       if (r->status == "ok")
-        r->pipeline->setFinalCoverage(
-            coverageThroughReference(*ref.pipeline, *r->pipeline, metric_options.reloc_match_chi2));
+        r->driver->setFinalCoverage(
+            coverageThroughReference(*ref.driver, *r->driver, metric_options.reloc_match_chi2));
   std::vector<report::ComparisonRow> rows;
   CompareOutcome outcome;
   for (const auto& r : runs) {
@@ -376,7 +376,7 @@ int BudgetSlamApp::runCompare() {
     const auto m = finishRun(*r, ref, steps.size(), metric_options.eig_max_rows, extra);
     // The reference's failure fails every comparison, but the others' errors are their own.
     if (r->status != "ok") outcome.add(r->status, "run '" + r->name + "': " + r->error, false);
-    for (const auto& f : r->pipeline->budget().shadowFailures())
+    for (const auto& f : r->driver->budget().shadowFailures())
       outcome.lines.push_back("warning: run '" + r->name + "': " + shadowFailureLine(f));
     rows.push_back(comparisonRow(*r, m, ref_landmarks, ref_poses));
   }

@@ -20,13 +20,13 @@ void runOne(CompareRun& r, const std::vector<Step>& steps,
         r.error = interruptedLine(r, "");
         break;
       }
-      r.pipeline->process(s);
+      r.driver->process(s);
       ++r.steps_done;
     }
     if (r.status == "ok") {
       end_phase = true;
       if (on_end_phase) on_end_phase();
-      r.pipeline->complete();
+      r.driver->complete();
     }
   } catch (const Interrupted&) {
     r.status = "interrupted";
@@ -40,7 +40,7 @@ void runOne(CompareRun& r, const std::vector<Step>& steps,
 }  // namespace
 
 std::string interruptedLine(const CompareRun& r, const char* where) {
-  const auto last = r.pipeline->lastStep();
+  const auto last = r.driver->lastStep();
   return std::string("interrupted by ") + Cancellation::signalName() + where +
          (last ? " after step " + std::to_string(*last) : std::string(" before the first step"));
 }

@@ -6,25 +6,25 @@
 #include <string>
 #include <vector>
 
-#include "Pipeline.h"
 #include "ProgressBar.h"
+#include "RunDriver.h"
 #include "RunResult.h"
 #include "budget_slam/core/Step.h"
 
 namespace budget_slam::app {
 
-/// One pipeline of `compare` and how it ended.
+/// One driver of `compare` and how it ended.
 struct CompareRun {
   std::string name;  ///< reference, or the reducer's name (its folder's name)
-  std::unique_ptr<Pipeline> pipeline;
+  std::unique_ptr<RunDriver> driver;
   std::atomic<std::size_t> steps_done{0};
   std::string status = "ok", error;
-  /// What Pipeline::finish reported (none when it could not finish).
+  /// What RunDriver::finish reported (none when it could not finish).
   std::optional<RunResult> result;
 };
 
-/// Runs every pipeline over `steps` in `threads` threads (each taking whole runs), up to and
-/// including its end phase (Pipeline::complete; `on_end_phase` is called first, from the worker
+/// Runs every driver over `steps` in `threads` threads (each taking whole runs), up to and
+/// including its end phase (RunDriver::complete; `on_end_phase` is called first, from the worker
 /// thread); `bar` shows the steps done over all runs. A stop request (Ctrl-C) ends each run
 /// between two steps, or inside a step or the end phase (core/Cancellation.h): the run's status
 /// is then interrupted; an error makes it failed. Returns when every run has ended.

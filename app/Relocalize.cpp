@@ -188,7 +188,7 @@ void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
   }
 }
 
-FinalCoverage coverageThroughReference(const Pipeline& reference, const Pipeline& run,
+FinalCoverage coverageThroughReference(const RunDriver& reference, const RunDriver& run,
                                        double gate_chi2) {
   const auto pairs = metrics::matchLandmarks(run.backend().landmarks(),
                                              reference.backend().landmarks(), gate_chi2);

@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "BudgetSlamApp.h"
-#include "Pipeline.h"
 #include "RunConfig.h"
+#include "RunDriver.h"
 #include "budget_slam/metrics/LocalizationScore.h"
 #include "budget_slam/report/ComparisonTable.h"
 
@@ -61,8 +61,8 @@ void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
 
 /// For a rawlog without sensor IDs: the final map of `run` (after complete()) against the steps'
 /// observations as the `reference` run associated them: each of its landmarks paired with a
-/// reference landmark (metrics::matchLandmarks). Returns what Pipeline::finish should report.
-FinalCoverage coverageThroughReference(const Pipeline& reference, const Pipeline& run,
+/// reference landmark (metrics::matchLandmarks). Returns what RunDriver::finish should report.
+FinalCoverage coverageThroughReference(const RunDriver& reference, const RunDriver& run,
                                        double gate_chi2);
 
 /// True when no reading of `steps` carries a sensor landmark ID.

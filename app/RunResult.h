@@ -9,7 +9,7 @@
 
 namespace budget_slam::app {
 
-/// What a finished run reports (Pipeline::finish): its summary.json and, in memory, the numbers
+/// What a finished run reports (RunDriver::finish): its summary.json and, in memory, the numbers
 /// that summary holds, for compare's table and run's last line.
 struct RunResult {
   std::string status;  ///< ok | failed | interrupted (summary.json "status")

@@ -12,7 +12,7 @@ bool LocalizationScorer::add(double error_m, std::size_t map_landmarks, double n
   ++s_.steps;
   landmarks_ += map_landmarks;
   s_.covered += map_landmarks >= k_;
-  if (std::isfinite(nees)) nees_ += nees, ++s_.nees_samples;
+  nees_.add(nees);
   if (std::isnan(error_m)) return false;
   ++s_.compared;
   const bool lost = !(error_m <= threshold_);
@@ -28,12 +28,15 @@ bool LocalizationScorer::add(double error_m, std::size_t map_landmarks, double n
 LocalizationScore LocalizationScorer::score() const {
   LocalizationScore s = s_;
   if (finite_) s.rmse_m = std::sqrt(sq_ / static_cast<double>(finite_)), s.max_m = max_;
-  if (s.compared) s.lost_pct = 100.0 * static_cast<double>(s.lost) / static_cast<double>(s.compared);
+  if (s.compared)
+    s.lost_pct = 100.0 * static_cast<double>(s.lost) / static_cast<double>(s.compared);
   if (s.steps) {
     s.coverage_pct = 100.0 * static_cast<double>(s.covered) / static_cast<double>(s.steps);
     s.mean_landmarks = static_cast<double>(landmarks_) / static_cast<double>(s.steps);
   }
-  if (s.nees_samples) s.nees_mean = nees_ / static_cast<double>(s.nees_samples);
+  const NeesMean nees = nees_.result();
+  s.nees_samples = nees.samples;
+  s.nees_mean = nees.mean;
   return s;
 }
 

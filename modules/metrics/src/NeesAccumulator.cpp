@@ -26,19 +26,14 @@ void NeesAccumulator::add(StepIndex step, const PoseEstimate& pose) {
   for (const std::size_t offset : {0, 1}) {
     const std::size_t row = step + offset;
     if (row >= path_.size()) continue;
-    const double nees = poseNees(pose, path_[row]);
-    if (!std::isfinite(nees)) continue;  // e.g. the zero covariance before the first motion
-    sum_[offset] += nees;
-    ++samples_[offset];
+    // Not counted when undefined, e.g. the zero covariance before the first motion.
+    sums_[offset].add(poseNees(pose, path_[row]));
   }
 }
 
 NeesMean NeesAccumulator::result(std::size_t steps_in_rawlog) const {
   const std::size_t offset = path_.empty() ? 1 : groundTruthRow(0, path_.size(), steps_in_rawlog);
-  NeesMean out;
-  out.samples = samples_[offset];
-  if (out.samples) out.mean = sum_[offset] / static_cast<double>(out.samples);
-  return out;
+  return sums_[offset].result();
 }
 
 }  // namespace budget_slam::metrics

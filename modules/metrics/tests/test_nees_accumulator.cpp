@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
+#include "budget_slam/metrics/LocalizationScore.h"
 #include "budget_slam/metrics/NeesAccumulator.h"
 
 using namespace budget_slam;
@@ -61,4 +63,29 @@ TEST(NeesAccumulator, NoPathNoSample) {
   const NeesMean n = acc.result(1);
   EXPECT_EQ(n.samples, 0u);
   EXPECT_TRUE(std::isnan(n.mean));
+}
+
+TEST(NeesMeanSum, LeavesUndefinedValuesOutOfTheMean) {
+  NeesMeanSum sum;
+  EXPECT_EQ(sum.result().samples, 0u);
+  EXPECT_TRUE(std::isnan(sum.result().mean));
+  EXPECT_TRUE(sum.add(2.0));
+  EXPECT_FALSE(sum.add(std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_FALSE(sum.add(std::numeric_limits<double>::infinity()));
+  EXPECT_TRUE(sum.add(5.0));
+  EXPECT_EQ(sum.result().samples, 2u);
+  EXPECT_DOUBLE_EQ(sum.result().mean, 3.5);
+}
+
+TEST(NeesMeanSum, LocalizationScorerReportsTheSameMean) {
+  // The traversal score and the run's accumulator share one sum: same inputs, same numbers.
+  LocalizationScorer scorer(1.0, 2);
+  NeesMeanSum sum;
+  for (const double nees : {1.5, std::numeric_limits<double>::quiet_NaN(), 4.0, 0.5}) {
+    scorer.add(0.1, 3, nees);
+    sum.add(nees);
+  }
+  EXPECT_EQ(scorer.score().nees_samples, sum.result().samples);
+  EXPECT_EQ(scorer.score().nees_mean, sum.result().mean);
+  EXPECT_DOUBLE_EQ(scorer.score().nees_mean, 2.0);
 }

@@ -41,6 +41,22 @@ std::vector<Timed> readTimed(const std::string& file, std::size_t fields, const 
   return out;
 }
 
+/// One robot's three time-ordered files (`prefix` = folder + "RobotN_").
+struct RobotRecords {
+  std::vector<Timed> odo, gt, meas;
+};
+
+RobotRecords readRobot(const std::string& prefix) {
+  RobotRecords r;
+  r.odo = readTimed(prefix + "Odometry.dat", 3, "odometry record (time v omega)", {"v", "omega"});
+  r.gt = readTimed(prefix + "Groundtruth.dat", 4, "ground-truth record (time x y theta)",
+                   {"x", "y", "theta"});
+  r.meas =
+      readTimed(prefix + "Measurement.dat", 4, "measurement record (time barcode range bearing)",
+                {"barcode", "range", "bearing"});
+  return r;
+}
+
 /// Pose change of a unicycle driving at v [m/s], w [rad/s] for dt [s] (exact arc).
 CPose2D arc(double v, double w, double dt) {
   const double th = w * dt;
@@ -94,13 +110,7 @@ double robustStd(std::vector<double> v) {
 CPose2D trueStartPose(const std::string& dir, int robot,
                       const std::map<long long, long long>& subject_of) {
   const std::string prefix = dir + "Robot" + std::to_string(robot) + "_";
-  const auto odo =
-      readTimed(prefix + "Odometry.dat", 3, "odometry record (time v omega)", {"v", "omega"});
-  const auto gt = readTimed(prefix + "Groundtruth.dat", 4, "ground-truth record (time x y theta)",
-                            {"x", "y", "theta"});
-  const auto meas =
-      readTimed(prefix + "Measurement.dat", 4, "measurement record (time barcode range bearing)",
-                {"barcode", "range", "bearing"});
+  const auto [odo, gt, meas] = readRobot(prefix);
   for (const auto& m : meas) {
     const auto s = subject_of.find(static_cast<long long>(m.a));
     if (m.t >= odo.front().t && s != subject_of.end() && s->second > 5)
@@ -144,13 +154,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
       landmarks_world[subject] = Eigen::Vector2d(t.number(1, "x"), t.number(2, "y"));
     }
   }
-  const auto odo =
-      readTimed(prefix + "Odometry.dat", 3, "odometry record (time v omega)", {"v", "omega"});
-  const auto gt = readTimed(prefix + "Groundtruth.dat", 4, "ground-truth record (time x y theta)",
-                            {"x", "y", "theta"});
-  const auto meas =
-      readTimed(prefix + "Measurement.dat", 4, "measurement record (time barcode range bearing)",
-                {"barcode", "range", "bearing"});
+  const auto [odo, gt, meas] = readRobot(prefix);
 
   // Steps: one per measurement time with at least one landmark sighting, from the first odometry
   // record on. The start pose is the pose of the first step (its motion is zero): MRPT's 2D EKF
@@ -259,8 +263,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
   // by one is the frame the others' ground truth is compared in).
   if (frame_robot != 0) {
     const CPose2D frame = trueStartPose(dir, frame_robot, subject_of);
-    for (auto& p : out.ground_truth.path)
-      p = ((start + CPose2D(p)) - frame).asTPose();
+    for (auto& p : out.ground_truth.path) p = ((start + CPose2D(p)) - frame).asTPose();
     for (auto& [id, l] : out.ground_truth.landmarks) {
       const auto q = (start + mrpt::poses::CPoint2D(l.x(), l.y())) - frame;
       l = Eigen::Vector2d(q.x(), q.y());

@@ -39,7 +39,7 @@ struct RangeBearingScan {
   std::vector<RangeBearingReading> readings;
 };
 
-/// One action-observation pair of a rawlog, parsed once and shared read-only by every pipeline.
+/// One action-observation pair of a rawlog, parsed once and shared read-only by every run.
 /// `action` and `frame` are the rawlog's own MRPT objects, kept so that the EKF backend feeds
 /// MRPT exactly what MRPT's kf-slam would; backends must never modify them.
 struct Step {

@@ -2,22 +2,23 @@
 #include <limits>
 
 #include "budget_slam/core/Estimates.h"
+#include "budget_slam/metrics/NeesAccumulator.h"
 
 namespace budget_slam::metrics {
 
 /// How well a robot localized in a given map over one traversal (budget-slam localize).
 struct LocalizationScore {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  std::size_t steps = 0;     ///< steps processed
-  std::size_t compared = 0;  ///< steps with a true (or reference) pose to compare with
-  std::size_t lost = 0;      ///< compared steps with a position error above the threshold
-  std::size_t covered = 0;   ///< steps with at least k map landmarks observed
-  double rmse_m = kNaN;      ///< position RMSE over the compared steps with a finite estimate
-  double max_m = kNaN;       ///< largest position error of those
-  double lost_pct = kNaN;    ///< 100 lost / compared
-  double coverage_pct = kNaN;     ///< 100 covered / steps
-  double mean_landmarks = kNaN;   ///< mean map landmarks observed a step
-  double nees_mean = kNaN;        ///< mean pose NEES over the steps where it is defined
+  std::size_t steps = 0;         ///< steps processed
+  std::size_t compared = 0;      ///< steps with a true (or reference) pose to compare with
+  std::size_t lost = 0;          ///< compared steps with a position error above the threshold
+  std::size_t covered = 0;       ///< steps with at least k map landmarks observed
+  double rmse_m = kNaN;          ///< position RMSE over the compared steps with a finite estimate
+  double max_m = kNaN;           ///< largest position error of those
+  double lost_pct = kNaN;        ///< 100 lost / compared
+  double coverage_pct = kNaN;    ///< 100 covered / steps
+  double mean_landmarks = kNaN;  ///< mean map landmarks observed a step
+  double nees_mean = kNaN;       ///< mean pose NEES over the steps where it is defined
   std::size_t nees_samples = 0;
 };
 
@@ -37,7 +38,8 @@ class LocalizationScorer {
   double threshold_;
   std::size_t k_;
   LocalizationScore s_;
-  double sq_ = 0, max_ = 0, nees_ = 0;
+  NeesMeanSum nees_;
+  double sq_ = 0, max_ = 0;
   std::size_t finite_ = 0, landmarks_ = 0;
 };
 

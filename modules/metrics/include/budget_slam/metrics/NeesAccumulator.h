@@ -1,6 +1,7 @@
 #pragma once
 #include <mrpt/math/TPose2D.h>
 
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <vector>
@@ -22,6 +23,29 @@ struct NeesMean {
   std::size_t samples = 0;                                 ///< steps with a defined NEES
 };
 
+/// The mean of the NEES values added, the undefined ones (NaN, inf) left out: the one place a
+/// run's (NeesAccumulator) and a traversal's (LocalizationScorer) NEES mean is summed.
+class NeesMeanSum {
+ public:
+  /// Adds `nees` when finite; returns whether it counted.
+  bool add(double nees) {
+    if (!std::isfinite(nees)) return false;
+    sum_ += nees;
+    ++samples_;
+    return true;
+  }
+  NeesMean result() const {
+    NeesMean out;
+    out.samples = samples_;
+    if (samples_) out.mean = sum_ / static_cast<double>(samples_);
+    return out;
+  }
+
+ private:
+  double sum_ = 0;
+  std::size_t samples_ = 0;
+};
+
 /// The run's pose NEES against ground truth, accumulated online one step at a time (no per-step
 /// history: lifelong runs stay flat in memory). Which ground-truth row is step k's
 /// (groundTruthRow) depends on the rawlog's step count, known only at the end, so both
@@ -41,8 +65,7 @@ class NeesAccumulator {
 
  private:
   std::vector<mrpt::math::TPose2D> path_;  ///< ground-truth path in the estimate's frame
-  double sum_[2] = {0, 0};                 ///< by row offset (step k is row k + offset)
-  std::size_t samples_[2] = {0, 0};
+  NeesMeanSum sums_[2];                    ///< by row offset (step k is row k + offset)
 };
 
 }  // namespace budget_slam::metrics

@@ -1,4 +1,4 @@
-#include "Pipeline.h"
+#include "RunDriver.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -56,9 +56,9 @@ report::EvictionRow evictionRow(const reducers::Eviction& e) {
 
 }  // namespace
 
-Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
-                   const reducers::BudgetOptions& budget, report::OutputFolder folder,
-                   std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history)
+RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
+                     const reducers::BudgetOptions& budget, report::OutputFolder folder,
+                     std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history)
     : backend_(builtinBackends().create(backend, ini, BackendSettings{keep_history})),
       manager_(std::make_unique<reducers::BudgetManager>(
           budget, reducers::builtinReducers().create(budget.reducer, ini, budget.seed),
@@ -80,7 +80,7 @@ Pipeline::Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& 
         [this](const Backend& b, StepIndex step) { outputs_.writeState(b, step); });
 }
 
-void Pipeline::process(const Step& raw) {
+void RunDriver::process(const Step& raw) {
   const auto t0 = std::chrono::steady_clock::now();
   const double cpu0 = threadCpuSeconds();
   // Without the readings of landmarks dropped for good and of refused newcomers still waiting.
@@ -145,8 +145,8 @@ void Pipeline::process(const Step& raw) {
   }
 }
 
-std::size_t Pipeline::trackCoverage(const Step& raw, const Step& filtered,
-                                    const std::vector<LandmarkId>& assoc) {
+std::size_t RunDriver::trackCoverage(const Step& raw, const Step& filtered,
+                                     const std::vector<LandmarkId>& assoc) {
   // A reading with a sensor ID observes that landmark (whether the map holds it or not); one
   // without is known only through the backend's association.
   std::vector<LandmarkId> observed;
@@ -162,7 +162,7 @@ std::size_t Pipeline::trackCoverage(const Step& raw, const Step& filtered,
   return reloc_.addStep(raw.index, observed);
 }
 
-FinalCoverage Pipeline::finalCoverage() const {
+FinalCoverage RunDriver::finalCoverage() const {
   FinalCoverage c;
   std::unordered_set<LandmarkId> ids;
   for (const auto& l : backend_->landmarks()) ids.insert(l.id);
@@ -175,7 +175,7 @@ FinalCoverage Pipeline::finalCoverage() const {
   return c;
 }
 
-void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
+void RunDriver::logEvictions(const std::vector<reducers::Eviction>& drops) {
   for (const auto& e : drops) {
     // A refused newcomer never held a place between steps: counted apart from the drops.
     const bool refused = e.reason == "refused";
@@ -185,9 +185,9 @@ void Pipeline::logEvictions(const std::vector<reducers::Eviction>& drops) {
   }
 }
 
-report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& trajectory,
-                                        const std::vector<LandmarkView>& landmarks,
-                                        const FinalCoverage* coverage) const {
+report::MapContent RunDriver::mapContent(const std::vector<TrajectoryPoint>& trajectory,
+                                         const std::vector<LandmarkView>& landmarks,
+                                         const FinalCoverage* coverage) const {
   const auto& budget = manager_->options();
   std::string title = backend_->name() + ", reducer " + budget.reducer +
                       (manager_->capped() ? ", cap " + std::to_string(*budget.max_landmarks) : "") +
@@ -197,7 +197,7 @@ report::MapContent Pipeline::mapContent(const std::vector<TrajectoryPoint>& traj
                        truth_.get());
 }
 
-void Pipeline::complete() {
+void RunDriver::complete() {
   if (completed_) return;
   completed_ = true;
   // The reducer's end-of-run event (mi objective mode: Choudhary et al.'s active minimization),
@@ -211,8 +211,8 @@ void Pipeline::complete() {
   backend_->finish();
 }
 
-RunResult Pipeline::finish(const std::string& status, const std::string& error,
-                           std::size_t steps_in_rawlog, const nlohmann::json& extra) {
+RunResult RunDriver::finish(const std::string& status, const std::string& error,
+                            std::size_t steps_in_rawlog, const nlohmann::json& extra) {
   if (status == "ok") {
     complete();
     Cancellation::check();  // a stop request before the outputs: the run ends as interrupted

@@ -27,14 +27,14 @@ namespace budget_slam::app {
 /// (docs/ARCHITECTURE.md "Data flow"). It measures as it goes (timings, relocalization coverage,
 /// the NEES: metrics::NeesAccumulator) and hands every file to report::RunOutputs (steps.csv and
 /// evictions.csv as the steps happen, the rest in finish(); docs/OUTPUTS.md).
-class Pipeline {
+class RunDriver {
  public:
   /// `keep_history` = false keeps no per-step records in memory (no online poses, no landmark
   /// counts, the EKF keeps only its latest pose): memory stays flat over arbitrarily long runs,
   /// everything per step is still in steps.csv, and NEES is accumulated online.
-  Pipeline(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
-           const reducers::BudgetOptions& budget, report::OutputFolder folder,
-           std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history = true);
+  RunDriver(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
+            const reducers::BudgetOptions& budget, report::OutputFolder folder,
+            std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history = true);
 
   /// Runs one step: backend update (evicted landmarks filtered out when readmission is off), then
   /// the budget, then its steps.csv row. Throws Error on bad data, on a diverged estimate and when
