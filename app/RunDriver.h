@@ -10,6 +10,7 @@
 #include "RunResult.h"
 #include "RunSummary.h"
 #include "budget_slam/core/Backend.h"
+#include "budget_slam/core/HeapRelease.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/metrics/MapAlignment.h"
@@ -115,6 +116,9 @@ class RunDriver {
   std::vector<std::size_t> counts_;
   std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
   metrics::RelocalizationTracker reloc_;
+  /// Gives the heap's free pages back every kReleaseHeapEverySteps steps (core/HeapRelease.h:
+  /// the filter's reallocated state leaves holes in the heap that free() keeps resident).
+  HeapRelease heap_release_;
   bool saw_ids_ = false, saw_idless_ = false;  ///< readings with / without sensor IDs
   std::optional<FinalCoverage> final_coverage_;
   std::optional<metrics::MapAlignment> alignment_;
