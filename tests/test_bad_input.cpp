@@ -177,30 +177,46 @@ TEST(BadInput, CtrlCEndsWithStatusInterruptedAndOutputs) {
   EXPECT_EQ(readCsv(out / "steps.csv").size(), 101u);
 }
 
+/// A copy of the demo rawlog at `path` whose step 3 reading 1 has the range `range` [m].
+void writeDemoWithRange(const fs::path& path, float range) {
+  mrpt::io::CFileGZInputStream in(kDemo);
+  auto ia = mrpt::serialization::archiveFrom(in);
+  mrpt::io::CFileGZOutputStream o(path.string());
+  auto oa = mrpt::serialization::archiveFrom(o);
+  mrpt::obs::CActionCollection::Ptr act;
+  mrpt::obs::CSensoryFrame::Ptr sf;
+  size_t entry = 0;
+  for (int k = 0; mrpt::obs::CRawlog::readActionObservationPair(ia, act, sf, entry); ++k) {
+    if (k == 3) {
+      auto obs = sf->getObservationByClass<mrpt::obs::CObservationBearingRange>();
+      obs->sensedData.at(1).range = range;
+    }
+    oa << *act << *sf;
+  }
+}
+
 TEST(BadInput, NegativeAndNanReadingsNameTheStep) {
   // A copy of the demo whose step 3 has a negative range.
   const auto out = freshDir("negative_range");
   const auto path = out.parent_path() / "negative_range.rawlog";
-  {
-    mrpt::io::CFileGZInputStream in(kDemo);
-    auto ia = mrpt::serialization::archiveFrom(in);
-    mrpt::io::CFileGZOutputStream o(path.string());
-    auto oa = mrpt::serialization::archiveFrom(o);
-    mrpt::obs::CActionCollection::Ptr act;
-    mrpt::obs::CSensoryFrame::Ptr sf;
-    size_t entry = 0;
-    for (int k = 0; mrpt::obs::CRawlog::readActionObservationPair(ia, act, sf, entry); ++k) {
-      if (k == 3) {
-        auto obs = sf->getObservationByClass<mrpt::obs::CObservationBearingRange>();
-        obs->sensedData.at(1).range = -2.5;
-      }
-      oa << *act << *sf;
-    }
-  }
+  writeDemoWithRange(path, -2.5f);
   const auto r = runOn(path.string(), out);
   expectFailed(r, out,
                "rawlog '" + path.string() +
                    "': step 3: reading 1 has a negative or non-finite range (-2.500000)");
+  EXPECT_EQ(readCsv(out / "steps.csv").size(), 3u);
+}
+
+TEST(BadInput, ZeroRangeOnTheGraphBackendNamesTheStepAndReading) {
+  // The rawlog reader admits a zero range (the EKF takes it); the graph's range-bearing factor
+  // cannot (its Jacobian divides by the range): a bad-input line, not an internal error.
+  const auto out = freshDir("zero_range_graph");
+  const auto path = out.parent_path() / "zero_range_graph.rawlog";
+  writeDemoWithRange(path, 0.0f);
+  const auto r = runOn(path.string(), out, {"--backend", "graph"});
+  expectFailed(r, out,
+               "step 3: reading 1 has range 0.000000 m; the graph backend needs a finite range "
+               "above 0");
   EXPECT_EQ(readCsv(out / "steps.csv").size(), 3u);
 }
 

@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
         "scenarios and writes a gzip MRPT rawlog, its two ground-truth files and a sidecar .ini. "
         "The same options give the same bytes.",
         ' ', "0.1");
-    std::vector<std::string> names = {"paper-synthetic", "rooms", "park", "lifelong"};
+    using Sim = dataset::SimulationOptions;
+    std::vector<std::string> names = namesOf(Sim::scenarioNames());
     TCLAP::ValuesConstraint<std::string> name_values(names);
     TCLAP::ValueArg<std::string> scenario("s", "scenario", "scenario", true, "", &name_values, cmd);
     TCLAP::ValueArg<std::uint64_t> seed("", "seed", "random seed (default 1)", false, 1, "S", cmd);
@@ -52,7 +53,7 @@ int main(int argc, char** argv) {
                                       cmd);
     TCLAP::ValueArg<double> std_yaw("", "sensor-std-yaw-deg", "bearing noise [deg]", false, -1,
                                     "DEG", cmd);
-    std::vector<std::string> routes = {"default", "revisit"};
+    std::vector<std::string> routes = namesOf(Sim::routeNames());
     TCLAP::ValuesConstraint<std::string> route_values(routes);
     TCLAP::ValueArg<std::string> route(
         "", "route",
@@ -68,15 +69,15 @@ int main(int argc, char** argv) {
     args[0] = "budget-simulate";  // the usage names the program, not the path it was run by
     cmd.parse(args);
 
-    dataset::SimulationOptions o;
-    o.scenario = scenario.getValue();
+    Sim o;  // the constraints above admit only names of the tables: valueOf finds each
+    o.scenario = *valueOf(Sim::scenarioNames(), scenario.getValue());
     o.seed = seed.getValue();
     o.with_ids = !no_ids.getValue();
     if (laps.getValue() < 0)
       throw UsageError("--laps " + std::to_string(laps.getValue()) +
                        ": must be at least 1 (0: the scenario's default)");
     o.laps = laps.getValue();
-    o.route = route.getValue();
+    o.route = *valueOf(Sim::routeNames(), route.getValue());
     o.odo_std_xy = zero_noise.getValue() ? 0 : noiseFlag(odo_xy);
     o.odo_std_yaw_deg = zero_noise.getValue() ? 0 : noiseFlag(odo_yaw);
     o.sensor_std_range = zero_noise.getValue() ? 0 : noiseFlag(std_range);
@@ -87,7 +88,8 @@ int main(int argc, char** argv) {
       throw UsageError(e.what());
     }
     const auto steps = dataset::simulateToFiles(o, out.getValue());
-    std::cout << out.getValue() << ": " << steps << " steps of scenario " << o.scenario << "\n";
+    std::cout << out.getValue() << ": " << steps << " steps of scenario " << o.scenarioName()
+              << "\n";
     return 0;
   } catch (const TCLAP::ExitException& e) {
     std::cout << usage.text;  // --help or --version, once

@@ -19,9 +19,19 @@ using mrpt::poses::CPose2D;
 
 namespace {
 
-SimulationOptions zeroNoise(const std::string& scenario) {
+using Kind = SimulationOptions::ScenarioKind;
+using Route = SimulationOptions::Route;
+
+SimulationOptions of(Kind scenario) {
   SimulationOptions o;
   o.scenario = scenario;
+  return o;
+}
+
+std::string name(Kind scenario) { return nameOf(SimulationOptions::scenarioNames(), scenario); }
+
+SimulationOptions zeroNoise(Kind scenario) {
+  SimulationOptions o = of(scenario);
   o.odo_std_xy = o.odo_std_yaw_deg = o.sensor_std_range = o.sensor_std_yaw_deg = 0;
   return o;
 }
@@ -38,7 +48,7 @@ double pathLength(const std::vector<mrpt::math::TPose2D>& path) {
 TEST(Simulator, SameSeedSameBytesOtherSeedOtherWorld) {
   TempDir tmp;
   SimulationOptions o;
-  o.scenario = "paper-synthetic";
+  o.scenario = Kind::PaperSynthetic;
   simulateToFiles(o, tmp.file("a.rawlog"));
   simulateToFiles(o, tmp.file("b.rawlog"));
   for (const std::string suffix :
@@ -53,21 +63,21 @@ TEST(Simulator, ZeroNoiseRoundTripMatchesGroundTruth) {
   // Written, read back with RawlogReader, turned into poses (odometry composed from the start
   // pose) and points (pose + sensor pose + reading): equal to the ground truth. Poses to 1e-9;
   // points to 1e-5 m, the precision of MRPT's float32 range and bearing.
-  for (const std::string scenario : {"rooms", "paper-synthetic"}) {
+  for (const Kind scenario : {Kind::Rooms, Kind::PaperSynthetic}) {
     TempDir tmp;
     const std::string rawlog = tmp.file("z.rawlog");
     const auto n = simulateToFiles(zeroNoise(scenario), rawlog);
     const auto steps = readAllSteps(rawlog);
     const auto gt = loadGroundTruth(rawlog);
     ASSERT_EQ(steps.size(), n);
-    ASSERT_EQ(gt.path.size(), n + 1) << scenario;
+    ASSERT_EQ(gt.path.size(), n + 1) << name(scenario);
     CPose2D pose(gt.path[0]);
     std::size_t points = 0;
     for (std::size_t k = 0; k < steps.size(); ++k) {
       ASSERT_TRUE(steps[k].odometry);
       pose = pose + CPose2D(steps[k].odometry->mean);
-      EXPECT_NEAR(pose.x(), gt.path[k + 1].x, 1e-9) << scenario << " step " << k;
-      EXPECT_NEAR(pose.y(), gt.path[k + 1].y, 1e-9) << scenario << " step " << k;
+      EXPECT_NEAR(pose.x(), gt.path[k + 1].x, 1e-9) << name(scenario) << " step " << k;
+      EXPECT_NEAR(pose.y(), gt.path[k + 1].y, 1e-9) << name(scenario) << " step " << k;
       EXPECT_NEAR(mrpt::math::wrapToPi(pose.phi() - gt.path[k + 1].phi), 0, 1e-9);
       const auto& scan = *steps[k].scan;
       const CPose2D sensor = pose + CPose2D(mrpt::poses::CPose3D(scan.sensor_pose_on_robot));
@@ -75,34 +85,34 @@ TEST(Simulator, ZeroNoiseRoundTripMatchesGroundTruth) {
         const auto p =
             sensor + mrpt::poses::CPoint2D(r.range * std::cos(r.yaw), r.range * std::sin(r.yaw));
         const auto& truth = gt.landmarks.at(r.id);
-        EXPECT_NEAR(p.x(), truth.x(), 1e-5) << scenario << " landmark " << r.id;
-        EXPECT_NEAR(p.y(), truth.y(), 1e-5) << scenario << " landmark " << r.id;
+        EXPECT_NEAR(p.x(), truth.x(), 1e-5) << name(scenario) << " landmark " << r.id;
+        EXPECT_NEAR(p.y(), truth.y(), 1e-5) << name(scenario) << " landmark " << r.id;
         ++points;
       }
     }
-    EXPECT_GT(points, 300u) << scenario;
+    EXPECT_GT(points, 300u) << name(scenario);
   }
 }
 
 TEST(Simulator, ScenarioSizesFollowThePapers) {
-  const auto paper = simulate(SimulationOptions{"paper-synthetic"});
+  const auto paper = simulate(of(Kind::PaperSynthetic));
   std::size_t readings = 0;
   for (const auto& s : paper.steps) readings += s.scan->readings.size();
   EXPECT_EQ(paper.ground_truth.landmarks.size(), 23u);
   EXPECT_EQ(paper.steps.size(), 96u);
   EXPECT_NEAR(static_cast<double>(readings), 420, 50);
 
-  const auto rooms = simulate(SimulationOptions{"rooms"});
+  const auto rooms = simulate(of(Kind::Rooms));
   EXPECT_GE(rooms.ground_truth.landmarks.size(), 150u);
   EXPECT_NEAR(pathLength(rooms.ground_truth.path), 115, 10);
 
-  const auto park = simulate(SimulationOptions{"park"});
+  const auto park = simulate(of(Kind::Park));
   EXPECT_EQ(park.ground_truth.landmarks.size(), 150u);
   EXPECT_GT(pathLength(park.ground_truth.path), 1500);
 }
 
 TEST(Simulator, ReadingsRespectRangeFieldOfViewAndRooms) {
-  const auto d = simulate(zeroNoise("rooms"));
+  const auto d = simulate(zeroNoise(Kind::Rooms));
   // Rooms of the scenario in its output frame (the robot starts at (2, 2) of the plan).
   struct Box {
     double x0, y0, x1, y1;
@@ -132,7 +142,7 @@ TEST(Simulator, ReadingsRespectRangeFieldOfViewAndRooms) {
 
 TEST(Simulator, NoIdsKeepsTheReadingsWithoutIds) {
   SimulationOptions o;
-  o.scenario = "paper-synthetic";
+  o.scenario = Kind::PaperSynthetic;
   const auto with = simulate(o);
   o.with_ids = false;
   const auto without = simulate(o);
@@ -148,7 +158,7 @@ TEST(Simulator, NoIdsKeepsTheReadingsWithoutIds) {
 
 TEST(Simulator, NoiseHasTheStatedSpread) {
   SimulationOptions o;
-  o.scenario = "park";
+  o.scenario = Kind::Park;
   const auto noisy = simulate(o);
   const auto& path = noisy.ground_truth.path;
   double sx = 0, sth = 0;
@@ -167,7 +177,7 @@ TEST(Simulator, NoiseHasTheStatedSpread) {
 
 TEST(Simulator, LifelongWorldChangesBetweenLaps) {
   SimulationOptions o;
-  o.scenario = "lifelong";
+  o.scenario = Kind::Lifelong;
   o.laps = 3;
   Simulator sim(o);
   std::set<LandmarkId> seen;
@@ -191,18 +201,18 @@ TEST(Simulator, LifelongWorldChangesBetweenLaps) {
 // --route revisit: the same world (landmarks, ids, frame) driven from another start through
 // every room or region; odometry and readings still reproduce the ground truth without noise.
 TEST(Simulator, RevisitRouteDrivesTheSameWorldElsewhere) {
-  for (const std::string scenario : {"rooms", "park"}) {
+  for (const Kind scenario : {Kind::Rooms, Kind::Park}) {
     SimulationOptions first = zeroNoise(scenario), again = zeroNoise(scenario);
-    again.route = "revisit";
+    again.route = Route::Revisit;
     const auto a = simulate(first), b = simulate(again);
-    EXPECT_EQ(a.ground_truth.landmarks, b.ground_truth.landmarks) << scenario;
+    EXPECT_EQ(a.ground_truth.landmarks, b.ground_truth.landmarks) << name(scenario);
     const auto& start = b.ground_truth.path.front();
-    EXPECT_GT(std::hypot(start.x, start.y), 5.0) << scenario;  // not the first start
-    EXPECT_GT(pathLength(b.ground_truth.path), scenario == "rooms" ? 70.0 : 700.0);
+    EXPECT_GT(std::hypot(start.x, start.y), 5.0) << name(scenario);  // not the first start
+    EXPECT_GT(pathLength(b.ground_truth.path), scenario == Kind::Rooms ? 70.0 : 700.0);
     CPose2D pose(start);
     for (std::size_t k = 0; k < b.steps.size(); ++k) {
       pose = pose + CPose2D(b.steps[k].odometry->mean);
-      ASSERT_NEAR(pose.x(), b.ground_truth.path[k + 1].x, 1e-9) << scenario << " step " << k;
+      ASSERT_NEAR(pose.x(), b.ground_truth.path[k + 1].x, 1e-9) << name(scenario) << " step " << k;
       for (const auto& r : b.steps[k].scan->readings)
         ASSERT_TRUE(a.ground_truth.landmarks.count(r.id));
     }
@@ -212,58 +222,78 @@ TEST(Simulator, RevisitRouteDrivesTheSameWorldElsewhere) {
     for (const auto& p : b.ground_truth.path) {
       // In the frame of the first start: lab x < 8, hallway y > 6, C12 x > 14 (rooms); the
       // park's 200 x 250 m split in four around its centre (80, 105).
-      if (scenario == "rooms")
+      if (scenario == Kind::Rooms)
         places.insert(p.y > 6.1 ? 1 : (p.x < 8 ? 0 : 2));
       else
         places.insert((p.x > 80 ? 1 : 0) + (p.y > 105 ? 2 : 0));
     }
     for (const auto& st : b.steps)
       for (const auto& r : st.scan->readings) seen.insert(r.id);
-    EXPECT_EQ(places.size(), scenario == "rooms" ? 3u : 4u) << scenario;
-    EXPECT_GT(seen.size(), a.ground_truth.landmarks.size() / 2) << scenario;
+    EXPECT_EQ(places.size(), scenario == Kind::Rooms ? 3u : 4u) << name(scenario);
+    EXPECT_GT(seen.size(), a.ground_truth.landmarks.size() / 2) << name(scenario);
   }
   // Same options but the route: other noise too.
   SimulationOptions noisy;
-  noisy.scenario = "rooms";
-  noisy.route = "revisit";
+  noisy.scenario = Kind::Rooms;
+  noisy.route = Route::Revisit;
   const auto n1 = simulate(noisy);
-  noisy.route = "default";
+  noisy.route = Route::Default;
   const auto n2 = simulate(noisy);
   EXPECT_NE(n1.steps[1].odometry->mean.x, n2.steps[1].odometry->mean.x);
   SimulationOptions none;
-  none.scenario = "paper-synthetic";
-  none.route = "revisit";
+  none.scenario = Kind::PaperSynthetic;
+  none.route = Route::Revisit;
   try {
     Simulator sim(none);
     FAIL() << "no error";
   } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(), "scenario 'paper-synthetic' has no revisit route (rooms and park have one)");
+    EXPECT_STREQ(e.what(),
+                 "scenario 'paper-synthetic' has no revisit route (rooms and park have one)");
   }
 }
 
 TEST(Simulator, BadOptionsAreConfigErrors) {
-  SimulationOptions o;
-  o.scenario = "moon";
-  try {
-    Simulator sim(o);
-    FAIL() << "no error";
-  } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(),
-                 "unknown scenario 'moon' (known: paper-synthetic, rooms, park, lifelong)");
-  }
+  const auto message = [](const std::string& text) {
+    mrpt::config::CConfigFileMemory ini(text);
+    SimulationOptions o;
+    try {
+      o.loadFromConfigFile(ini, "Sim");
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("[Sim]\nscenario = moon\n"),
+            "[Sim] scenario = 'moon': must be one of paper-synthetic, rooms, park, lifelong");
+  EXPECT_EQ(message("[Sim]\nroute = back\n"),
+            "[Sim] route = 'back': must be one of default, revisit");
+  EXPECT_EQ(message("[Sim]\ndt = 0\n"), "[Sim] dt = 0: must be at least 1e-06");
   mrpt::config::CConfigFileMemory ini(
-      std::string("[Sim]\nscenario = park\nseed = 7\nlaps = 2\n"
+      std::string("[Sim]\nscenario = park\nseed = 7\nlaps = 2\nroute = revisit\n"
                   "with_ids = false\nsensor_std_range = 0.2\n"));
   SimulationOptions loaded;
   loaded.loadFromConfigFile(ini, "Sim");
-  EXPECT_EQ(loaded.scenario, "park");
+  EXPECT_EQ(loaded.scenario, Kind::Park);
+  EXPECT_EQ(loaded.scenarioName(), "park");
+  EXPECT_EQ(loaded.route, Route::Revisit);
   EXPECT_EQ(loaded.seed, 7u);
   EXPECT_EQ(loaded.laps, 2);
   EXPECT_FALSE(loaded.with_ids);
   EXPECT_EQ(loaded.sensor_std_range, 0.2);
+  EXPECT_EQ(loaded.odo_std_xy, -1);  // absent: the default
   std::ostringstream dump;
   loaded.dumpToTextStream(dump);
-  EXPECT_NE(dump.str().find("seed               = 7"), std::string::npos);
-  mrpt::config::CConfigFileMemory bad(std::string("[Sim]\nscenario = moon\n"));
-  EXPECT_THROW(loaded.loadFromConfigFile(bad, "Sim"), ConfigError);
+  EXPECT_NE(dump.str().find("\nscenario                 = park  // "), std::string::npos)
+      << dump.str();
+  EXPECT_NE(dump.str().find("\nseed                     = 7\n"), std::string::npos) << dump.str();
+  // One table: what is saved loads back the same, and keys() is the table's.
+  mrpt::config::CConfigFileMemory saved;
+  loaded.saveToConfigFile(saved, "Again");
+  SimulationOptions back;
+  back.loadFromConfigFile(saved, "Again");
+  EXPECT_EQ(back.scenario, Kind::Park);
+  EXPECT_EQ(back.route, Route::Revisit);
+  EXPECT_EQ(back.sensor_std_range, 0.2);
+  EXPECT_EQ(back.odo_std_xy, -1);
+  EXPECT_EQ(SimulationOptions::keys().size(), 10u);
 }

@@ -36,13 +36,7 @@ void EkfBackend::process(const Step& step) {
     if (idx < 0) continue;
     const LandmarkId id = kf_.idAt(static_cast<std::size_t>(idx));
     last_ids_[r] = id;
-    auto [it, is_new] = tracks_.try_emplace(id);
-    Track& t = it->second;
-    if (is_new) t.first_step = step.index;
-    // Running mean of the observation positions, Hochdorfer & Schlegel Eq. 2.
-    ++t.n;
-    t.obs_mean += (robot - t.obs_mean) / static_cast<double>(t.n);
-    t.last_step = step.index;
+    tracks_.addSighting(id, robot, step.index);  // Hochdorfer & Schlegel Eq. 2
   }
   if (!keep_trajectory_) trajectory_.clear();
   trajectory_.push_back({step.index, step.t, mrpt::math::TPose2D(x[0], x[1], x[2])});
@@ -65,24 +59,14 @@ std::vector<LandmarkView> EkfBackend::landmarks() const {
     const Eigen::Index r = static_cast<Eigen::Index>(3 + 2 * i);
     v.mean = Eigen::Vector2d(x[r], x[r + 1]);
     v.cov = P.block<2, 2>(r, r);
-    const auto t = tracks_.find(v.id);
-    if (t != tracks_.end()) {
-      v.n_obs = t->second.n;
-      v.obs_mean = t->second.obs_mean;
-      v.first_step = t->second.first_step;
-      v.last_step = t->second.last_step;
-    }
+    if (const LandmarkTrack* t = tracks_.find(v.id)) t->describe(&v);
     out.push_back(v);
   }
   return out;
 }
 
 std::vector<LandmarkId> EkfBackend::observedAt(StepIndex step) const {
-  std::vector<LandmarkId> out;
-  for (const auto& [id, t] : tracks_)
-    if (t.last_step == step && t.n > 0) out.push_back(id);
-  std::sort(out.begin(), out.end());
-  return out;
+  return tracks_.observedAt(step);
 }
 
 PoseEstimate EkfBackend::robotPose() const {

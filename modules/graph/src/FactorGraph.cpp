@@ -27,7 +27,10 @@ void addBlock(Triplets* t, int ca, const MA& Aa, int cb, const MB& Ab) {
 }
 }  // namespace
 
-void FactorGraph::changed() { ++structure_version_; }
+void FactorGraph::changed() {
+  ++structure_version_;
+  ++revision_;
+}
 
 void FactorGraph::addFirstPose(StepIndex step, double t, const Pose2& x, const PriorFactor& prior) {
   if (!poses_.empty()) throw std::logic_error("graph: first pose added twice");
@@ -126,6 +129,7 @@ void FactorGraph::setLandmarkPrior(LandmarkId id, const LandmarkPrior& prior) {
   if (l == landmarks_.end()) throw std::out_of_range("graph: no landmark " + std::to_string(id));
   const bool had = l->second.prior.has_value();
   l->second.prior = prior;
+  ++revision_;          // new numbers in H either way
   if (!had) changed();  // a new factor; replacing one keeps the pattern
 }
 
@@ -276,6 +280,7 @@ void FactorGraph::retract(const Eigen::VectorXd& dx) {
     p->x.z() = wrapAngle(p->x.z());
   }
   for (LandmarkNode* l : L.landmarks) l->x += dx.segment<2>(l->col);
+  ++revision_;
 }
 
 Eigen::VectorXd FactorGraph::values() const {
@@ -291,6 +296,7 @@ void FactorGraph::setValues(const Eigen::VectorXd& v) {
   if (v.size() != L.dim) throw std::invalid_argument("graph: setValues with a wrong size");
   for (PoseNode* p : L.poses) p->x = v.segment<3>(p->col);
   for (LandmarkNode* l : L.landmarks) l->x = v.segment<2>(l->col);
+  ++revision_;
 }
 
 }  // namespace budget_slam::graph

@@ -7,8 +7,10 @@
 #include <string>
 
 #include "budget_slam/core/Cancellation.h"
+#include "budget_slam/core/Error.h"
 #include "budget_slam/graph/InformationGain.h"
 #include "budget_slam/graph/Marginals.h"
+#include "budget_slam/graph/NearestNeighbourAssociation.h"
 
 namespace budget_slam::graph {
 
@@ -28,20 +30,24 @@ Eigen::Matrix3d floorCovariance(const Eigen::Matrix3d& C, const Eigen::Vector3d&
   const Eigen::Matrix3d D = min_std.asDiagonal();
   return D * S * D;
 }
+
+/// Options of type T read from their own section of `ini`.
+template <typename T>
+T loaded(const mrpt::config::CConfigFileBase& ini) {
+  T t;
+  t.loadFromConfigFile(ini, T::kSection);
+  return t;
+}
 }  // namespace
 
-GraphBackend::GraphBackend(const mrpt::config::CConfigFileBase& ini) {
-  options_.loadFromConfigFile(ini, GraphSlamOptions::kSection);
-  noise_.loadFromConfigFile(ini, RangeBearingNoise::kSection);
-  solver_ordering_ = IncrementalOrdering(options_.reorder_fill_ratio);
-  query_ordering_ = IncrementalOrdering(options_.reorder_fill_ratio);
-}
+GraphBackend::GraphBackend(const mrpt::config::CConfigFileBase& ini)
+    : GraphBackend(loaded<GraphSlamOptions>(ini), loaded<RangeBearingNoise>(ini)) {}
 
 GraphBackend::GraphBackend(const GraphSlamOptions& options, const RangeBearingNoise& noise)
     : options_(options),
       noise_(noise),
       solver_ordering_(options.reorder_fill_ratio),
-      query_ordering_(options.reorder_fill_ratio) {}
+      factorization_(options.reorder_fill_ratio) {}
 
 GraphBackend::GraphBackend(const GraphBackend& o)
     : options_(o.options_),
@@ -53,12 +59,8 @@ GraphBackend::GraphBackend(const GraphBackend& o)
       updates_(o.updates_),
       poses_dropped_(o.poses_dropped_),
       solver_ordering_(o.options_.reorder_fill_ratio),
-      estimate_version_(o.estimate_version_),
-      exact_version_(o.exact_version_),
-      pose_cov_(o.pose_cov_),
-      landmark_cov_(o.landmark_cov_),
-      landmark_cov_version_(o.landmark_cov_version_),
-      query_ordering_(o.options_.reorder_fill_ratio) {}
+      factorization_(o.factorization_),  // no CHOLMOD object: refactorizes at its first query
+      pose_cov_(o.pose_cov_) {}
 
 std::unique_ptr<Backend> GraphBackend::clone() const {
   return std::unique_ptr<Backend>(new GraphBackend(*this));
@@ -70,67 +72,16 @@ BetweenFactor GraphBackend::odometryFactor(const Step& step) const {
     return BetweenFactor::make(Pose2::Zero(),
                                Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
   }
-  if (!step.odometry->cov.allFinite())
-    throw std::invalid_argument("step " + std::to_string(step.index) +
-                                ": odometry covariance is not finite");
   const Eigen::Vector3d min_std(options_.odometry_min_std_xy, options_.odometry_min_std_xy,
                                 options_.odometry_min_std_yaw_deg * kDeg);
-  return BetweenFactor::make(toPose2(step.odometry->mean),
-                             floorCovariance(step.odometry->cov, min_std));
-}
-
-std::vector<LandmarkId> GraphBackend::associate(const RangeBearingScan& scan, StepIndex pose,
-                                                const Pose2& sensor) const {
-  std::vector<LandmarkId> ids(scan.readings.size(), kNoLandmarkId);
-  bool any = false;
-  for (std::size_t r = 0; r < scan.readings.size(); ++r) {
-    ids[r] = scan.readings[r].id;
-    any |= ids[r] == kNoLandmarkId;
-  }
-  if (!any || graph_.landmarks().empty()) return ids;
-  // Joint marginal of the new pose and every landmark (one factorization; only rawlogs without
-  // landmark IDs pay for it): the innovation covariance S = R + J Sigma J^T, J = [J_x J_l],
-  // includes the pose uncertainty and its correlation with each landmark.
-  std::vector<VariableKey> vars{VariableKey::pose(pose)};
-  for (const auto& [id, l] : graph_.landmarks()) vars.push_back(VariableKey::landmark(id));
-  const Eigen::MatrixXd Sigma = jointMarginal(graph_, factorization(), vars);
-  const Pose2& x = graph_.pose(pose).x;
-  const Eigen::Matrix2d R = sensorCovariance();
-  struct Pair {
-    double d2;
-    std::size_t r;
-    LandmarkId id;
-  };
-  std::vector<Pair> pairs;
-  for (std::size_t r = 0; r < scan.readings.size(); ++r) {
-    if (ids[r] != kNoLandmarkId) continue;
-    const RangeBearingFactor f =
-        RangeBearingFactor::make(scan.readings[r].range, scan.readings[r].yaw, sensor, R);
-    int k = 3;
-    for (const auto& [id, l] : graph_.landmarks()) {
-      Eigen::Matrix<double, 2, 3> Jx;
-      Eigen::Matrix2d Jl;
-      const Eigen::Vector2d e = f.error(x, l.x, &Jx, &Jl);
-      Eigen::Matrix<double, 2, 5> J;
-      J << Jx, Jl;
-      Eigen::Matrix<double, 5, 5> P;
-      P << Sigma.topLeftCorner<3, 3>(), Sigma.block<3, 2>(0, k), Sigma.block<2, 3>(k, 0),
-          Sigma.block<2, 2>(k, k);
-      const Eigen::Matrix2d S = R + J * P * J.transpose();
-      const double d2 = e.dot(S.ldlt().solve(e));
-      if (d2 < options_.association_gate_chi2) pairs.push_back({d2, r, id});
-      k += 2;
-    }
-  }
-  // Greedy nearest neighbour: closest pairs first, one landmark per reading and per scan.
-  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.d2 < b.d2; });
-  std::vector<LandmarkId> used;
-  for (const Pair& p : pairs) {
-    if (ids[p.r] != kNoLandmarkId || std::count(used.begin(), used.end(), p.id)) continue;
-    ids[p.r] = p.id;
-    used.push_back(p.id);
-  }
-  return ids;  // still kNoLandmarkId: a new landmark (fresh id given by process())
+  // Finite but huge entries overflow once scaled by the floor: the same bad input.
+  const Eigen::Matrix3d cov = step.odometry->cov.allFinite()
+                                  ? floorCovariance(step.odometry->cov, min_std)
+                                  : step.odometry->cov;
+  if (!cov.allFinite())
+    throw InputError("step " + std::to_string(step.index) +
+                     ": the odometry covariance is not finite (the graph backend needs one)");
+  return BetweenFactor::make(toPose2(step.odometry->mean), cov);
 }
 
 Eigen::Matrix2d GraphBackend::sensorCovariance() const {
@@ -158,7 +109,6 @@ void GraphBackend::process(const Step& step) {
     if (pose_cov_) *pose_cov_ = Ja * *pose_cov_ * Ja.transpose() + Jb * odo.cov * Jb.transpose();
   }
   ++poses_since_update_;
-  touch();
 
   double resight_chi2 = 0;
   std::size_t resights = 0;
@@ -170,9 +120,14 @@ void GraphBackend::process(const Step& step) {
     const Eigen::Matrix2d R = sensorCovariance();
     for (std::size_t r = 0; r < scan.readings.size(); ++r) {
       const RangeBearingReading& z = scan.readings[r];
-      if (!std::isfinite(z.range) || !std::isfinite(z.yaw) || z.range <= 0)
-        throw std::invalid_argument("step " + std::to_string(step.index) + ": reading " +
-                                    std::to_string(r) + " has a bad range or bearing");
+      // The rawlog reader admits a zero range; a range-bearing factor cannot use it (its
+      // Jacobian divides by the range).
+      const std::string at =
+          "step " + std::to_string(step.index) + ": reading " + std::to_string(r);
+      if (!std::isfinite(z.range) || z.range <= 0)
+        throw InputError(at + " has range " + std::to_string(z.range) +
+                         " m; the graph backend needs a finite range above 0");
+      if (!std::isfinite(z.yaw)) throw InputError(at + " has a non-finite bearing");
     }
     const bool needs_association =
         std::any_of(scan.readings.begin(), scan.readings.end(),
@@ -182,7 +137,9 @@ void GraphBackend::process(const Step& step) {
       // meaningful there): dead-reckoned poses since the last update are not. Update first.
       incrementalUpdate();
     }
-    const std::vector<LandmarkId> ids = associate(scan, step.index, sensor);
+    const std::vector<LandmarkId> ids =
+        NearestNeighbourAssociation(options_.association_gate_chi2, R)
+            .associate(scan, step.index, sensor, graph_, factorization_);
     for (LandmarkId id : ids)
       if (id != kNoLandmarkId) next_fresh_id_ = std::max(next_fresh_id_, id + 1);
     last_ids_.assign(scan.readings.size(), kNoLandmarkId);
@@ -193,17 +150,14 @@ void GraphBackend::process(const Step& step) {
       last_ids_[r] = id;
       const RangeBearingFactor f = RangeBearingFactor::make(z.range, z.yaw, sensor, R);
       if (!graph_.hasLandmark(id)) {
-        graph_.addLandmark(id, f.landmarkFrom(x));  // re-seen after removal: back as new
-        tracks_[id] = Track{0, Eigen::Vector2d::Zero(), step.index, step.index};
+        // Re-seen after removal: back as new (removeLandmark erased its track too).
+        graph_.addLandmark(id, f.landmarkFrom(x));
       } else {
         resight_chi2 += (f.sqrt_info * f.error(x, graph_.landmark(id).x)).squaredNorm();
         ++resights;
       }
       graph_.addObservation(step.index, id, f);
-      Track& t = tracks_[id];
-      ++t.n;
-      t.obs_mean += (x.head<2>() - t.obs_mean) / static_cast<double>(t.n);
-      t.last_step = step.index;
+      tracks_.addSighting(id, x.head<2>(), step.index);
     }
   }
 
@@ -235,7 +189,7 @@ void GraphBackend::boundPoses() {
     if (!keeps && !l.obs.empty()) orphans.push_back(VariableKey::landmark(id));
   }
   std::vector<Eigen::MatrixXd> cov;
-  if (!orphans.empty()) cov = marginals(graph_, factorization(), orphans);
+  if (!orphans.empty()) cov = factorization_.marginals(graph_, orphans);
   // The new first pose's prior: the dropped poses' prior and odometry composed up to it (exact
   // marginalization once their sightings are gone: a chain), linearized at the current estimate,
   // with the current estimate as its mean (where the dropped sightings put it stays; their
@@ -254,65 +208,40 @@ void GraphBackend::boundPoses() {
   }
   graph_.dropFirstPoses(count, PriorFactor::make(first_kept->second.x, acc.cov));
   poses_dropped_ += count;
-  touch();
 }
 
 void GraphBackend::incrementalUpdate() {
-  SolverSettings s = options_.solverSettings();
+  SolverSettings s = options_.solver;
   s.method = SolverSettings::Method::GaussNewton;
   s.max_iterations = options_.incremental_iterations;
   s.step_tolerance = std::max(s.step_tolerance, options_.relinearize_threshold);
   graph::optimize(graph_, s, &solver_chol_, &solver_ordering_);
   poses_since_update_ = 0;
   ++updates_;
-  touch();
   // The solver's last factorization is of the current structure, linearized one step before the
   // final estimate: the latest pose's marginal from it is exact up to that last step.
   pose_cov_ =
       jointMarginal(graph_, solver_chol_, {VariableKey::pose(graph_.poses().rbegin()->first)});
 }
 
-const SparseCholesky& GraphBackend::factorization() const {
-  if (query_version_ != estimate_version_) {
-    factorizeAtEstimate(graph_, &query_chol_, &query_ordering_);
-    query_version_ = estimate_version_;
-    exact_version_ = estimate_version_;
-  }
-  return query_chol_;
-}
-
 std::vector<LandmarkView> GraphBackend::landmarks() const {
   std::vector<LandmarkView> out;
   out.reserve(graph_.landmarks().size());
   if (graph_.landmarks().empty()) return out;
-  if (landmark_cov_version_ != estimate_version_) {
-    std::vector<VariableKey> vars;
-    for (const auto& [id, l] : graph_.landmarks()) vars.push_back(VariableKey::landmark(id));
-    const std::vector<Eigen::MatrixXd> m = marginals(graph_, factorization(), vars);
-    landmark_cov_.clear();
-    for (std::size_t k = 0; k < vars.size(); ++k) landmark_cov_[vars[k].id] = m[k];
-    landmark_cov_version_ = estimate_version_;
-  }
+  const std::map<LandmarkId, Eigen::Matrix2d>& cov = factorization_.landmarkMarginals(graph_);
   for (const auto& [id, l] : graph_.landmarks()) {
-    const Track& t = tracks_.at(id);
     LandmarkView v;
     v.id = id;
     v.mean = l.x;
-    v.cov = landmark_cov_.at(id);
-    v.n_obs = t.n;
-    v.obs_mean = t.obs_mean;
-    v.first_step = t.first_step;
-    v.last_step = t.last_step;
+    v.cov = cov.at(id);
+    tracks_.at(id).describe(&v);
     out.push_back(v);
   }
   return out;
 }
 
 std::vector<LandmarkId> GraphBackend::observedAt(StepIndex step) const {
-  std::vector<LandmarkId> out;
-  for (const auto& [id, t] : tracks_)  // a std::map: already sorted by id
-    if (t.last_step == step && t.n > 0) out.push_back(id);
-  return out;
+  return tracks_.observedAt(step);
 }
 
 PoseEstimate GraphBackend::robotPose() const {
@@ -320,8 +249,8 @@ PoseEstimate GraphBackend::robotPose() const {
   if (graph_.poses().empty()) return p;
   const auto& [step, node] = *graph_.poses().rbegin();
   p.mean = mrpt::math::TPose2D(node.x.x(), node.x.y(), node.x.z());
-  if (options_.exact_pose_covariance || !pose_cov_ || exact_version_ == estimate_version_) {
-    pose_cov_ = jointMarginal(graph_, factorization(), {VariableKey::pose(step)});
+  if (options_.exact_pose_covariance || !pose_cov_ || factorization_.computedFor(graph_)) {
+    pose_cov_ = factorization_.jointMarginal(graph_, {VariableKey::pose(step)});
   }
   p.cov = *pose_cov_;
   return p;
@@ -340,9 +269,7 @@ void GraphBackend::removeLandmark(LandmarkId id) {
     throw std::out_of_range("graph backend: no landmark " + std::to_string(id));
   graph_.removeLandmark(id);
   tracks_.erase(id);
-  landmark_cov_.erase(id);
   pose_cov_.reset();  // the pose lost information: recompute exactly at the next query
-  touch();
 }
 
 std::vector<double> GraphBackend::informationGain(const std::vector<LandmarkId>& ids) const {
@@ -350,22 +277,21 @@ std::vector<double> GraphBackend::informationGain(const std::vector<LandmarkId>&
     if (!graph_.hasLandmark(id))
       throw std::out_of_range("graph backend: no landmark " + std::to_string(id));
   if (ids.empty()) return {};
-  if (options_.information_gain == "conditional")
-    return graph::conditionalInformationGain(graph_, factorization(), ids);
-  return graph::informationGain(graph_, factorization(), ids);
+  if (options_.information_gain == GraphSlamOptions::InformationGain::Conditional)
+    return graph::conditionalInformationGain(graph_, factorization_.factor(graph_), ids);
+  return graph::informationGain(graph_, factorization_.factor(graph_), ids);
 }
 
 Eigen::Matrix2d GraphBackend::landmarkCovariance(LandmarkId id) const {
   if (!graph_.hasLandmark(id))
     throw std::out_of_range("graph backend: no landmark " + std::to_string(id));
-  if (landmark_cov_version_ == estimate_version_) return landmark_cov_.at(id);
-  return jointMarginal(graph_, factorization(), {VariableKey::landmark(id)});
+  return factorization_.landmarkMarginal(graph_, id);
 }
 
 Eigen::MatrixXd GraphBackend::jointCovariance(const std::vector<VariableKey>& vars) const {
   if (vars.empty()) return Eigen::MatrixXd(0, 0);
   for (const VariableKey& v : vars) graph_.column(v);  // throws std::out_of_range if unknown
-  return jointMarginal(graph_, factorization(), vars);
+  return factorization_.jointMarginal(graph_, vars);
 }
 
 std::size_t GraphBackend::marginalizePosesWithoutLandmarks(std::size_t keep_last) {
@@ -381,28 +307,23 @@ std::size_t GraphBackend::marginalizePosesWithoutLandmarks(std::size_t keep_last
     ++k;
   }
   for (StepIndex s : victims) graph_.marginalizePose(s);
-  if (!victims.empty()) {
-    pose_cov_.reset();
-    touch();
-  }
+  if (!victims.empty()) pose_cov_.reset();
   return victims.size();
 }
 
 SolveReport GraphBackend::optimize() {
-  SolverSettings settings = options_.solverSettings();
+  SolverSettings settings = options_.solver;
   settings.stop_on_request = true;  // a full solve of a long run takes seconds
   SolveReport r;
   try {
     r = graph::optimize(graph_, settings, &solver_chol_, &solver_ordering_);
   } catch (const Interrupted&) {
-    // The estimate moved to the last accepted iterate: the caches must follow it.
+    // The estimate moved to the last accepted iterate: the pose covariance must follow it.
     pose_cov_.reset();
-    touch();
     throw;
   }
   poses_since_update_ = 0;
   pose_cov_.reset();
-  touch();
   return r;
 }
 

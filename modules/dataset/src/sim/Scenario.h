@@ -6,6 +6,7 @@
 
 #include "World.h"
 #include "budget_slam/dataset/SensorNoise.h"
+#include "budget_slam/dataset/Simulator.h"
 
 namespace budget_slam::dataset::sim {
 
@@ -32,15 +33,11 @@ struct Scenario {
   std::vector<Eigen::Vector2d> revisit_route;               ///< waypoints [m]
 };
 
-/// The scenario `name` (paper-synthetic, rooms, park, lifelong); its landmarks are drawn with
-/// `seed`. `laps` (> 0) overrides the scenario's default; for lifelong the world changes between
-/// laps. `route` is "default" or "revisit" (rooms and park): the same world in the same frame
-/// (the default route's start pose at the origin), driven from the revisit start along the
-/// revisit route. An unknown name is a ConfigError listing the known ones.
-Scenario makeScenario(const std::string& name, std::uint64_t seed, int laps,
-                      const std::string& route = "default");
-
-/// Names of the scenarios, in the order the help lists them.
-std::vector<std::string> scenarioNames();
+/// The scenario `kind`; its landmarks are drawn with `seed`. `laps` (> 0) overrides the
+/// scenario's default; for lifelong the world changes between laps. Route::Revisit (rooms and
+/// park): the same world in the same frame (the default route's start pose at the origin), driven
+/// from the revisit start along the revisit route; a ConfigError for a scenario without one.
+Scenario makeScenario(SimulationOptions::ScenarioKind kind, std::uint64_t seed, int laps,
+                      SimulationOptions::Route route = SimulationOptions::Route::Default);
 
 }  // namespace budget_slam::dataset::sim

@@ -117,8 +117,8 @@ Scenario rooms(Random& rng) {
   // through door A, along the hallway into C12, around it, and to the hallway's east end.
   s.revisit_start = V(13, 9.25);
   s.revisit_start_yaw = M_PI;
-  s.revisit_route = {V(6.5, 9.25), V(6.5, 7),   V(6.5, 5.5),  V(8.5, 5.5), V(8.5, 1.2),
-                     V(1.3, 1.2),  V(1.3, 6.3), V(3, 7),      V(3, 9.25),  V(20, 9.25),
+  s.revisit_route = {V(6.5, 9.25), V(6.5, 7),   V(6.5, 5.5),  V(8.5, 5.5),  V(8.5, 1.2),
+                     V(1.3, 1.2),  V(1.3, 6.3), V(3, 7),      V(3, 9.25),   V(20, 9.25),
                      V(20, 6),     V(17.3, 6),  V(17.3, 1.5), V(24.7, 1.5), V(24.7, 6.5),
                      V(20, 6.5),   V(20, 9.25), V(25, 9.25)};
   s.step = 0.3;
@@ -245,30 +245,30 @@ Scenario lifelong(Random& rng, int laps) {
 
 }  // namespace
 
-std::vector<std::string> scenarioNames() {
-  return {"paper-synthetic", "rooms", "park", "lifelong"};
-}
-
-Scenario makeScenario(const std::string& name, std::uint64_t seed, int laps,
-                      const std::string& route) {
+Scenario makeScenario(SimulationOptions::ScenarioKind kind, std::uint64_t seed, int laps,
+                      SimulationOptions::Route route) {
+  using Kind = SimulationOptions::ScenarioKind;
   Random rng(seed);
   Scenario s;
-  if (name == "paper-synthetic")
-    s = paperSynthetic(rng);
-  else if (name == "rooms")
-    s = rooms(rng);
-  else if (name == "park")
-    s = park(rng);
-  else if (name == "lifelong")
-    s = lifelong(rng, laps > 0 ? laps : 2);
-  else
-    throw ConfigError("unknown scenario '" + name +
-                      "' (known: paper-synthetic, rooms, park, lifelong)");
+  switch (kind) {
+    case Kind::PaperSynthetic:
+      s = paperSynthetic(rng);
+      break;
+    case Kind::Rooms:
+      s = rooms(rng);
+      break;
+    case Kind::Park:
+      s = park(rng);
+      break;
+    case Kind::Lifelong:
+      s = lifelong(rng, laps > 0 ? laps : 2);
+      break;
+  }
   if (laps > 0) s.laps = laps;
-  if (route != "default" && route != "revisit")
-    throw ConfigError("unknown route '" + route + "' (known: default, revisit)");
-  if (route == "revisit" && s.revisit_route.empty())
-    throw ConfigError("scenario '" + name + "' has no revisit route (rooms and park have one)");
+  const bool revisit = route == SimulationOptions::Route::Revisit;
+  if (revisit && s.revisit_route.empty())
+    throw ConfigError("scenario '" + nameOf(SimulationOptions::scenarioNames(), kind) +
+                      "' has no revisit route (rooms and park have one)");
   // Shift the world so that the robot starts at the origin, where MRPT's filter starts: the
   // ground truth then compares with its estimate directly (start_yaw is 0 in every scenario).
   const V shift = -s.start;
@@ -279,7 +279,7 @@ Scenario makeScenario(const std::string& name, std::uint64_t seed, int laps,
   for (auto& p : s.revisit_route) p += shift;
   s.revisit_start += shift;
   s.start = V(0, 0);
-  if (route == "revisit") {
+  if (revisit) {
     // Same world, same frame; another start and path.
     s.start = s.revisit_start;
     s.start_yaw = s.revisit_start_yaw;

@@ -1,37 +1,40 @@
-#include <ostream>
+#include <limits>
 
-#include "budget_slam/core/Error.h"
-#include "budget_slam/core/IniSection.h"
 #include "budget_slam/dataset/Simulator.h"
 
 namespace budget_slam::dataset {
 
-void SimulationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                                           const std::string& section) {
-  const IniSection s(ini, section);
-  scenario = s.readChoice("scenario", scenario, {"paper-synthetic", "rooms", "park", "lifelong"});
-  seed = static_cast<std::uint64_t>(s.readInt("seed", static_cast<long long>(seed), 0));
-  with_ids = s.readBool("with_ids", with_ids);
-  laps = static_cast<int>(s.readInt("laps", laps, 0, 1000000));
-  route = s.readChoice("route", route, {"default", "revisit"});
-  odo_std_xy = s.readDouble("odo_std_xy", odo_std_xy);
-  odo_std_yaw_deg = s.readDouble("odo_std_yaw_deg", odo_std_yaw_deg);
-  sensor_std_range = s.readDouble("sensor_std_range", sensor_std_range);
-  sensor_std_yaw_deg = s.readDouble("sensor_std_yaw_deg", sensor_std_yaw_deg);
-  dt = s.readDouble("dt", dt, 1e-6);
+const EnumNames<SimulationOptions::ScenarioKind>& SimulationOptions::scenarioNames() {
+  static const EnumNames<ScenarioKind> n = {{"paper-synthetic", ScenarioKind::PaperSynthetic},
+                                            {"rooms", ScenarioKind::Rooms},
+                                            {"park", ScenarioKind::Park},
+                                            {"lifelong", ScenarioKind::Lifelong}};
+  return n;
 }
 
-void SimulationOptions::dumpToTextStream(std::ostream& out) const {
-  out << "scenario           = " << scenario << "  // paper-synthetic | rooms | park | lifelong\n"
-      << "seed               = " << seed << "\n"
-      << "with_ids           = " << (with_ids ? "true" : "false") << "\n"
-      << "laps               = " << laps << "  // 0: scenario default\n"
-      << "route              = " << route << "  // default | revisit (rooms, park)\n"
-      << "odo_std_xy         = " << odo_std_xy << "  // m per step; < 0: scenario default\n"
-      << "odo_std_yaw_deg    = " << odo_std_yaw_deg << "  // deg per step; < 0: default\n"
-      << "sensor_std_range   = " << sensor_std_range << "  // m; < 0: default\n"
-      << "sensor_std_yaw_deg = " << sensor_std_yaw_deg << "  // deg; < 0: default\n"
-      << "dt                 = " << dt << "  // s between steps\n";
+const EnumNames<SimulationOptions::Route>& SimulationOptions::routeNames() {
+  static const EnumNames<Route> n = {{"default", Route::Default}, {"revisit", Route::Revisit}};
+  return n;
+}
+
+const OptionTable<SimulationOptions>& SimulationOptions::table() {
+  using O = SimulationOptions;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  static const OptionTable<O> t = {
+      option::choice("scenario", &O::scenario, scenarioNames(),
+                     "paper-synthetic | rooms | park | lifelong"),
+      option::integer("seed", &O::seed, 0),
+      option::flag("with_ids", &O::with_ids),
+      option::integer("laps", &O::laps, 0, 1000000, "0: scenario default"),
+      option::choice("route", &O::route, routeNames(), "default | revisit (rooms, park)"),
+      option::real("odo_std_xy", &O::odo_std_xy, -kInf, kInf, "m per step; < 0: scenario default"),
+      option::real("odo_std_yaw_deg", &O::odo_std_yaw_deg, -kInf, kInf,
+                   "deg per step; < 0: default"),
+      option::real("sensor_std_range", &O::sensor_std_range, -kInf, kInf, "m; < 0: default"),
+      option::real("sensor_std_yaw_deg", &O::sensor_std_yaw_deg, -kInf, kInf, "deg; < 0: default"),
+      option::real("dt", &O::dt, 1e-6, kInf, "s between steps"),
+  };
+  return t;
 }
 
 }  // namespace budget_slam::dataset

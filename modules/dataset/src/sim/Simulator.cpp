@@ -68,7 +68,7 @@ void Simulator::run(const std::function<void(const Step&)>& sink) {
   const auto& world = sc.world;
   // Its own stream for the noise, so that the world does not depend on the noise settings; the
   // revisit route has another one (the same world, other noise).
-  const std::uint64_t stream = m.options.route == "revisit" ? 2 : 1;
+  const std::uint64_t stream = m.options.route == SimulationOptions::Route::Revisit ? 2 : 1;
   sim::Random rng(m.options.seed * 0x9E3779B97F4A7C15ULL + stream);
   const CPose2D sensor_on_robot(m.noise.sensor_pose_on_robot.x, m.noise.sensor_pose_on_robot.y,
                                 m.noise.sensor_pose_on_robot.yaw);
@@ -150,8 +150,9 @@ std::vector<std::string> Simulator::notes() const {
   const auto& m = *impl_;
   const auto& o = m.options;
   std::vector<std::string> n = {
-      "Made by budget-simulate --scenario " + o.scenario + " --seed " + std::to_string(o.seed) +
-          (o.with_ids ? "" : " --no-ids") + (o.route == "default" ? "" : " --route " + o.route) +
+      "Made by budget-simulate --scenario " + o.scenarioName() + " --seed " +
+          std::to_string(o.seed) + (o.with_ids ? "" : " --no-ids") +
+          (o.route == SimulationOptions::Route::Default ? "" : " --route " + o.routeName()) +
           (o.laps > 0 ? " --laps " + std::to_string(o.laps) : "") + ".",
       m.scenario.description,
       "Odometry: true increment + Gaussian noise, std " + num(m.odo_std_xy) + " m (x, y) and " +
@@ -163,7 +164,7 @@ std::vector<std::string> Simulator::notes() const {
       "Step 0 stands still at the start pose (zero motion). Times: step k at t = (k + 1) x " +
           num(o.dt) + " s. Ground truth: start pose, then one pose a step.",
   };
-  if (o.route == "revisit")
+  if (o.route == SimulationOptions::Route::Revisit)
     n.push_back(
         "Revisit route: the world, landmark ids and frame of --route default (whose start pose is "
         "the origin); this path starts at (" +

@@ -28,6 +28,14 @@ const std::string& nameOf(const EnumNames<E>& names, E value) {
   return names.front().first;  // unreachable for a complete table
 }
 
+/// The value named `name`, or nullptr when the table has no such name.
+template <class E>
+const E* valueOf(const EnumNames<E>& names, const std::string& name) {
+  for (const auto& [n, v] : names)
+    if (n == name) return &v;
+  return nullptr;
+}
+
 template <class E>
 std::vector<std::string> namesOf(const EnumNames<E>& names) {
   std::vector<std::string> out;
@@ -167,9 +175,7 @@ OptionKey<O> choice(std::string name, E O::*field, const EnumNames<E>& names,
   const std::string key = name;
   return {std::move(name),
           [=, &names](O& o, const IniSection& s) {
-            const std::string v = s.readChoice(key, nameOf(names, o.*field), namesOf(names));
-            for (const auto& [n, e] : names)
-              if (n == v) o.*field = e;
+            o.*field = *valueOf(names, s.readChoice(key, nameOf(names, o.*field), namesOf(names)));
           },
           [=, &names](const O& o) { return nameOf(names, o.*field); }, std::move(doc)};
 }
@@ -188,6 +194,16 @@ OptionKey<O> list(std::string name, std::vector<std::string> O::*field, std::str
             return t;
           },
           std::move(doc)};
+}
+
+/// A key of a struct S nested in O as `O::*member` (e.g. SolverSettings inside GraphSlamOptions):
+/// the same name, check and doc, read into and written from the nested struct.
+template <class O, class S>
+OptionKey<O> within(S O::*member, OptionKey<S> key) {
+  auto read = std::move(key.read);
+  auto text = std::move(key.text);
+  return {std::move(key.name), [=](O& o, const IniSection& s) { read(o.*member, s); },
+          [=](const O& o) { return text(o.*member); }, std::move(key.doc)};
 }
 
 }  // namespace option

@@ -8,31 +8,44 @@
 #include <string>
 #include <vector>
 
+#include "budget_slam/core/OptionTable.h"
 #include "budget_slam/core/Step.h"
 #include "budget_slam/dataset/ConvertedDataset.h"
 
 namespace budget_slam::dataset {
 
-/// Options of the scenario simulator (budget-simulate; MRPT's options pattern). Noise values
-/// below 0 mean "the scenario's default" (docs/DATASETS.md lists them).
-struct SimulationOptions {
-  std::string scenario = "rooms";  ///< paper-synthetic | rooms | park | lifelong
+/// Options of the scenario simulator (budget-simulate), MRPT's CLoadableOptions pattern with every
+/// key defined once in table() (loading, the dump and keys() follow from it). Noise values below
+/// 0 mean "the scenario's default" (docs/DATASETS.md lists them).
+struct SimulationOptions : public TabledOptions<SimulationOptions> {
+  /// The section name of the dump; budget-simulate takes these options from its command line.
+  static constexpr const char* kSection = "Simulation";
+
+  /// The worlds of docs/DATASETS.md; ini and command-line names in scenarioNames().
+  enum class ScenarioKind { PaperSynthetic, Rooms, Park, Lifelong };
+  /// default: the scenario's route; revisit (rooms, park): the same world (same seed, landmarks,
+  /// ids and frame) driven from another start along another route through every room or region,
+  /// with another noise stream: a second traversal to relocalize on.
+  enum class Route { Default, Revisit };
+
+  ScenarioKind scenario = ScenarioKind::Rooms;  ///< paper-synthetic | rooms | park | lifelong
   std::uint64_t seed = 1;          ///< seed of the world and of the noise; same seed, same bytes
   bool with_ids = true;            ///< false: readings carry no landmark ID (--no-ids)
   int laps = 0;                    ///< laps of the route; 0: scenario default (lifelong: 2)
-  /// default | revisit (rooms, park): the same world (same seed, landmarks, ids and frame)
-  /// driven from another start along another route through every room or region, with another
-  /// noise stream: a second traversal to relocalize on.
-  std::string route = "default";
+  Route route = Route::Default;    ///< default | revisit
   double odo_std_xy = -1;          ///< odometry noise per step, x and y [m]; < 0: default
   double odo_std_yaw_deg = -1;     ///< odometry noise per step [deg]; < 0: default
   double sensor_std_range = -1;    ///< range noise [m]; < 0: default
   double sensor_std_yaw_deg = -1;  ///< bearing noise [deg]; < 0: default
-  double dt = 1.0;                 ///< time between steps [s]; step k is at t = (k + 1) dt
+  double dt = 1.0;                 ///< time between steps [s], > 0; step k is at t = (k + 1) dt
 
-  /// Reads the keys above from `section` (same names); ConfigError on a bad value.
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini, const std::string& section);
-  void dumpToTextStream(std::ostream& out) const;
+  /// Every key: name, field, check and unit (the defaults are the initializers above).
+  static const OptionTable<SimulationOptions>& table();
+  /// The names of the scenarios and routes, in the order the help and errors list them.
+  static const EnumNames<ScenarioKind>& scenarioNames();
+  static const EnumNames<Route>& routeNames();
+  const std::string& scenarioName() const { return nameOf(scenarioNames(), scenario); }
+  const std::string& routeName() const { return nameOf(routeNames(), route); }
 };
 
 /// Drives a robot through a scenario world: Gaussian odometry noise on each true increment (x, y,
@@ -41,7 +54,7 @@ struct SimulationOptions {
 /// Deterministic: std::mt19937_64 with our own normal sampling.
 class Simulator {
  public:
-  /// ConfigError for an unknown scenario or a bad option.
+  /// ConfigError for a bad option (a revisit route the scenario does not have, dt <= 0).
   explicit Simulator(const SimulationOptions& options);
   ~Simulator();
 

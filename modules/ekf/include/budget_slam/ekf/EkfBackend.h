@@ -2,10 +2,10 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <optional>
-#include <unordered_map>
 
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/core/BackendRegistry.h"
+#include "budget_slam/core/LandmarkTracks.h"
 #include "budget_slam/ekf/ReducibleKFSLAM2D.h"
 #include "budget_slam/gaussian/BlockMutualInformation.h"
 
@@ -51,18 +51,11 @@ class EkfBackend : public Backend {
   /// Ids in state order (the EKF's own ordering of the mean and covariance).
   std::vector<LandmarkId> idsInStateOrder() const;
 
-  /// Per-landmark bookkeeping of the sightings (Hochdorfer & Schlegel Eq. 1-2).
-  struct Track {
-    std::size_t n = 0;
-    Eigen::Vector2d obs_mean = Eigen::Vector2d::Zero();  ///< [m]
-    StepIndex first_step = 0, last_step = 0;
-  };
-
  private:
   std::size_t stateRow(LandmarkId id) const { return 3 + 2 * kf_.indexOf(id); }
 
   ReducibleKFSLAM2D kf_;
-  std::unordered_map<LandmarkId, Track> tracks_;
+  LandmarkTracks tracks_;  ///< sightings of every landmark (Hochdorfer & Schlegel Eq. 1-2)
   std::vector<TrajectoryPoint> trajectory_;
   bool keep_trajectory_ = true;
   StepIndex last_step_ = 0;

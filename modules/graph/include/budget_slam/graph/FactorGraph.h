@@ -90,13 +90,23 @@ class FactorGraph {
   bool hasLandmark(LandmarkId id) const { return landmarks_.count(id) != 0; }
   const PoseNode& pose(StepIndex s) const { return poses_.at(s); }
   const LandmarkNode& landmark(LandmarkId id) const { return landmarks_.at(id); }
-  Pose2& poseValue(StepIndex s) { return poses_.at(s).x; }
-  Eigen::Vector2d& landmarkValue(LandmarkId id) { return landmarks_.at(id).x; }
+  /// A writable estimate (counts as a change of values: revision() moves).
+  Pose2& poseValue(StepIndex s) {
+    ++revision_;
+    return poses_.at(s).x;
+  }
+  Eigen::Vector2d& landmarkValue(LandmarkId id) {
+    ++revision_;
+    return landmarks_.at(id).x;
+  }
   std::size_t factorCount() const;
 
   /// Bumped by every change of variables or factors (not of values): the sparsity pattern of H,
   /// and so CHOLMOD's symbolic analysis, depends only on it.
   std::uint64_t structureVersion() const { return structure_version_; }
+  /// Bumped by every change of variables, factors or values: H at the estimate, and so a
+  /// factorization of it, is unchanged while this is (EstimateFactorization).
+  std::uint64_t revision() const { return revision_; }
 
   // -- linear system --
   /// Size of the state (3 a pose, 2 a landmark).
@@ -148,6 +158,7 @@ class FactorGraph {
   std::map<LandmarkId, LandmarkNode> landmarks_;
   PriorFactor prior_;
   std::uint64_t structure_version_ = 0;
+  std::uint64_t revision_ = 0;
   mutable Layout layout_;
 };
 

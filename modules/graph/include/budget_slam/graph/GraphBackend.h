@@ -6,6 +6,8 @@
 
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/core/BackendRegistry.h"
+#include "budget_slam/core/LandmarkTracks.h"
+#include "budget_slam/graph/EstimateFactorization.h"
 #include "budget_slam/graph/FactorGraph.h"
 #include "budget_slam/graph/GraphOptions.h"
 #include "budget_slam/graph/Solver.h"
@@ -15,7 +17,9 @@ namespace budget_slam::graph {
 
 /// Landmark graph SLAM behind the Backend interface (`--backend graph`; docs/GRAPH.md). Full
 /// smoothing over every kept pose; covariances and information gains are evaluated at the current
-/// estimate from one cached CHOLMOD factorization, rebuilt lazily after any change.
+/// estimate from one CHOLMOD factorization (EstimateFactorization), rebuilt on demand after any
+/// change of the graph. Bad step data (a reading the graph cannot use) is an InputError naming the
+/// step and the reading.
 class GraphBackend : public Backend {
  public:
   /// Reads [GraphSLAM] and the sensor noise keys of [RangeBearingKFSLAM].
@@ -68,29 +72,17 @@ class GraphBackend : public Backend {
   GraphBackend(const GraphBackend& other);
   GraphBackend& operator=(const GraphBackend&) = delete;
 
-  struct Track {  ///< sightings of one landmark (Hochdorfer & Schlegel Eq. 1-2)
-    std::size_t n = 0;
-    Eigen::Vector2d obs_mean = Eigen::Vector2d::Zero();
-    StepIndex first_step = 0, last_step = 0;
-  };
-
   BetweenFactor odometryFactor(const Step& step) const;
-  /// Landmark ids for the step's readings (kNoLandmarkId readings associated or given fresh ids).
-  std::vector<LandmarkId> associate(const RangeBearingScan& scan, StepIndex pose,
-                                    const Pose2& sensor) const;
   Eigen::Matrix2d sensorCovariance() const;
   /// A few warm-started Gauss-Newton iterations (GraphSlamOptions::incremental_iterations).
   void incrementalUpdate();
   /// GraphSlamOptions::max_poses: the oldest poses leave when the graph holds more.
   void boundPoses();
-  /// The estimate or the graph changed: cached factorization and marginals are stale.
-  void touch() { ++estimate_version_; }
-  const SparseCholesky& factorization() const;
 
   GraphSlamOptions options_;
   RangeBearingNoise noise_;
   FactorGraph graph_;
-  std::map<LandmarkId, Track> tracks_;
+  LandmarkTracks tracks_;  ///< sightings of every landmark (Hochdorfer & Schlegel Eq. 1-2)
   LandmarkId next_fresh_id_ = 0;
   std::vector<LandmarkId> last_ids_;  ///< lastAssociation(): one id a reading of the last step
   int poses_since_update_ = 0;
@@ -99,18 +91,11 @@ class GraphBackend : public Backend {
   SparseCholesky solver_chol_;
   IncrementalOrdering solver_ordering_;
 
-  std::uint64_t estimate_version_ = 1;
-  mutable SparseCholesky query_chol_;
-  mutable std::uint64_t query_version_ = 0;
-  /// Estimate version of which an exact factorization was computed, here or in the backend this
-  /// one was cloned from (robotPose() is exact then; the copy refactorizes lazily).
-  mutable std::uint64_t exact_version_ = 0;
+  /// H at the current estimate, factorized on demand for every covariance and gain query; it
+  /// knows the graph state it is of (robotPose() is exact when one was computed for this state).
+  mutable EstimateFactorization factorization_;
   /// Latest pose covariance between factorizations (GraphSlamOptions::exact_pose_covariance).
   mutable std::optional<Eigen::Matrix3d> pose_cov_;
-  /// Landmark marginals at landmark_cov_version_.
-  mutable std::map<LandmarkId, Eigen::Matrix2d> landmark_cov_;
-  mutable std::uint64_t landmark_cov_version_ = 0;
-  mutable IncrementalOrdering query_ordering_;
 };
 
 }  // namespace budget_slam::graph

@@ -1,24 +1,25 @@
 #pragma once
-#include <mrpt/config/CLoadableOptions.h>
-
-#include <string>
-#include <vector>
-
+#include "budget_slam/core/OptionTable.h"
 #include "budget_slam/graph/Solver.h"
 
 namespace budget_slam::graph {
 
-/// [GraphSLAM]: the landmark graph backend (docs/GRAPH.md), MRPT's CLoadableOptions
-/// pattern. Read with budget_slam::IniSection: a bad value is a ConfigError naming the key.
-struct GraphSlamOptions : public mrpt::config::CLoadableOptions {
+/// [GraphSLAM]: the landmark graph backend (docs/GRAPH.md), MRPT's CLoadableOptions pattern with
+/// every key defined once in table() (loading, the dump and the unknown-key check follow from it).
+/// A bad value is a ConfigError naming the section, key and value.
+struct GraphSlamOptions : public TabledOptions<GraphSlamOptions> {
   static constexpr const char* kSection = "GraphSLAM";
 
-  std::string solver = "gauss-newton";  ///< gauss-newton | levenberg-marquardt
-  int max_iterations = 100;             ///< iterations of a full solve (finish(), optimize())
-  double step_tolerance = 1e-10;        ///< converged when max |dx| < this [m, rad]
-  double relative_chi2_tolerance = 0;   ///< ...or chi2 drops by less than this fraction (0: off)
-  double lm_initial_lambda = 1e-5;      ///< Levenberg-Marquardt initial damping (x diag H)
-  double lm_lambda_factor = 10.0;       ///< damping multiplier on reject / divisor on accept
+  /// informationGain(): marginal = docs/GRAPH.md's IG (L marginalized out of the "with" term; a
+  /// landmark seen once gives 0); conditional = Choudhary et al. Alg. 2 as printed (r given L,
+  /// conditionalInformationGain). docs/GRAPH.md "Information gain".
+  enum class InformationGain { Marginal, Conditional };
+
+  /// The full solves (finish(), optimize()), keys `solver` (gauss-newton | levenberg-marquardt:
+  /// SolverSettings::method), `max_iterations` (default 100 here), `step_tolerance` [m, rad],
+  /// `relative_chi2_tolerance`, `lm_initial_lambda`, `lm_lambda_factor`. The incremental updates
+  /// start from these too (Gauss-Newton, incremental_iterations iterations).
+  SolverSettings solver = SolverSettings{SolverSettings::Method::GaussNewton, 100};
 
   /// Incremental schedule: after every `relinearize_every` new poses, or as soon as a step's
   /// re-sightings have a mean whitened squared residual above `relinearize_chi2` (a loop closure),
@@ -61,32 +62,27 @@ struct GraphSlamOptions : public mrpt::config::CLoadableOptions {
   /// Readings without landmark ID: nearest neighbour within this Mahalanobis gate (chi2, 2 dof;
   /// 9.21 = 99 %), otherwise a new landmark.
   double association_gate_chi2 = 9.21;
-  /// informationGain(): marginal = docs/GRAPH.md's IG (L marginalized out of the "with" term; a
-  /// landmark seen once gives 0); conditional = Choudhary et al. Alg. 2 as printed (r given L,
-  /// conditionalInformationGain). docs/GRAPH.md "Information gain".
-  std::string information_gain = "marginal";
+  /// informationGain(): marginal | conditional (InformationGain).
+  InformationGain information_gain = InformationGain::Marginal;
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                          const std::string& section) override;
-  void dumpToTextStream(std::ostream& out) const override;
-  static std::vector<std::string> keys();
-
-  SolverSettings solverSettings() const;
+  /// Every key: name, field, check and unit (the defaults are the initializers above).
+  static const OptionTable<GraphSlamOptions>& table();
+  /// The ini names of `solver` and `information_gain`, in the order errors list them.
+  static const EnumNames<SolverSettings::Method>& solverNames();
+  static const EnumNames<InformationGain>& informationGainNames();
 };
 
 /// Range-bearing sensor noise, read from the same keys as MRPT's EKF
-/// (CRangeBearingKFSLAM2D::TOptions), section [RangeBearingKFSLAM].
-struct RangeBearingNoise : public mrpt::config::CLoadableOptions {
+/// (CRangeBearingKFSLAM2D::TOptions), section [RangeBearingKFSLAM]; the same rule as the EKF's
+/// (ekf::checkMrptKfSlamOptions: IniSection::readStd). keys() lists only these two: the rest of
+/// [RangeBearingKFSLAM] belongs to the EKF.
+struct RangeBearingNoise : public TabledOptions<RangeBearingNoise> {
   static constexpr const char* kSection = "RangeBearingKFSLAM";
 
   double std_sensor_range = 0.1;    ///< [m]
   double std_sensor_yaw_deg = 0.5;  ///< [deg]
 
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& ini,
-                          const std::string& section) override;
-  void dumpToTextStream(std::ostream& out) const override;
-  /// The two keys read here (the rest of [RangeBearingKFSLAM] belongs to the EKF).
-  static std::vector<std::string> keys();
+  static const OptionTable<RangeBearingNoise>& table();
 };
 
 }  // namespace budget_slam::graph
