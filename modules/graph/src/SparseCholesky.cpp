@@ -14,23 +14,32 @@ namespace budget_slam::graph {
 namespace {
 using SpMat = Eigen::SparseMatrix<double>;
 
-/// H's lower triangle as a CHOLMOD matrix (a view, no copy; H must be compressed).
-cholmod_sparse viewLower(const SpMat& H) {
-  if (!H.isCompressed()) throw std::invalid_argument("SparseCholesky: H is not compressed");
+/// A CHOLMOD view (no copy) of a square compressed-column matrix of which only the lower triangle
+/// is read: `p`, `i` as CHOLMOD's column pointers and row indices, `x` the values (null for a
+/// pattern, CHOLMOD_PATTERN).
+cholmod_sparse lowerTriangleView(std::size_t n, std::size_t nonzeros, const int* p, const int* i,
+                                 const double* x) {
   cholmod_sparse A{};
-  A.nrow = static_cast<std::size_t>(H.rows());
-  A.ncol = static_cast<std::size_t>(H.cols());
-  A.nzmax = static_cast<std::size_t>(H.nonZeros());
-  A.p = const_cast<int*>(H.outerIndexPtr());
-  A.i = const_cast<int*>(H.innerIndexPtr());
-  A.x = const_cast<double*>(H.valuePtr());
+  A.nrow = A.ncol = n;
+  A.nzmax = nonzeros;
+  A.p = const_cast<int*>(p);
+  A.i = const_cast<int*>(i);
+  A.x = const_cast<double*>(x);
   A.stype = -1;
   A.itype = CHOLMOD_INT;
-  A.xtype = CHOLMOD_REAL;
+  A.xtype = x ? CHOLMOD_REAL : CHOLMOD_PATTERN;
   A.dtype = CHOLMOD_DOUBLE;
   A.sorted = 1;
   A.packed = 1;
   return A;
+}
+
+/// H's lower triangle as a CHOLMOD matrix (a view, no copy; H must be compressed).
+cholmod_sparse viewLower(const SpMat& H) {
+  if (!H.isCompressed()) throw std::invalid_argument("SparseCholesky: H is not compressed");
+  return lowerTriangleView(static_cast<std::size_t>(H.rows()),
+                           static_cast<std::size_t>(H.nonZeros()), H.outerIndexPtr(),
+                           H.innerIndexPtr(), H.valuePtr());
 }
 }  // namespace
 
@@ -352,17 +361,9 @@ std::vector<int> variableAmdOrdering(const SpMat& H, const std::vector<int>& sta
     Bp[v + 1] = static_cast<int>(Bi.size());
   }
   if (Bi.empty()) Bi.push_back(0);  // a valid pointer for CHOLMOD; nzmax counts none
-  cholmod_sparse B{};
-  B.nrow = B.ncol = static_cast<std::size_t>(nv);
-  B.nzmax = static_cast<std::size_t>(Bp[nv]);
-  B.p = Bp.data();
-  B.i = Bi.data();
-  B.stype = -1;
-  B.itype = CHOLMOD_INT;
-  B.xtype = CHOLMOD_PATTERN;
-  B.dtype = CHOLMOD_DOUBLE;
-  B.sorted = 1;
-  B.packed = 1;
+  cholmod_sparse B =
+      lowerTriangleView(static_cast<std::size_t>(nv), static_cast<std::size_t>(Bp[nv]), Bp.data(),
+                        Bi.data(), nullptr);
   std::vector<int> pv(static_cast<std::size_t>(nv));
   if (!cholmod_amd(&B, nullptr, 0, pv.data(), c)) return {};
   std::vector<int> perm;

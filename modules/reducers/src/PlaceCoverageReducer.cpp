@@ -17,6 +17,22 @@ const EnumNames<PlaceCoverageOptions::TieBreak>& tieBreakNames() {
   return n;
 }
 
+/// Distances [m] from landmark `me` (an index into `map`) to its nearest and its second
+/// nearest other landmark of the map (infinity when there are none).
+std::pair<double, double> nearestTwoDistances(const std::vector<LandmarkView>& map,
+                                              std::size_t me) {
+  double d1 = std::numeric_limits<double>::infinity(), d2 = d1;
+  for (std::size_t i = 0; i < map.size(); ++i) {
+    if (i == me) continue;
+    const double d = (map[i].mean - map[me].mean).norm();
+    if (d < d1)
+      d2 = d1, d1 = d;
+    else if (d < d2)
+      d2 = d;
+  }
+  return {d1, d2};
+}
+
 }  // namespace
 
 const OptionTable<PlaceCoverageOptions>& PlaceCoverageOptions::table() {
@@ -189,7 +205,7 @@ std::vector<LandmarkId> PlaceCoverageReducer::observedFrom(const mrpt::math::TPo
 }
 
 ReducerChoice PlaceCoverageReducer::choose(const DropContext& ctx) {
-  // Least coverage loss; the candidates within near_tie of it go to the information gain.
+  // Least coverage loss; the candidates within near_tie of it go to the tie-break.
   double least = std::numeric_limits<double>::infinity();
   std::vector<double> losses;
   losses.reserve(ctx.candidates.size());
@@ -197,45 +213,35 @@ ReducerChoice PlaceCoverageReducer::choose(const DropContext& ctx) {
     losses.push_back(loss(ctx.landmarks[i].id));
     least = std::min(least, losses.back());
   }
-  std::vector<LandmarkId> tied;
+  std::vector<std::size_t> tied;  // indices into ctx.landmarks
   std::vector<double> tied_loss;
   for (std::size_t c = 0; c < ctx.candidates.size(); ++c)
     if (losses[c] <= least + options_.near_tie) {
-      tied.push_back(ctx.landmarks[ctx.candidates[c]].id);
+      tied.push_back(ctx.candidates[c]);
       tied_loss.push_back(losses[c]);
     }
-  if (tied.size() == 1) return {tied.front(), tied_loss.front()};
-  using T = PlaceCoverageOptions::TieBreak;
-  if (options_.tie_break == T::Spread) {
+  const auto idOf = [&](std::size_t j) { return ctx.landmarks[tied[j]].id; };
+  if (tied.size() == 1) return {idOf(0), tied_loss.front()};
+
+  // The tie-break's key, least goes; equal keys go to the lowest id.
+  std::vector<std::pair<double, double>> key(tied.size());
+  if (options_.tie_break == PlaceCoverageOptions::TieBreak::Spread) {
     // Most crowded first: the least distance [m] to another landmark of the map, then the least
-    // distance to the second nearest, then the lowest id. Unlike information gain, this does not
-    // depend on how long a landmark has been observed, so a newcomer after its one-step
-    // probation is not always the one to go (docs/ALGORITHMS.md "place-coverage").
-    std::size_t best = 0;
-    std::pair<double, double> best_key{0, 0};
-    for (std::size_t j = 0; j < tied.size(); ++j) {
-      const auto& me = *std::find_if(ctx.landmarks.begin(), ctx.landmarks.end(),
-                                     [&](const LandmarkView& l) { return l.id == tied[j]; });
-      double d1 = std::numeric_limits<double>::infinity(), d2 = d1;
-      for (const LandmarkView& o : ctx.landmarks) {
-        if (o.id == me.id) continue;
-        const double d = (o.mean - me.mean).norm();
-        if (d < d1)
-          d2 = d1, d1 = d;
-        else if (d < d2)
-          d2 = d;
-      }
-      const std::pair<double, double> key{d1, d2};
-      if (j == 0 || key < best_key || (key == best_key && tied[j] < tied[best]))
-        best = j, best_key = key;
-    }
-    return {tied[best], tied_loss[best]};
+    // distance to the second nearest. Unlike information gain, this does not depend on how long
+    // a landmark has been observed, so a newcomer after its one-step probation is not always the
+    // one to go (docs/ALGORITHMS.md "place-coverage").
+    for (std::size_t j = 0; j < tied.size(); ++j)
+      key[j] = nearestTwoDistances(ctx.landmarks, tied[j]);
+  } else {
+    std::vector<LandmarkId> ids(tied.size());
+    for (std::size_t j = 0; j < tied.size(); ++j) ids[j] = idOf(j);
+    const std::vector<double> gains = ctx.backend.informationGain(ids);
+    for (std::size_t j = 0; j < tied.size(); ++j) key[j] = {gains[j], 0.0};
   }
-  const std::vector<double> gains = ctx.backend.informationGain(tied);
   std::size_t best = 0;
   for (std::size_t j = 1; j < tied.size(); ++j)
-    if (gains[j] < gains[best] || (gains[j] == gains[best] && tied[j] < tied[best])) best = j;
-  return {tied[best], tied_loss[best]};
+    if (key[j] < key[best] || (key[j] == key[best] && idOf(j) < idOf(best))) best = j;
+  return {idOf(best), tied_loss[best]};
 }
 
 ReducerRegistry::Entry PlaceCoverageReducer::entry() {
