@@ -6,24 +6,25 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <set>
 #include <sstream>
 
 #include "BuiltinBackends.h"
-#include "Interrupt.h"
 #include "ProgressBar.h"
 #include "RunConfig.h"
 #include "RunDriver.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/IniText.h"
+#include "budget_slam/core/StopSignals.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
-#include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/RunFiles.h"
 
 namespace budget_slam::app {
@@ -254,12 +255,26 @@ int BudgetSlamApp::run() {
   if (!err) err = &std::cerr;
   if (!help_.empty()) {
     *out << help_ << std::flush;
-    return kExitOk;
+    return stdoutWritten("") ? kExitOk : kExitFailed;
   }
-  InterruptGuard guard;
-  InterruptGuard::clear();
-  if (cli_.command == "localize") return runLocalize();
-  return cli_.command == "compare" ? runCompare() : runRun();
+  // Under main(), its guard has been there since start-up and a signal that came meanwhile still
+  // counts; in a library (tests, Python), a stop request left by an earlier run does not.
+  const bool first_guard = !StopSignals::installed();
+  StopSignals signals;
+  if (first_guard) Cancellation::clear();
+  try {
+    if (cli_.command == "localize") return runLocalize();
+    return cli_.command == "compare" ? runCompare() : runRun();
+  } catch (const std::exception& e) {
+    // What the commands could not catch themselves (out of memory while reporting a failure).
+    *err << "budget-slam: error: " << failureLine(e) << std::endl;
+    return kExitFailed;
+  }
+}
+
+bool BudgetSlamApp::stdoutWritten(const std::string& outdir) {
+  return flushStdout(*out, *err, "budget-slam",
+                     outdir.empty() ? "" : "; the outputs are in " + outdir + "/");
 }
 
 int BudgetSlamApp::runRun() {
@@ -270,11 +285,14 @@ int BudgetSlamApp::runRun() {
 
   if (!cli_.rawlog.empty()) given["rawlog"] = cli_.rawlog;
   const auto fail = [&](const std::string& why, const std::string& status) {
-    // One printable line whatever the message echoes (corrupt bytes of a file, say).
+    // One printable line whatever the message echoes (corrupt bytes of a file, say), which also
+    // says why summary.json could not be written when it could not.
     const std::string msg = printable(why);
-    *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ") << msg << std::endl;
     std::string not_saved;
     try {
+      // A run that ended before its first step made nothing to keep: the next run into the
+      // folder replaces its files (report/OutputFolder.h).
+      given["started"] = driver && driver->lastStep().has_value();
       if (driver) {
         driver->finish(status, msg, steps_read, given);
         not_saved = driver->summaryError();
@@ -282,19 +300,19 @@ int BudgetSlamApp::runRun() {
         nlohmann::json j = {{"status", status}, {"error", msg}};
         j.update(given);
         if (!folder->earlierRun().empty()) j["earlier_run_moved_to"] = folder->earlierRun();
-        report::writeJson(folder->file("summary.json"), j);
+        report::writeSummaryJson(folder->file("summary.json"), j);
       }
     } catch (const std::exception& e) {
-      not_saved = exceptionLine(e);
+      not_saved = failureLine(e);
     }
-    if (!not_saved.empty())
-      *err << "budget-slam: error: while saving outputs: " << not_saved << std::endl;
-    return status == "interrupted" ? 130 : 1;
+    *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ")
+         << withAlso(msg, not_saved) << std::endl;
+    return status == "interrupted" ? kExitInterrupted : kExitFailed;
   };
   // Where a stop request (Ctrl-C) found the run: the last step whose outputs are written.
   const auto interrupted = [&](const char* where) {
     const auto last = driver ? driver->lastStep() : std::nullopt;
-    return std::string("interrupted by ") + InterruptGuard::what() + where +
+    return std::string("interrupted by ") + Cancellation::signalName() + where +
            (last ? " after step " + std::to_string(*last) : std::string(" before the first step"));
   };
 
@@ -304,9 +322,8 @@ int BudgetSlamApp::runRun() {
     rc = loadRunConfig(params, cli_, config_label_);
   } catch (const std::exception& e) {
     // Error: a bad value, key or file; anything else (MRPT's own exceptions) in one line.
-    const std::string why = dynamic_cast<const Error*>(&e)
-                                ? std::string(e.what())
-                                : config_label_ + ": " + exceptionLine(e);
+    const std::string why = dynamic_cast<const Error*>(&e) ? std::string(e.what())
+                                                           : config_label_ + ": " + failureLine(e);
     if (!cli_.outdir.empty()) {
       try {
         folder.emplace(cli_.outdir, cli_.force);
@@ -331,9 +348,11 @@ int BudgetSlamApp::runRun() {
            << std::endl;
   }
 
+  // A stop request that came while the program started.
+  if (Cancellation::requested()) return fail(interrupted(""), "interrupted");
   bool end_phase = false;
   try {
-    report::writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
+    writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
     auto truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
     driver = std::make_unique<RunDriver>(rc.ini, rc.mapping.backend, rc.budget, *folder, truth,
@@ -341,14 +360,14 @@ int BudgetSlamApp::runRun() {
 
     dataset::RawlogReader reader(rc.rawlog);
     // A signal ends the reading within one read of the file, even inside a large object.
-    reader.setStopCheck([] { return InterruptGuard::requested(); });
+    reader.setStopCheck([] { return Cancellation::requested(); });
     ProgressBar bar(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
     const std::size_t limit = rc.mapping.max_steps;
     while (limit == 0 || steps_read < limit) {
       auto step = reader.next();
       if (!step && reader.stopped()) {
         bar.done();
-        return fail(std::string("interrupted by ") + InterruptGuard::what() +
+        return fail(std::string("interrupted by ") + Cancellation::signalName() +
                         " while reading step " + std::to_string(reader.stepsRead()),
                     "interrupted");
       }
@@ -359,7 +378,7 @@ int BudgetSlamApp::runRun() {
                                         std::to_string(driver->backend().landmarkCount()) +
                                         " landmarks");
       if (on_step) on_step(step->index);
-      if (InterruptGuard::requested()) {
+      if (Cancellation::requested()) {
         bar.done();
         return fail(interrupted(""), "interrupted");
       }
@@ -371,6 +390,7 @@ int BudgetSlamApp::runRun() {
 
     end_phase = true;
     if (on_end_phase) on_end_phase();
+    given["started"] = driver->lastStep().has_value();
     const RunResult result = driver->finish("ok", "", steps_read, given);
     // Shadow reducers are only logged; their failures end nothing, but are never silent.
     for (const auto& f : driver->budget().shadowFailures())
@@ -379,8 +399,8 @@ int BudgetSlamApp::runRun() {
       // An output that could not be written (a full disk): the run failed, summary.json says so
       // when it could still be written.
       const std::string why = result.status != "ok" ? result.error : driver->writeError();
-      *err << "budget-slam: error: " << why << std::endl;
-      return 1;
+      *err << "budget-slam: error: " << withAlso(why, driver->summaryError()) << std::endl;
+      return kExitFailed;
     }
     if (!cli_.quiet) {
       const auto pose = driver->backend().robotPose().mean;
@@ -403,13 +423,11 @@ int BudgetSlamApp::runRun() {
       *out << "\noutputs in " << folder->path() << "/ (" << fixed(driver->totalStepSeconds(), 2)
            << " s of SLAM)\n";
     }
-    return 0;
+    return stdoutWritten(folder->path()) ? kExitOk : kExitFailed;
   } catch (const Interrupted&) {
     return fail(interrupted(end_phase ? " in the end phase," : ""), "interrupted");
-  } catch (const Error& e) {
-    return fail(e.what(), "failed");
   } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + exceptionLine(e), "failed");
+    return fail(failureLine(e), "failed");
   }
 }
 

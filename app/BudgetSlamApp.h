@@ -24,10 +24,10 @@ struct CommandLine {
   unsigned threads = 0;               ///< compare: --threads, 0 = one a core
   bool offline_optimum = false;       ///< compare: --offline-optimum
   bool quiet = false, force = false;
-  std::string map_dir;                   ///< localize: --map RUN_DIR
-  std::string start_pose;                ///< localize: --start-pose x,y,yaw_deg ("" = derive)
-  std::string reference_trajectory;      ///< localize, compare: --reference-trajectory
-  std::vector<std::string> relocalize;   ///< compare: --relocalize a.rawlog,b.rawlog
+  std::string map_dir;                    ///< localize: --map RUN_DIR
+  std::optional<std::string> start_pose;  ///< localize: --start-pose x,y,yaw_deg (none: derive)
+  std::string reference_trajectory;       ///< localize, compare: --reference-trajectory
+  std::vector<std::string> relocalize;    ///< compare: --relocalize a.rawlog,b.rawlog
 };
 
 /// The budget-slam application: a thin main() calls initialize() and run(); tests drive it with an
@@ -61,6 +61,9 @@ class BudgetSlamApp {
  private:
   int runRun();
   int runCompare();
+  /// Flushes `out`. False, after one line on `err`, when stdout cannot take it (a closed pipe):
+  /// the command then exits 1, its outputs (in `outdir`, when given) complete.
+  bool stdoutWritten(const std::string& outdir);
   /// Checks and parses the -c text read by initialize() into `params` (core/IniText.h): a
   /// binary file, prose, a duplicated key or a failed ${...} is a ConfigError naming the line.
   void loadConfig();

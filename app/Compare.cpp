@@ -8,14 +8,15 @@
 
 #include "BudgetSlamApp.h"
 #include "CompareRuns.h"
-#include "Interrupt.h"
 #include "OfflineOptimum.h"
 #include "ProgressBar.h"
 #include "Relocalize.h"
 #include "RunConfig.h"
 #include "RunDriver.h"
 #include "budget_slam/core/Cancellation.h"
+#include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
@@ -23,7 +24,6 @@
 #include "budget_slam/metrics/ReferenceMetrics.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/ComparisonTable.h"
-#include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/report/RunFiles.h"
@@ -73,7 +73,7 @@ std::optional<std::vector<Step>> readSteps(const std::string& rawlog, std::size_
                                            ProgressBar& reading) {
   std::vector<Step> steps;
   dataset::RawlogReader reader(rawlog);
-  reader.setStopCheck([] { return InterruptGuard::requested(); });
+  reader.setStopCheck([] { return Cancellation::requested(); });
   while (limit == 0 || steps.size() < limit) {
     auto s = reader.next();
     if (s) {
@@ -82,7 +82,7 @@ std::optional<std::vector<Step>> readSteps(const std::string& rawlog, std::size_
     } else if (!reader.stopped()) {
       break;
     }
-    if (InterruptGuard::requested()) {
+    if (Cancellation::requested()) {
       reading.done();
       return std::nullopt;
     }
@@ -94,11 +94,11 @@ std::optional<std::vector<Step>> readSteps(const std::string& rawlog, std::size_
 }
 
 /// The reference run (reducer none) and one run a reducer of `names`, each with its folder under
-/// `top` and its config_used.ini.
-Runs makeRuns(const RunConfig& rc, const std::vector<std::string>& names,
+/// `top` and its config_used.ini, appended to `runs` one by one (on an error, the runs made so far
+/// are there to say why in their summary.json).
+void makeRuns(const RunConfig& rc, const std::vector<std::string>& names,
               const report::OutputFolder& top, bool force,
-              const std::shared_ptr<dataset::GroundTruth>& truth) {
-  Runs runs;
+              const std::shared_ptr<dataset::GroundTruth>& truth, Runs& runs) {
   std::vector<std::string> all = {kReference};
   all.insert(all.end(), names.begin(), names.end());
   for (const auto& name : all) {
@@ -110,11 +110,10 @@ Runs makeRuns(const RunConfig& rc, const std::vector<std::string>& names,
     budget.reducer = name == kReference ? "none" : name;
     ini.write(reducers::BudgetOptions::kSection, "reducer", budget.reducer);
     report::OutputFolder folder(top.file(name), force);
-    report::writeFileAtomically(folder.file("config_used.ini"), ini.getContent());
+    writeFileAtomically(folder.file("config_used.ini"), ini.getContent());
     run->driver = std::make_unique<RunDriver>(ini, rc.mapping.backend, budget, folder, truth);
     runs.push_back(std::move(run));
   }
-  return runs;
 }
 
 /// Ends run `r`: its metrics against the reference (when both are ok) and its outputs
@@ -254,8 +253,7 @@ void writeComparisonChart(const std::string& path, const Runs& runs, const std::
   report::writeChartPng(path, panels);
 }
 
-/// --offline-optimum: offline_optimum.csv, and its table appended to comparison.md; returns the
-/// table.
+/// --offline-optimum: offline_optimum.csv; returns its table (for comparison.md).
 std::string writeOfflineOptimumFiles(const report::OutputFolder& top, const RunConfig& rc,
                                      const Runs& runs, const std::vector<Step>& steps) {
   if (!rc.budget.max_landmarks) throw InputError("--offline-optimum needs a cap (not --cap none)");
@@ -268,7 +266,6 @@ std::string writeOfflineOptimumFiles(const report::OutputFolder& top, const RunC
   const std::string table =
       writeOfflineOptimum(top.file("offline_optimum.csv"), rc.ini, steps,
                           runs.front()->driver->onlinePoses(), maps, *rc.budget.max_landmarks);
-  std::ofstream(top.file("comparison.md"), std::ios::app) << table;
   return table;
 }
 
@@ -276,17 +273,30 @@ std::string writeOfflineOptimumFiles(const report::OutputFolder& top, const RunC
 
 int BudgetSlamApp::runCompare() {
   std::optional<report::OutputFolder> top;
-  const auto fail = [&](const std::string& why) {
+  Runs runs;
+  // A failure before the runs started: one line, the top summary.json and those of the runs made
+  // so far say why (and that nothing started: the next compare into the folder replaces them).
+  const auto fail = [&](const std::string& why, const std::string& status = "failed") {
     const std::string msg = printable(why);  // one line, valid UTF-8 (summary.json)
-    *err << "budget-slam: error: " << msg << std::endl;
+    std::string not_saved;
+    const nlohmann::json j = {{"status", status}, {"error", msg}, {"started", false}};
     if (top) {
+      for (const auto& r : runs) {
+        try {
+          r->driver->finish(status, "the comparison did not start: " + msg, 0, j);
+        } catch (const std::exception&) {
+          // its line is this failure's line; the top summary says it
+        }
+      }
       try {
-        report::writeJson(top->file("summary.json"), {{"status", "failed"}, {"error", msg}});
+        report::writeSummaryJson(top->file("summary.json"), j);
       } catch (const std::exception& e) {
-        *err << "budget-slam: error: while saving outputs: " << exceptionLine(e) << std::endl;
+        not_saved = failureLine(e);
       }
     }
-    return 1;
+    *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ")
+         << withAlso(msg, not_saved) << std::endl;
+    return status == "interrupted" ? kExitInterrupted : kExitFailed;
   };
 
   RunConfig rc;
@@ -318,33 +328,32 @@ int BudgetSlamApp::runCompare() {
          << top->earlierRun() << "/" << std::endl;
 
   const bool show_progress = !cli_.quiet && err == &std::cerr && stderrIsTerminal();
-  Runs runs;
   std::shared_ptr<dataset::GroundTruth> truth;
   std::vector<Step> steps;
   std::vector<Traversal> traversals;           // --relocalize
   std::vector<TrajectoryPoint> reference_tum;  // --reference-trajectory
   try {
+    Cancellation::check();  // a stop request that came while the program started
     traversals = loadTraversals(params, cli_, config_label_);
     if (!cli_.reference_trajectory.empty())
       reference_tum = report::readTrajectoryTum(cli_.reference_trajectory, 50'000'000);
-    report::writeFileAtomically(top->file("config_used.ini"), rc.ini.getContent());
+    writeFileAtomically(top->file("config_used.ini"), rc.ini.getContent());
     truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
     ProgressBar reading(*err, show_progress);
     auto read = readSteps(rc.rawlog, rc.mapping.max_steps, reading);
-    if (!read) {
-      *err << "budget-slam: interrupted by " << InterruptGuard::what()
-           << " while reading the rawlog" << std::endl;
-      report::writeJson(top->file("summary.json"),
-                        {{"status", "interrupted"}, {"error", "interrupted while reading"}});
-      return 130;
-    }
+    if (!read)
+      return fail(
+          std::string("interrupted by ") + Cancellation::signalName() + " while reading the rawlog",
+          "interrupted");
     steps = std::move(*read);
-    runs = makeRuns(rc, names, *top, cli_.force, truth);
-  } catch (const Error& e) {
-    return fail(e.what());
+    makeRuns(rc, names, *top, cli_.force, truth, runs);
+  } catch (const Interrupted&) {
+    return fail(
+        std::string("interrupted by ") + Cancellation::signalName() + " before the first step",
+        "interrupted");
   } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + exceptionLine(e));
+    return fail(failureLine(e));
   }
 
   // One thread a core, each taking whole runs; every run's outputs are written whatever its end.
@@ -352,7 +361,9 @@ int BudgetSlamApp::runCompare() {
   const std::size_t threads = std::max<std::size_t>(1, std::min<std::size_t>(wanted, runs.size()));
   {
     ProgressBar bar(*err, show_progress);
-    runInThreads(runs, steps, threads, on_end_phase, bar);
+    const std::string fewer = runInThreads(runs, steps, threads, on_end_phase, bar);
+    if (!fewer.empty())
+      *err << "budget-slam: warning: " << fewer << "; the runs went on in them" << std::endl;
   }
 
   // Metrics against the reference, then every run's files.
@@ -387,33 +398,59 @@ int BudgetSlamApp::runCompare() {
                                  cli_.reference_trajectory.empty() ? nullptr : &reference_tum, cli_,
                                  rows, outcome);
 
+  // Every output is attempted; the first that cannot be written (a full disk) fails the
+  // comparison in one line, and summary.json, written last, says which were not.
+  std::vector<std::string> not_written;
+  const auto attempt = [&](const std::string& name, const std::function<void()>& write) {
+    try {
+      write();
+    } catch (const std::exception& e) {
+      if (not_written.empty()) outcome.add("failed", report::outputFailureLine(e), true);
+      not_written.push_back(name);
+    }
+  };
+  attempt("comparison.csv", [&] { report::writeComparisonCsv(top->file("comparison.csv"), rows); });
+  if (!traversals.empty())
+    attempt("relocalization.csv",
+            [&] { writeRelocalizationCsv(top->file("relocalization.csv"), relocalized); });
+  const std::string title = "budget-slam compare: " + rc.rawlog + ", backend " +
+                            rc.mapping.backend + ", cap " +
+                            reducers::BudgetOptions::capText(rc.budget.max_landmarks) + ", " +
+                            std::to_string(steps.size()) + " steps";
+  std::string md;
+  attempt("comparison.md",
+          [&] { md = report::writeComparisonMarkdown(top->file("comparison.md"), title, rows); });
+  if (cli_.offline_optimum)
+    attempt("offline_optimum.csv", [&] {
+      md += writeOfflineOptimumFiles(*top, rc, runs, steps);
+      writeFileAtomically(top->file("comparison.md"), md);  // the table with its optimum
+    });
+  attempt("comparison.png",
+          [&] { writeComparisonChart(top->file("comparison.png"), runs, steps, truth.get()); });
+  const int code = outcome.exit_code;
+  nlohmann::json summary = {{"status", code == 0 ? "ok" : (code == 130 ? "interrupted" : "failed")},
+                            {"error", outcome.first_error},
+                            {"started", true},
+                            {"rawlog", rc.rawlog},
+                            {"sidecar_ini", rc.sidecar},
+                            {"config", config_label_},
+                            {"runs", names.size() + 1},
+                            {"steps", steps.size()},
+                            {"threads", threads}};
+  if (!not_written.empty()) summary["files_not_written"] = not_written;
+  if (!top->earlierRun().empty()) summary["earlier_run_moved_to"] = top->earlierRun();
   try {
-    report::writeComparisonCsv(top->file("comparison.csv"), rows);
-    if (!traversals.empty()) writeRelocalizationCsv(top->file("relocalization.csv"), relocalized);
-    const std::string title = "budget-slam compare: " + rc.rawlog + ", backend " +
-                              rc.mapping.backend + ", cap " +
-                              reducers::BudgetOptions::capText(rc.budget.max_landmarks) + ", " +
-                              std::to_string(steps.size()) + " steps";
-    std::string md = report::writeComparisonMarkdown(top->file("comparison.md"), title, rows);
-    if (cli_.offline_optimum) md += writeOfflineOptimumFiles(*top, rc, runs, steps);
-    writeComparisonChart(top->file("comparison.png"), runs, steps, truth.get());
-    const int code = outcome.exit_code;
-    nlohmann::json summary = {
-        {"status", code == 0 ? "ok" : (code == 130 ? "interrupted" : "failed")},
-        {"error", outcome.first_error},
-        {"rawlog", rc.rawlog},
-        {"sidecar_ini", rc.sidecar},
-        {"config", config_label_},
-        {"runs", names.size() + 1},
-        {"steps", steps.size()},
-        {"threads", threads}};
-    if (!top->earlierRun().empty()) summary["earlier_run_moved_to"] = top->earlierRun();
-    report::writeJson(top->file("summary.json"), summary);
-    if (!cli_.quiet) *out << md << "outputs in " << top->path() << "/\n";
+    report::writeSummaryJson(top->file("summary.json"), summary);
   } catch (const std::exception& e) {
-    return fail(std::string("while saving outputs: ") + exceptionLine(e));
+    // Said with the comparison's last line (one line more only when there was none).
+    if (outcome.lines.empty())
+      outcome.add("failed", failureLine(e), true);
+    else
+      outcome.lines.back() = withAlso(outcome.lines.back(), failureLine(e)), outcome.exit_code = 1;
   }
+  if (!cli_.quiet && !md.empty()) *out << md << "outputs in " << top->path() << "/\n";
   for (const auto& line : outcome.lines) *err << "budget-slam: " << printable(line) << std::endl;
+  if (!stdoutWritten(top->path()) && outcome.exit_code == 0) return kExitFailed;
   return outcome.exit_code;
 }
 

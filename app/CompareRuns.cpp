@@ -5,6 +5,7 @@
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Text.h"
+#include "budget_slam/core/WorkerThreads.h"
 
 namespace budget_slam::app {
 namespace {
@@ -33,7 +34,7 @@ void runOne(CompareRun& r, const std::vector<Step>& steps,
     r.error = interruptedLine(r, end_phase ? " in the end phase," : "");
   } catch (const std::exception& e) {
     r.status = "failed";
-    r.error = exceptionLine(e);
+    r.error = failureLine(e);
   }
 }
 
@@ -45,16 +46,15 @@ std::string interruptedLine(const CompareRun& r, const char* where) {
          (last ? " after step " + std::to_string(*last) : std::string(" before the first step"));
 }
 
-void runInThreads(std::vector<std::unique_ptr<CompareRun>>& runs, const std::vector<Step>& steps,
-                  std::size_t threads, const std::function<void()>& on_end_phase,
-                  ProgressBar& bar) {
+std::string runInThreads(std::vector<std::unique_ptr<CompareRun>>& runs,
+                         const std::vector<Step>& steps, std::size_t threads,
+                         const std::function<void()>& on_end_phase, ProgressBar& bar) {
   std::atomic<std::size_t> next{0};
   const auto worker = [&] {
     for (std::size_t i; (i = next++) < runs.size();) runOne(*runs[i], steps, on_end_phase);
   };
-  std::vector<std::thread> pool;
-  for (std::size_t t = 0; t < threads; ++t) pool.emplace_back(worker);
-  for (;;) {
+  WorkerThreads pool(threads, worker);
+  while (pool.started() > 0) {
     std::size_t done = 0, finished = 0;
     for (const auto& r : runs) {
       done += r->steps_done;
@@ -65,8 +65,9 @@ void runInThreads(std::vector<std::unique_ptr<CompareRun>>& runs, const std::vec
     if (next >= runs.size() && finished == runs.size()) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  for (auto& t : pool) t.join();
+  pool.join();  // no thread started: the runs go on here, one after the other
   bar.done();
+  return pool.failure();
 }
 
 }  // namespace budget_slam::app

@@ -27,9 +27,11 @@ struct CompareRun {
 /// including its end phase (RunDriver::complete; `on_end_phase` is called first, from the worker
 /// thread); `bar` shows the steps done over all runs. A stop request (Ctrl-C) ends each run
 /// between two steps, or inside a step or the end phase (core/Cancellation.h): the run's status
-/// is then interrupted; an error makes it failed. Returns when every run has ended.
-void runInThreads(std::vector<std::unique_ptr<CompareRun>>& runs, const std::vector<Step>& steps,
-                  std::size_t threads, const std::function<void()>& on_end_phase, ProgressBar& bar);
+/// is then interrupted; an error makes it failed. Returns when every run has ended; fewer threads
+/// than asked for (core/WorkerThreads.h) is not an error: returns why, "" when all started.
+std::string runInThreads(std::vector<std::unique_ptr<CompareRun>>& runs,
+                         const std::vector<Step>& steps, std::size_t threads,
+                         const std::function<void()>& on_end_phase, ProgressBar& bar);
 
 /// "interrupted by SIGINT<where> after step k" (or "before the first step") for run `r`.
 std::string interruptedLine(const CompareRun& r, const char* where);

@@ -7,16 +7,18 @@
 #include <sstream>
 
 #include "BudgetSlamApp.h"
-#include "Interrupt.h"
 #include "Localizer.h"
 #include "MapFolder.h"
 #include "ProgressBar.h"
 #include "RunConfig.h"
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/FileWrite.h"
+#include "budget_slam/core/InputLimits.h"
+#include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
-#include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/report/RunFiles.h"
 
@@ -36,19 +38,25 @@ std::string fixed(double v, int digits) {
   return o.str();
 }
 
-/// "x,y,yaw_deg" -> pose (yaw in radians). ConfigError naming the flag.
+/// "x,y,yaw_deg" -> pose (yaw in radians): three finite numbers, x and y within
+/// limits::kMaxCoordinate, yaw within limits::kMaxAngle. ConfigError naming the flag.
 mrpt::math::TPose2D parseStartPose(const std::string& text) {
+  const std::string what = "--start-pose '" + printable(text) + "'";
   std::stringstream ss(text);
   std::vector<double> v;
   for (std::string item; std::getline(ss, item, ',');) {
     char* end = nullptr;
     const double d = std::strtod(item.c_str(), &end);
     if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(d))
-      throw ConfigError("--start-pose '" + text + "': expected x,y,yaw (metres, metres, degrees)");
+      throw ConfigError(what + ": expected x,y,yaw (metres, metres, degrees)");
     v.push_back(d);
   }
-  if (v.size() != 3)
-    throw ConfigError("--start-pose '" + text + "': expected x,y,yaw (metres, metres, degrees)");
+  if (v.size() != 3 || text.empty() || text.back() == ',')
+    throw ConfigError(what + ": expected x,y,yaw (metres, metres, degrees)");
+  if (std::abs(v[0]) > limits::kMaxCoordinate || std::abs(v[1]) > limits::kMaxCoordinate)
+    throw ConfigError(what + ": x and y must be within 1e6 m of the map's origin");
+  if (std::abs(v[2] * kDeg) > limits::kMaxAngle)
+    throw ConfigError(what + ": yaw must be within 720 degrees");
   return {v[0], v[1], v[2] * kDeg};
 }
 
@@ -105,14 +113,15 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
   cli_.map_dir = map.getValue();
   cli_.rawlog = rawlog.getValue();
   cli_.outdir = outdir.getValue();
-  cli_.start_pose = start.getValue();
+  // Given empty, it is still given: refused below, never taken as "derive it".
+  if (start.isSet()) cli_.start_pose = start.getValue();
   cli_.reference_trajectory = reference.getValue();
   cli_.sets = sets.getValue();
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
   // a bad start pose is part of the command line: exit 2 before anything is written
-  if (!cli_.start_pose.empty()) try {
-      parseStartPose(cli_.start_pose);
+  if (cli_.start_pose) try {
+      parseStartPose(*cli_.start_pose);
     } catch (const ConfigError& e) {
       throw UsageError(e.what() + std::string("; see budget-slam localize --help"));
     }
@@ -122,18 +131,27 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
 int BudgetSlamApp::runLocalize() {
   std::optional<report::OutputFolder> folder;
   std::unique_ptr<Localizer> localizer;
-  const auto fail = [&](const std::string& msg, const std::string& status) {
-    *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ") << msg << std::endl;
+  // One line, which also says why summary.json could not be written when it could not.
+  const auto fail = [&](const std::string& why, const std::string& status) {
+    const std::string msg = printable(why);
+    std::string not_saved;
     try {
-      if (localizer)
-        localizer->finish(status, msg, {{"map", cli_.map_dir}});
-      else if (folder)
-        report::writeJson(folder->file("summary.json"),
-                          {{"status", status}, {"error", msg}, {"command", "localize"}});
+      // Before the first step nothing is worth keeping: the next command replaces it.
+      const bool started = localizer && localizer->stepsDone() > 0;
+      if (localizer) {
+        localizer->finish(status, msg, {{"map", cli_.map_dir}, {"started", started}});
+        not_saved = localizer->summaryError();
+      } else if (folder) {
+        report::writeSummaryJson(
+            folder->file("summary.json"),
+            {{"status", status}, {"error", msg}, {"command", "localize"}, {"started", false}});
+      }
     } catch (const std::exception& e) {
-      *err << "budget-slam: error: while saving outputs: " << e.what() << std::endl;
+      not_saved = failureLine(e);
     }
-    return status == "interrupted" ? 130 : 1;
+    *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ")
+         << withAlso(msg, not_saved) << std::endl;
+    return status == "interrupted" ? kExitInterrupted : kExitFailed;
   };
 
   RunConfig rc;
@@ -150,7 +168,8 @@ int BudgetSlamApp::runLocalize() {
   }
 
   try {
-    report::writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
+    Cancellation::check();  // a stop request that came while the program started
+    writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
     metrics::MetricsOptions metric_options;
     metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);
     const MapFolder map = loadMapFolder(cli_.map_dir, rc.localization.max_map_landmarks);
@@ -163,15 +182,19 @@ int BudgetSlamApp::runLocalize() {
     // The traversal is read whole first: the ground-truth row of a step depends on the count.
     std::vector<Step> steps;
     dataset::RawlogReader reader(rc.rawlog);
+    // A signal ends the reading within one read of the file, even inside a large object.
+    reader.setStopCheck([] { return Cancellation::requested(); });
     ProgressBar bar(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
-    while (auto s = reader.next()) {
-      steps.push_back(std::move(*s));
-      if (InterruptGuard::requested()) {
+    for (;;) {
+      auto s = reader.next();
+      if (s) steps.push_back(std::move(*s));
+      if (Cancellation::requested()) {
         bar.done();
-        return fail(
-            std::string("interrupted by ") + InterruptGuard::what() + " while reading the rawlog",
-            "interrupted");
+        return fail(std::string("interrupted by ") + Cancellation::signalName() +
+                        " while reading the rawlog",
+                    "interrupted");
       }
+      if (!s) break;
     }
     if (reader.bearingRangeSteps() == 0)
       throw InputError("rawlog '" + rc.rawlog + "' holds no CObservationBearingRange");
@@ -180,7 +203,7 @@ int BudgetSlamApp::runLocalize() {
       steps.resize(rc.localization.max_steps);
 
     std::optional<mrpt::math::TPose2D> given;
-    if (!cli_.start_pose.empty()) given = parseStartPose(cli_.start_pose);
+    if (cli_.start_pose) given = parseStartPose(*cli_.start_pose);
     if (!truth.path.empty() && !map.alignment && reference.empty() && !given)
       throw InputError(cli_.map_dir +
                        "/summary.json: no ground_truth.map_alignment (the map was made without "
@@ -197,9 +220,9 @@ int BudgetSlamApp::runLocalize() {
       bar.update(static_cast<double>(localizer->stepsDone()) / steps.size(),
                  "step " + std::to_string(s.index));
       if (on_step) on_step(s.index);
-      if (InterruptGuard::requested()) {
+      if (Cancellation::requested()) {
         bar.done();
-        return fail(std::string("interrupted by ") + InterruptGuard::what() + " after step " +
+        return fail(std::string("interrupted by ") + Cancellation::signalName() + " after step " +
                         std::to_string(s.index),
                     "interrupted");
       }
@@ -210,7 +233,14 @@ int BudgetSlamApp::runLocalize() {
                                             {"sidecar_ini", rc.sidecar},
                                             {"config", config_label_},
                                             {"map", cli_.map_dir},
-                                            {"map_status", map.status}});
+                                            {"map_status", map.status},
+                                            {"started", true}});
+    if (!localizer->writeError().empty()) {
+      // An output that could not be written (a full disk): summary.json says which, if it could.
+      *err << "budget-slam: error: " << withAlso(localizer->writeError(), localizer->summaryError())
+           << std::endl;
+      return kExitFailed;
+    }
     if (!cli_.quiet) {
       const auto sc = localizer->score();
       *out << "budget-slam localize: " << sc.steps << " steps in a map of " << map.landmarks.size()
@@ -230,11 +260,13 @@ int BudgetSlamApp::runLocalize() {
              << summary["localization"]["diverged_at_step"] << "\n";
       *out << "outputs in " << folder->path() << "/\n";
     }
-    return 0;
-  } catch (const Error& e) {
-    return fail(e.what(), "failed");
+    return stdoutWritten(folder->path()) ? kExitOk : kExitFailed;
+  } catch (const Interrupted&) {
+    return fail(
+        std::string("interrupted by ") + Cancellation::signalName() + " before the first step",
+        "interrupted");
   } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + e.what(), "failed");
+    return fail(failureLine(e), "failed");
   }
 }
 

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/Text.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/metrics/NeesAccumulator.h"
 #include "budget_slam/report/Pictures.h"
@@ -189,31 +191,49 @@ void Localizer::process(const Step& step) {
 
 nlohmann::json Localizer::finish(const std::string& status, const std::string& error,
                                  const nlohmann::json& extra) {
+  // Every output is attempted (a full disk fails some); summary.json, last, says which were not.
+  std::vector<std::string> not_written;
+  const auto attempt = [&](const std::string& name, const std::function<void()>& write) {
+    try {
+      write();
+    } catch (const std::exception& e) {
+      not_written.push_back(name);
+      if (write_error_.empty()) write_error_ = report::outputFailureLine(e);
+    }
+  };
+  attempt("steps.csv", [&] { steps_csv_.close(); });
   const auto landmarks = kf_.landmarks();
-  report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory_);
-  report::writeLandmarksCsv(folder_.file("landmarks.csv"), diverged_at_ ? std::vector<LandmarkView>() : landmarks);
+  attempt("trajectory.tum",
+          [&] { report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory_); });
+  attempt("landmarks.csv", [&] {
+    report::writeLandmarksCsv(folder_.file("landmarks.csv"),
+                              diverged_at_ ? std::vector<LandmarkView>() : landmarks);
+  });
+  const std::string truth_file =
+      inputs_.truth.kind == "ground_truth" ? "ground_truth.tum" : "reference.tum";
   if (!inputs_.truth.kind.empty())
-    report::writeTrajectoryTum(
-        folder_.file(inputs_.truth.kind == "ground_truth" ? "ground_truth.tum" : "reference.tum"),
-        truth_rows_);
+    attempt(truth_file, [&] { report::writeTrajectoryTum(folder_.file(truth_file), truth_rows_); });
 
   const auto s = scorer_.score();
   report::MapContent map;
-  map.title = "localization in a map of " + std::to_string(map_ids_.size()) + " landmarks: " +
-              (std::isfinite(s.lost_pct) ? std::to_string(static_cast<int>(std::lround(s.lost_pct))) +
-                                               "% of the steps lost"
-                                         : "no truth to compare with");
+  map.title =
+      "localization in a map of " + std::to_string(map_ids_.size()) + " landmarks: " +
+      (std::isfinite(s.lost_pct)
+           ? std::to_string(static_cast<int>(std::lround(s.lost_pct))) + "% of the steps lost"
+           : "no truth to compare with");
   for (const auto& p : trajectory_) map.trajectory.push_back(p.pose);
   map.trajectory_landmarks = in_view_;
   map.min_landmarks = min_landmarks_;
   if (!diverged_at_) map.kept = landmarks;
   for (const auto& p : truth_rows_) map.ground_truth_path.push_back(p.pose);
   map.ground_truth_landmarks = inputs_.truth.landmarks;
-  report::writeMapPng(folder_.file("map.png"), map);
+  attempt("map.png", [&] { report::writeMapPng(folder_.file("map.png"), map); });
 
   nlohmann::json j;
-  j["status"] = status;
-  j["error"] = error;
+  const bool write_failed = status == "ok" && !write_error_.empty();
+  j["status"] = write_failed ? "failed" : status;
+  j["error"] = write_failed ? write_error_ : error;
+  if (!not_written.empty()) j["files_not_written"] = not_written;
   j["command"] = "localize";
   j["start_pose"] = poseJson(inputs_.start.mean);
   j["start_pose"]["source"] = inputs_.start_source;
@@ -221,7 +241,8 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
   j["localization"] = {
       {"min_landmarks", min_landmarks_},
       {"lost_threshold_m", options_.lost_threshold},
-      {"error_against", inputs_.truth.kind.empty() ? nlohmann::json() : nlohmann::json(inputs_.truth.kind)},
+      {"error_against",
+       inputs_.truth.kind.empty() ? nlohmann::json() : nlohmann::json(inputs_.truth.kind)},
       {"error_file", inputs_.truth.file},
       {"rmse_m", number(s.rmse_m)},
       {"max_m", number(s.max_m)},
@@ -240,7 +261,11 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
   j["timings"] = {{"steps_s", total_s_},
                   {"step_ms_mean", number(steps_done_ ? 1e3 * total_s_ / steps_done_ : NAN)}};
   for (const auto& [key, v] : extra.items()) j[key] = v;
-  report::writeJson(folder_.file("summary.json"), j);
+  try {
+    report::writeSummaryJson(folder_.file("summary.json"), j);
+  } catch (const std::exception& e) {
+    summary_error_ = failureLine(e);
+  }
   return j;
 }
 

@@ -64,9 +64,15 @@ class Localizer {
   void process(const Step& step);
 
   /// Writes trajectory.tum, landmarks.csv, map.png, the truth's .tum and summary.json (with
-  /// `extra` merged in). Returns the summary.
+  /// `extra` merged in). Each is attempted even when another fails (a full disk): the first
+  /// failure is writeError() (and, for an ok localization, the summary's error), one of
+  /// summary.json itself summaryError(). Returns the summary.
   nlohmann::json finish(const std::string& status, const std::string& error,
                         const nlohmann::json& extra = {});
+  /// The first output finish() could not write, "" when none.
+  const std::string& writeError() const { return write_error_; }
+  /// Why summary.json could not be written, "" when it was.
+  const std::string& summaryError() const { return summary_error_; }
 
   metrics::LocalizationScore score() const { return scorer_.score(); }
   std::size_t stepsDone() const { return steps_done_; }
@@ -84,6 +90,7 @@ class Localizer {
   std::vector<std::size_t> in_view_;  ///< map landmarks observed, one per trajectory pose
   std::optional<StepIndex> diverged_at_;
   std::string diverged_why_;
+  std::string write_error_, summary_error_;
   std::size_t steps_done_ = 0, used_ = 0, gated_ = 0, not_in_map_ = 0;
   double total_s_ = 0;
 };

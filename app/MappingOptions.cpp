@@ -43,8 +43,9 @@ OptionKey<O> filterKey() {
             o.kf_implementation = s.readChoice("kf_implementation", o.kf_implementation,
                                                {"CRangeBearingKFSLAM2D", "CRangeBearingKFSLAM"});
             if (o.kf_implementation != "CRangeBearingKFSLAM2D")
-              throw ConfigError("[" + s.name() + "] kf_implementation = " + o.kf_implementation +
-                                ": budget-slam runs the 2D filter, CRangeBearingKFSLAM2D");
+              throw KeyError(s.name(), "kf_implementation",
+                             "[" + s.name() + "] kf_implementation = " + o.kf_implementation +
+                                 ": budget-slam runs the 2D filter, CRangeBearingKFSLAM2D");
           },
           [](const O& o) { return o.kf_implementation; }, ""};
 }

@@ -1,5 +1,6 @@
 #include "ProcessProbes.h"
 
+#include <malloc.h>
 #include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
@@ -25,6 +26,11 @@ std::size_t residentBytes() {
   std::size_t pages_total = 0, pages_resident = 0;
   if (!(statm >> pages_total >> pages_resident)) return 0;
   return pages_resident * static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+}
+
+void fitMallocToAddressSpaceLimit() {
+  rlimit as{};
+  if (::getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) ::mallopt(M_ARENA_MAX, 2);
 }
 
 }  // namespace budget_slam::app

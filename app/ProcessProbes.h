@@ -11,4 +11,9 @@ std::size_t peakResidentBytes();
 /// Resident memory of this process now [bytes] (/proc/self/statm; 0 where unavailable).
 std::size_t residentBytes();
 
+/// Under an address-space limit (RLIMIT_AS, `ulimit -v`), at most two malloc arenas: glibc
+/// otherwise reserves 64 MiB of address space for each thread's arena, which a compare's threads
+/// would take from the limit without using it. No effect without a limit.
+void fitMallocToAddressSpaceLimit();
+
 }  // namespace budget_slam::app

@@ -10,9 +10,11 @@
 #include <thread>
 #include <unordered_set>
 
-#include "Interrupt.h"
 #include "Localizer.h"
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/FileWrite.h"
+#include "budget_slam/core/WorkerThreads.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/report/CsvWriter.h"
@@ -62,7 +64,7 @@ std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& par
     dataset::RawlogReader reader(t.rc.rawlog);
     while (auto s = reader.next()) {
       t.steps.push_back(std::move(*s));
-      if (InterruptGuard::requested()) throw Error("interrupted while reading '" + path + "'");
+      if (Cancellation::requested()) throw Error("interrupted while reading '" + path + "'");
     }
     if (reader.bearingRangeSteps() == 0)
       throw InputError("rawlog '" + t.rc.rawlog + "' holds no CObservationBearingRange");
@@ -109,13 +111,13 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
                                 reference, reference_file, t.rc.localization);
         report::OutputFolder folder(
             (std::filesystem::path(m.folder) / "relocalize" / t.name).string(), force);
-        std::ofstream(folder.file("config_used.ini")) << t.rc.ini.getContent();
+        writeFileAtomically(folder.file("config_used.ini"), t.rc.ini.getContent());
         loc = std::make_unique<Localizer>(t.rc.ini, t.rc.localization, mo.reloc_min_landmarks,
                                           folder, m.landmarks, inputs);
         for (const auto& s : t.steps) {
-          if (InterruptGuard::requested()) {
+          if (Cancellation::requested()) {
             r.status = "interrupted";
-            r.error = std::string("interrupted by ") + InterruptGuard::what();
+            r.error = std::string("interrupted by ") + Cancellation::signalName();
             break;
           }
           loc->process(s);
@@ -136,9 +138,7 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
   const std::size_t n = std::max<std::size_t>(
       1, std::min<std::size_t>(threads ? threads : std::thread::hardware_concurrency(),
                                results.size()));
-  std::vector<std::thread> pool;
-  for (std::size_t k = 0; k < n; ++k) pool.emplace_back(worker);
-  for (auto& th : pool) th.join();
+  WorkerThreads(n, worker).join();
   return results;
 }
 

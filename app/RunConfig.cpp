@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "BuiltinBackends.h"
@@ -41,18 +42,48 @@ IniSchema knownKeys() {
   return schema;
 }
 
+/// Where the value of each key came from, for messages (issue 25): the -c file, the rawlog's
+/// sidecar, a --set or a flag; later sources replace earlier ones, as their values do.
+class KeyOrigins {
+ public:
+  void note(const std::string& section, const std::string& key, const std::string& origin) {
+    origin_[{lowerAscii(section), lowerAscii(key)}] = origin;
+  }
+  /// Every key of `ini`.
+  void noteAll(const mrpt::config::CConfigFileBase& ini, const std::string& origin) {
+    std::vector<std::string> sections, keys;
+    ini.getAllSections(sections);
+    for (const auto& s : sections) {
+      ini.getAllKeys(s, keys);
+      for (const auto& k : keys) note(s, k, origin);
+      note(s, "", origin);  // the section itself (an unknown section)
+    }
+  }
+  /// Where `section`/`key` came from; `fallback` when nothing said.
+  std::string of(const std::string& section, const std::string& key,
+                 const std::string& fallback) const {
+    const auto it = origin_.find({lowerAscii(section), lowerAscii(key)});
+    return it == origin_.end() ? fallback : it->second;
+  }
+
+ private:
+  std::map<std::pair<std::string, std::string>, std::string> origin_;
+};
+
 /// --set overrides a key budget-slam reads: its section must be one (another application's
 /// section would be set for nothing), and its value one line of text.
-void applySet(mrpt::config::CConfigFileMemory& ini, const std::string& set,
-              const IniSchema& schema) {
+void applySet(mrpt::config::CConfigFileMemory& ini, const std::string& set, const IniSchema& schema,
+              KeyOrigins& origins) {
   checkSet(set);
   const auto dot = set.find('.'), eq = set.find('=');
   const std::string section = set.substr(0, dot), value = set.substr(eq + 1);
+  const std::string key = set.substr(dot + 1, eq - dot - 1);
   if (!schema.hasSection(section))
     throw ConfigError("--set '" + printable(set) +
                       "': " + schema.unknownSection(printable(section)));
   checkIniValue(value, "--set '" + printable(set) + "'");
-  ini.write(section, set.substr(dot + 1, eq - dot - 1), value);
+  ini.write(section, key, value);
+  origins.note(section, key, "--set '" + printable(set) + "'");
 }
 
 /// Loads every option of every section once, so that a bad value is an error before anything
@@ -107,6 +138,8 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
   RunConfig rc;
   copyIni(params, rc.ini);  // no second ${...} expansion of the values
   const std::string prefix = config_label + ": ";
+  KeyOrigins origins;
+  origins.noteAll(params, config_label);
   try {
     // The rawlog decides which sidecar applies, so read it before the overlays.
     MappingOptions first;
@@ -121,12 +154,18 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
       mrpt::config::CConfigFileMemory side;
       loadIniText(side, readIniFile(rc.sidecar, rc.sidecar), rc.sidecar);
       copyIni(side, rc.ini);
+      origins.noteAll(side, rc.sidecar);
     }
     const IniSchema schema = knownKeys();
-    for (const auto& s : cli.sets) applySet(rc.ini, s, schema);
-    if (!cli.reducer.empty())
+    for (const auto& s : cli.sets) applySet(rc.ini, s, schema, origins);
+    if (!cli.reducer.empty()) {
       rc.ini.write(reducers::BudgetOptions::kSection, "reducer", cli.reducer);
-    if (cli.cap) rc.ini.write(reducers::BudgetOptions::kSection, "max_landmarks", *cli.cap);
+      origins.note(reducers::BudgetOptions::kSection, "reducer", "--reducer " + cli.reducer);
+    }
+    if (cli.cap) {
+      rc.ini.write(reducers::BudgetOptions::kSection, "max_landmarks", *cli.cap);
+      origins.note(reducers::BudgetOptions::kSection, "max_landmarks", "--cap " + *cli.cap);
+    }
     if (!cli.backend.empty()) {
       const auto& b = MappingOptions::backends();
       if (std::find(b.begin(), b.end(), cli.backend) == b.end())
@@ -143,6 +182,9 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
     rc.localization.loadFromConfigFile(rc.ini, LocalizationOptions::kSection);
     reducers::builtinReducers().entry(rc.budget.reducer);  // unknown name: error now
     for (const auto& s : rc.budget.shadow_reducers) reducers::builtinReducers().entry(s);
+  } catch (const KeyError& e) {
+    // A value or key is named with where it came from: the -c file, the sidecar or the --set.
+    throw ConfigError(origins.of(e.section(), e.key(), config_label) + ": " + e.what());
   } catch (const ConfigError& e) {
     const std::string msg = e.what();
     // Flag and name errors speak for themselves; ini errors get the file's name.

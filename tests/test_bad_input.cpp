@@ -14,7 +14,6 @@
 #include <random>
 
 #include "AppTestUtil.h"
-#include "Interrupt.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 
 using namespace budget_slam;
@@ -128,21 +127,26 @@ TEST(BadInput, CapBelowOne) {
                        "--help");
   const auto out2 = freshDir("cap0_ini");
   expectFailed(runOn(kDemo, out2, {"--set", "LandmarkBudget.max_landmarks=-3"}), out2,
-               kMrptIni +
-                   ": [LandmarkBudget] max_landmarks = -3: must be at least 1 (or none for no "
-                   "cap)");
+               "--set 'LandmarkBudget.max_landmarks=-3': [LandmarkBudget] max_landmarks = -3: "
+               "must be at least 1 (or none for no cap)");
 }
 
 TEST(BadInput, UnknownIniKeySuggestsTheClosest) {
   const auto out = freshDir("unknown_key");
-  expectFailed(
-      runOn(kDemo, out, {"--set", "LandmarkBudget.max_landmark=10"}), out,
-      kMrptIni + ": unknown key [LandmarkBudget] max_landmark (did you mean max_landmarks?)");
+  expectFailed(runOn(kDemo, out, {"--set", "LandmarkBudget.max_landmark=10"}), out,
+               "--set 'LandmarkBudget.max_landmark=10': unknown key [LandmarkBudget] "
+               "max_landmark (did you mean max_landmarks?)");
   const auto out2 = freshDir("unknown_key_mrpt");
   expectFailed(runOn(kDemo, out2, {"--set", "RangeBearingKFSLAM.std_sensor_rnage=0.1"}), out2,
-               kMrptIni +
-                   ": unknown key [RangeBearingKFSLAM] std_sensor_rnage (did you mean "
-                   "std_sensor_range?)");
+               "--set 'RangeBearingKFSLAM.std_sensor_rnage=0.1': unknown key "
+               "[RangeBearingKFSLAM] std_sensor_rnage (did you mean std_sensor_range?)");
+  // A key the -c file holds is named with the file.
+  const auto out3 = freshDir("unknown_key_file");
+  const auto ini = out3.parent_path() / "unknown_key.ini";
+  std::ofstream(ini) << slurp(kMrptIni) << "\n[LandmarkBudget]\nmax_landmark = 10\n";
+  expectFailed(
+      runApp({"run", "-c", ini.string(), "-i", kDemo, "-o", out3.string(), "--quiet"}), out3,
+      ini.string() + ": unknown key [LandmarkBudget] max_landmark (did you mean max_landmarks?)");
 }
 
 TEST(BadInput, NonEmptyOutputFolderNeedsForceAndNothingIsDeleted) {

@@ -100,7 +100,8 @@ TEST(Hardening, SensorNoiseValuesAreCheckedWhereRead) {
     SCOPED_TRACE(c.set);
     const auto out = freshDir("bad_value");
     const auto res = runOn(kDemo, out, {"--set", c.set});
-    expectFailed(res, out, kMrptIni + ": " + c.message);
+    // Named by where the value came from: the --set, not the -c file (issue 25).
+    expectFailed(res, out, "--set '" + c.set + "': " + c.message);
     EXPECT_EQ(res.err.find("MRPT exception"), std::string::npos);
   }
 }

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang-14 (AddressSanitizer + UBSan) in build-fuzz/ and runs
 # each for a given time on a copy of its committed seed corpus.
-#   tools/fuzz.sh [SECONDS=600] [TARGET...]      targets: fuzz_rawlog fuzz_ini (default: both)
+#   tools/fuzz.sh [SECONDS=600] [TARGET...]      targets: fuzz_rawlog fuzz_ini fuzz_map_folder
+#                                                fuzz_convert_{isam,g2o,utias,freiburg}
+#                                                (default: all, one after the other)
 # A finding stops the target and leaves crash-*/oom-*/timeout-* in build-fuzz/fuzz/findings/;
 # the grown corpus stays in build-fuzz/fuzz/corpus/<target>/ (the committed seeds are untouched).
 # Each allocation above 1 GiB, or a process above 1 GiB resident, counts as a finding.
@@ -10,7 +12,8 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-600}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(fuzz_rawlog fuzz_ini)
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_rawlog fuzz_ini fuzz_map_folder fuzz_convert_isam
+  fuzz_convert_g2o fuzz_convert_utias fuzz_convert_freiburg)
 
 build="$root/build-fuzz"
 launcher=()

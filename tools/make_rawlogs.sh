@@ -19,25 +19,34 @@ mkdir -p "$out"
 cd "$root"
 data=data/datasets
 
+# The converters and the simulator never write over a file (they refuse, or keep it as
+# <name>.~N~ with --force): this script rebuilds the shipped files, so it removes each rawlog's
+# four files first.
+fresh() {
+  local stem="${1%.rawlog}"
+  rm -f "$1" "$stem.ini" "${stem}_ground_truth.txt" "${stem}_ground_truth_robot_path.txt"
+  echo "$1"
+}
+
 "$bin/budget-convert" --format isam "$data/victoria_park_gtsam/victoria_park.txt" \
-  -o "$out/victoria_park.rawlog"
+  -o "$(fresh "$out/victoria_park.rawlog")"
 "$bin/budget-convert" --format utias "$data/utias_mrclam/MRCLAM_Dataset7" --robot 1 \
-  -o "$out/mrclam7_robot1.rawlog"
-"$bin/budget-simulate" --scenario rooms --seed 1 -o "$out/rooms.rawlog"
-"$bin/budget-simulate" --scenario paper-synthetic --seed 1 -o "$out/paper_synthetic.rawlog"
-"$bin/budget-simulate" --scenario park --seed 1 -o "$out/park.rawlog"
+  -o "$(fresh "$out/mrclam7_robot1.rawlog")"
+"$bin/budget-simulate" --scenario rooms --seed 1 -o "$(fresh "$out/rooms.rawlog")"
+"$bin/budget-simulate" --scenario paper-synthetic --seed 1 -o "$(fresh "$out/paper_synthetic.rawlog")"
+"$bin/budget-simulate" --scenario park --seed 1 -o "$(fresh "$out/park.rawlog")"
 
 # Second traversals to relocalize on (budget-slam localize, compare --relocalize): the same worlds
 # along other routes with other noise; MRCLAM robots 2-5 in robot 1's world frame; Victoria Park
 # from step 3500 on (map with max_steps = 3500 on victoria_park.rawlog).
-"$bin/budget-simulate" --scenario rooms --seed 1 --route revisit -o "$out/rooms_revisit.rawlog"
-"$bin/budget-simulate" --scenario park --seed 1 --route revisit -o "$out/park_revisit.rawlog"
+"$bin/budget-simulate" --scenario rooms --seed 1 --route revisit -o "$(fresh "$out/rooms_revisit.rawlog")"
+"$bin/budget-simulate" --scenario park --seed 1 --route revisit -o "$(fresh "$out/park_revisit.rawlog")"
 for robot in 2 3 4 5; do
   "$bin/budget-convert" --format utias "$data/utias_mrclam/MRCLAM_Dataset7" --robot "$robot" \
-    --frame-robot 1 -o "$out/mrclam7_robot$robot.rawlog"
+    --frame-robot 1 -o "$(fresh "$out/mrclam7_robot$robot.rawlog")"
 done
 "$bin/budget-convert" --format isam "$data/victoria_park_gtsam/victoria_park.txt" --steps 3500: \
-  -o "$out/victoria_park_from3500.rawlog"
+  -o "$(fresh "$out/victoria_park_from3500.rawlog")"
 
 # Per-rawlog reduced-landmark SLAM settings (the paper's psi; lambda / stop calibrated to its
 # reductions, docs/ALGORITHMS.md "Calibration") go after the sensor noise in the sidecar.

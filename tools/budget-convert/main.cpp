@@ -6,13 +6,19 @@
 #include <limits>
 #include <set>
 
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/StopSignals.h"
+#include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/Converters.h"
 #include "budget_slam/dataset/DatasetFiles.h"
 
 int main(int argc, char** argv) {
   using namespace budget_slam;
+  // For the life of the process: Ctrl-C or SIGTERM ends the conversion with exit 130 and no file
+  // written, a closed stdout is a failed write (core/StopSignals.h).
+  const StopSignals signals(false);
   CapturedUsage usage;  // outlives cmd, which only borrows it
   try {
     TCLAP::CmdLine cmd(
@@ -39,6 +45,10 @@ int main(int argc, char** argv) {
         false, "", "FROM:TO", cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "output rawlog (name ends in .rawlog)", true, "",
                                      "out.rawlog", cmd);
+    TCLAP::SwitchArg force("", "force",
+                           "write even where an output file exists: it is kept as <name>.~N~ "
+                           "(nothing is deleted)",
+                           cmd);
     TCLAP::UnlabeledMultiArg<std::string> inputs("INPUT", "input file(s) or folder (see --format)",
                                                  true, "INPUT", cmd);
     cmd.setExceptionHandling(false);
@@ -55,6 +65,8 @@ int main(int argc, char** argv) {
     } catch (const Error& e) {
       throw UsageError(e.what());
     }
+    // Before a long conversion too: never over an input, never over a file without --force.
+    dataset::checkOutputFiles(out.getValue(), inputs.getValue(), force.getValue());
     std::size_t from = 0, to = std::numeric_limits<std::size_t>::max();
     if (steps.isSet()) {
       const std::string& s = steps.getValue();
@@ -75,7 +87,7 @@ int main(int argc, char** argv) {
     auto dataset = dataset::convertByFormat(format.getValue(), inputs.getValue(), robot.getValue(),
                                             frame_robot.getValue());
     if (steps.isSet()) dataset = dataset::selectSteps(std::move(dataset), from, to);
-    dataset::saveDataset(dataset, out.getValue());
+    const auto backups = dataset::saveDataset(dataset, out.getValue(), force.getValue());
     std::size_t sightings = 0;
     std::set<LandmarkId> ids;
     for (const auto& s : dataset.steps)
@@ -87,10 +99,14 @@ int main(int argc, char** argv) {
     std::cout << out.getValue() << ": " << dataset.steps.size() << " steps, " << sightings
               << " sightings of " << ids.size() << " landmarks"
               << (dataset.ground_truth.empty() ? "" : ", with ground truth") << "\n";
-    return 0;
+    for (const auto& b : backups) std::cout << "the earlier file is kept as " << b << "\n";
+    return flushStdout(std::cout, std::cerr, "budget-convert") ? kExitOk : kExitFailed;
   } catch (const TCLAP::ExitException& e) {
     std::cout << usage.text;  // --help or --version, once
-    return kExitOk;
+    return flushStdout(std::cout, std::cerr, "budget-convert") ? kExitOk : kExitFailed;
+  } catch (const Interrupted& e) {
+    std::cerr << "budget-convert: " << e.what() << "; nothing written\n";
+    return kExitInterrupted;
   } catch (const TCLAP::ArgException& e) {
     std::cerr << "budget-convert: " << describe(e) << "; see budget-convert --help\n";
     return kExitBadCommandLine;
@@ -98,12 +114,8 @@ int main(int argc, char** argv) {
     // Every option comes from the command line: a bad one is a bad command line.
     std::cerr << "budget-convert: " << e.what() << "; see budget-convert --help\n";
     return kExitBadCommandLine;
-  } catch (const budget_slam::Error& e) {
-    std::cerr << "budget-convert: " << e.what() << "\n";
-    return kExitFailed;
   } catch (const std::exception& e) {
-    std::string what = e.what();
-    std::cerr << "budget-convert: internal error: " << what.substr(0, what.find('\n')) << "\n";
+    std::cerr << "budget-convert: " << failureLine(e) << "\n";
     return kExitFailed;
   }
 }

@@ -6,8 +6,11 @@
 #include <iostream>
 #include <sstream>
 
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/StopSignals.h"
+#include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/DatasetFiles.h"
 #include "budget_slam/dataset/Simulator.h"
 
@@ -28,6 +31,9 @@ double noiseFlag(const TCLAP::ValueArg<double>& flag) {
 
 int main(int argc, char** argv) {
   using namespace budget_slam;
+  // For the life of the process: Ctrl-C or SIGTERM ends the simulation with exit 130 and no file
+  // written, a closed stdout is a failed write (core/StopSignals.h).
+  const StopSignals signals(false);
   CapturedUsage usage;  // outlives cmd, which only borrows it
   try {
     TCLAP::CmdLine cmd(
@@ -63,6 +69,10 @@ int main(int argc, char** argv) {
     TCLAP::SwitchArg zero_noise("", "zero-noise", "no odometry or sensor noise at all", cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "output rawlog (name ends in .rawlog)", true, "",
                                      "out.rawlog", cmd);
+    TCLAP::SwitchArg force("", "force",
+                           "write even where an output file exists: it is kept as <name>.~N~ "
+                           "(nothing is deleted)",
+                           cmd);
     cmd.setExceptionHandling(false);
     cmd.setOutput(&usage);
     std::vector<std::string> args(argv, argv + argc);
@@ -87,13 +97,17 @@ int main(int argc, char** argv) {
     } catch (const Error& e) {
       throw UsageError(e.what());
     }
-    const auto steps = dataset::simulateToFiles(o, out.getValue());
+    dataset::checkOutputFiles(out.getValue(), {}, force.getValue());  // before the simulation
+    const auto steps = dataset::simulateToFiles(o, out.getValue(), force.getValue());
     std::cout << out.getValue() << ": " << steps << " steps of scenario " << o.scenarioName()
               << "\n";
-    return 0;
+    return flushStdout(std::cout, std::cerr, "budget-simulate") ? kExitOk : kExitFailed;
   } catch (const TCLAP::ExitException& e) {
     std::cout << usage.text;  // --help or --version, once
-    return kExitOk;
+    return flushStdout(std::cout, std::cerr, "budget-simulate") ? kExitOk : kExitFailed;
+  } catch (const Interrupted& e) {
+    std::cerr << "budget-simulate: " << e.what() << "; nothing written\n";
+    return kExitInterrupted;
   } catch (const TCLAP::ArgException& e) {
     std::cerr << "budget-simulate: " << describe(e) << "; see budget-simulate --help\n";
     return kExitBadCommandLine;
@@ -101,12 +115,8 @@ int main(int argc, char** argv) {
     // Every option comes from the command line: a bad one is a bad command line.
     std::cerr << "budget-simulate: " << e.what() << "; see budget-simulate --help\n";
     return kExitBadCommandLine;
-  } catch (const budget_slam::Error& e) {
-    std::cerr << "budget-simulate: " << e.what() << "\n";
-    return kExitFailed;
   } catch (const std::exception& e) {
-    std::string what = e.what();
-    std::cerr << "budget-simulate: internal error: " << what.substr(0, what.find('\n')) << "\n";
+    std::cerr << "budget-simulate: " << failureLine(e) << "\n";
     return kExitFailed;
   }
 }

@@ -7,6 +7,7 @@ comparison.csv is complete, so a killed sweep re-run does only what is missing.
 """
 import configparser
 import csv
+import fcntl
 import json
 import math
 import os
@@ -30,6 +31,66 @@ BACKENDS = ("ekf", "graph")
 
 class ExperimentError(Exception):
     pass
+
+
+class FolderInUse(Exception):
+    """The output folder is locked by another process (a sweep or a budget-slam run)."""
+
+
+LOCK_NAME = ".budget-slam.lock"
+
+
+class FolderLock:
+    """The advisory lock budget-slam takes on an output folder while it writes it
+    (modules/report/include/budget_slam/report/FolderLock.h): flock(2) on <folder>/.budget-slam.lock,
+    which holds the holder's process id. A second sweep into the same folder, or a budget-slam run
+    into it, is refused with one line naming the process. Released (and the file removed) by
+    release() or at exit; the kernel releases it when the process ends however it ends."""
+
+    def __init__(self, folder):
+        os.makedirs(folder, exist_ok=True)
+        self.path = os.path.join(folder, LOCK_NAME)
+        self.file = None
+        for _ in range(100):
+            f = open(self.path, "a+")
+            try:
+                fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                holder = self._holder(f)
+                f.close()
+                raise FolderInUse(f"output folder '{folder}' is in use by {holder} (it holds {self.path}); "
+                                  "wait for it to end or give another output folder") from None
+            try:
+                same = os.fstat(f.fileno()).st_ino == os.stat(self.path).st_ino
+            except FileNotFoundError:
+                same = False
+            if same:  # not a file its previous holder removed meanwhile
+                f.truncate(0)
+                f.write(f"{os.getpid()}\n")
+                f.flush()
+                self.file = f
+                return
+            f.close()
+        raise FolderInUse(f"output folder '{folder}': cannot lock {self.path}")
+
+    @staticmethod
+    def _holder(f):
+        for _ in range(50):
+            f.seek(0)
+            text = f.read().strip()
+            if text.isdigit():
+                return f"process {text}"
+            time.sleep(0.01)
+        return "another process"
+
+    def release(self):
+        if self.file is not None:
+            try:
+                os.unlink(self.path)  # while still held: the next holder locks a fresh file
+            except OSError:
+                pass
+            self.file.close()
+            self.file = None
 
 
 def default_binary(name):

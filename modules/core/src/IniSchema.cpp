@@ -85,16 +85,17 @@ void IniSchema::validate(const mrpt::config::CConfigFileBase& ini) const {
     });
     if (it == sections_.end()) {
       if (isForeign(section)) continue;  // another application's section
-      throw ConfigError(unknownSection(section));
+      throw KeyError(section, "", unknownSection(section));
     }
     std::vector<std::string> keys;
     ini.getAllKeys(section, keys);
     for (const auto& key : keys) {
       if (containsNoCase(it->second, key)) continue;
       const std::string near = closestMatch(key, it->second);
-      throw ConfigError("unknown key [" + section + "] " + key +
-                        (near.empty() ? std::string(" (no similar key in this section)")
-                                      : " (did you mean " + near + "?)"));
+      throw KeyError(section, key,
+                     "unknown key [" + section + "] " + key +
+                         (near.empty() ? std::string(" (no similar key in this section)")
+                                       : " (did you mean " + near + "?)"));
     }
   }
 }

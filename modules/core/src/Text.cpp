@@ -1,6 +1,9 @@
 #include "budget_slam/core/Text.h"
 
 #include <cstdio>
+#include <new>
+
+#include "budget_slam/core/Error.h"
 
 namespace budget_slam {
 namespace {
@@ -112,6 +115,18 @@ std::string exceptionLine(std::string_view what) {
 }
 
 std::string exceptionLine(const std::exception& e) { return exceptionLine(e.what()); }
+
+std::string failureLine(const std::exception& e) {
+  if (dynamic_cast<const Error*>(&e)) return exceptionLine(e);
+  if (dynamic_cast<const std::bad_alloc*>(&e))
+    return "out of memory (" + exceptionLine(e) + "; an address-space limit, ulimit -v?)";
+  return "internal error: " + exceptionLine(e);
+}
+
+std::string withAlso(const std::string& why, const std::string& also) {
+  if (also.empty() || also == why) return why;
+  return why + "; " + also;
+}
 
 std::string trimmed(const std::string& s, const char* blanks) {
   const auto b = s.find_first_not_of(blanks);

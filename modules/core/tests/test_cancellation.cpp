@@ -20,7 +20,12 @@ TEST(Cancellation, CheckThrowsInterruptedNamingTheSignal) {
   } catch (const Interrupted& e) {
     EXPECT_STREQ(e.what(), "interrupted by SIGTERM");
   }
+  // A second request does not rename the first: Ctrl-C then SIGTERM is a stop by Ctrl-C.
   Cancellation::request(SIGINT);
+  EXPECT_STREQ(Cancellation::signalName(), "SIGTERM");
+  Cancellation::clear();
+  Cancellation::request(SIGINT);
+  Cancellation::request(SIGTERM);
   EXPECT_STREQ(Cancellation::signalName(), "Ctrl-C");
   Cancellation::clear();
   EXPECT_NO_THROW(Cancellation::check());

@@ -10,6 +10,8 @@
 
 #include "TextTable.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/FileWrite.h"
+#include "budget_slam/core/InputLimits.h"
 
 namespace budget_slam::dataset {
 namespace {
@@ -35,8 +37,8 @@ std::map<LandmarkId, Eigen::Vector2d> loadLandmarks(const std::string& file) {
   TextTable t(file);
   while (t.next()) {
     t.expectAtLeast(7, "landmark row (x y z type seen time id)");
-    const double x = t.number(0, "x");
-    const double y = t.number(1, "y");
+    const double x = t.bounded(0, "x", limits::kMaxCoordinate);
+    const double y = t.bounded(1, "y", limits::kMaxCoordinate);
     const double id_value = t.number(6, "id");
     if (id_value != std::floor(id_value) || id_value < 0 ||
         id_value > std::numeric_limits<int>::max())
@@ -57,23 +59,15 @@ std::vector<mrpt::math::TPose2D> loadPath(const std::string& file) {
   std::vector<mrpt::math::TPose2D> path;
   TextTable t(file);
   while (t.next()) {
-    if (t.size() == 6)
-      path.emplace_back(t.number(0, "x"), t.number(1, "y"), t.number(3, "yaw"));
-    else if (t.size() == 3)
-      path.emplace_back(t.number(0, "x"), t.number(1, "y"), t.number(2, "yaw"));
+    if (t.size() == 6 || t.size() == 3)
+      path.emplace_back(t.bounded(0, "x", limits::kMaxCoordinate),
+                        t.bounded(1, "y", limits::kMaxCoordinate),
+                        t.bounded(t.size() == 6 ? 3 : 2, "yaw", limits::kMaxAngle));
     else
       t.fail("robot path row needs 6 fields (x y z yaw pitch roll) or 3 (x y yaw), found " +
              std::to_string(t.size()));
   }
   return path;
-}
-
-void writeText(const std::string& file, const std::string& text) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(file + ": cannot write (" + std::strerror(errno) + ")");
-  out << text;
-  out.close();
-  if (!out) throw InputError(file + ": cannot write (" + std::strerror(errno) + ")");
 }
 
 /// printf into a std::string.
@@ -115,22 +109,21 @@ GroundTruth loadGroundTruth(const std::string& rawlog, const std::string& landma
   return gt;
 }
 
-void saveGroundTruthLandmarks(const std::string& file,
-                              const std::map<LandmarkId, Eigen::Vector2d>& landmarks) {
+std::string groundTruthLandmarksText(const std::map<LandmarkId, Eigen::Vector2d>& landmarks) {
   // Same layout as MRPT's CLandmarksMap::saveToTextFile (what simul-landmarks writes): type 5 is
   // featBeacon, times seen and time last seen are 0.
   std::string text;
   for (const auto& [id, p] : landmarks) {
     if (id < 0 || id > std::numeric_limits<int>::max())
-      throw InputError(file + ": landmark id " + std::to_string(id) + " does not fit MRPT's int");
+      throw InputError("landmark id " + std::to_string(id) + " does not fit MRPT's int");
     text += format("%10f %10f %10f %4i %4u %10f", noNegativeZero(p.x()), noNegativeZero(p.y()), 0.0,
                    5, 0u, 0.0);
     text += format(" %i \n", static_cast<int>(id));
   }
-  writeText(file, text);
+  return text;
 }
 
-void saveGroundTruthPath(const std::string& file, const std::vector<mrpt::math::TPose2D>& path) {
+std::string groundTruthPathText(const std::vector<mrpt::math::TPose2D>& path) {
   // Same layout as MRPT's CMatrixDouble::saveToTextFile(MATRIX_FORMAT_FIXED) in simul-landmarks,
   // without the generation date so that the same input gives the same bytes.
   std::string text =
@@ -141,7 +134,16 @@ void saveGroundTruthPath(const std::string& file, const std::vector<mrpt::math::
   for (const auto& p : path)
     text += format("%.16f %.16f %.16f %.16f %.16f %.16f\n", noNegativeZero(p.x),
                    noNegativeZero(p.y), 0.0, noNegativeZero(p.phi), 0.0, 0.0);
-  writeText(file, text);
+  return text;
+}
+
+void saveGroundTruthLandmarks(const std::string& file,
+                              const std::map<LandmarkId, Eigen::Vector2d>& landmarks) {
+  writeFileAtomically(file, groundTruthLandmarksText(landmarks));
+}
+
+void saveGroundTruthPath(const std::string& file, const std::vector<mrpt::math::TPose2D>& path) {
+  writeFileAtomically(file, groundTruthPathText(path));
 }
 
 }  // namespace budget_slam::dataset

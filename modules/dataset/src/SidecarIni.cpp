@@ -1,12 +1,7 @@
 #include "budget_slam/dataset/SidecarIni.h"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <fstream>
-
-#include "budget_slam/core/Error.h"
 
 namespace budget_slam::dataset {
 namespace {
@@ -45,15 +40,6 @@ std::string sidecarIniText(const SensorNoise& noise, const std::vector<std::stri
   s += "std_sensor_range   = " + num(noise.std_range) + "  // m, 1 sigma\n";
   s += "std_sensor_yaw_deg = " + num(deg(noise.std_yaw)) + "  // deg, 1 sigma\n";
   return s;
-}
-
-void writeSidecarIni(const std::string& file, const SensorNoise& noise,
-                     const std::vector<std::string>& notes) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(file + ": cannot write (" + std::strerror(errno) + ")");
-  out << sidecarIniText(noise, notes);
-  out.close();
-  if (!out) throw InputError(file + ": cannot write (" + std::strerror(errno) + ")");
 }
 
 }  // namespace budget_slam::dataset

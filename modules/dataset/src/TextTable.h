@@ -11,7 +11,11 @@ namespace budget_slam::dataset {
 /// does, that is read (the project keeps its copies of public data gzipped). Every error is an
 /// InputError of one line naming the file and line:
 ///   "<path>:<line>: <what is wrong>"  (or "<path>: cannot open (<reason>)").
-/// Internal to the converters and the ground-truth loader.
+/// The input is hostile until checked (docs/RELIABILITY.md "Converters"): a line is at most
+/// limits::kMaxLineBytes long and holds text (no NUL or control byte, valid UTF-8), a file at most
+/// limits::kMaxRecords records, each checked before it is kept; a stop request (Ctrl-C) ends the
+/// reading with Interrupted naming the line. Internal to the converters and the ground-truth
+/// loader.
 class TextTable {
  public:
   explicit TextTable(std::string path);
@@ -29,8 +33,12 @@ class TextTable {
 
   /// Field i (0-based) as a finite double; `what` names it in the error.
   double number(std::size_t i, const std::string& what) const;
+  /// Field i as a finite double with |value| <= `limit` ("<what> = <word> is out of range: ...").
+  double bounded(std::size_t i, const std::string& what, double limit) const;
   /// Field i as an integer.
   long long integer(std::size_t i, const std::string& what) const;
+  /// Field i as a landmark id: an integer from 0 to limits::kMaxLandmarkId.
+  long long landmarkId(std::size_t i, const std::string& what) const;
   /// Fails unless the record has exactly n fields (tag included).
   void expectFields(std::size_t n, const std::string& record) const;
   /// Fails unless the record has at least n fields.
@@ -44,9 +52,17 @@ class TextTable {
   std::string where(std::size_t line) const;
 
  private:
+  /// One line without its '\n' into `line`; false at the end of the file.
+  bool readLine(std::string& line);
+  /// Refills buf_ from the file; false at its end. Throws on a read error.
+  bool fill();
+
   std::string path_;
   gzFile in_ = nullptr;
-  std::size_t line_ = 0;
+  std::string buf_;       ///< bytes read and not yet taken
+  std::size_t pos_ = 0;   ///< first byte of buf_ not yet taken
+  std::size_t line_ = 0;  ///< lines read
+  std::size_t records_ = 0;
   std::vector<std::string> words_;
 };
 

@@ -97,7 +97,7 @@ TEST(IsamConverter, MalformedLinesNameFileAndLine) {
   EXPECT_EQ(err(odo + "LANDMARK 1 5 0 0 0.1 0 0.1\n"),
             f + ":2: LANDMARK at zero range has no bearing");
   EXPECT_EQ(err(odo + "LANDMARK 1 5 1 1 0 0 0.1\n"),
-            f + ":2: variance v1 must be positive, found '0'");
+            f + ":2: variance v1 must be at least 1e-23, found '0'");
   EXPECT_EQ(err(odo + "POINT 1 2\n"),
             f + ":2: unknown record 'POINT' (expected ODOMETRY or LANDMARK)");
   EXPECT_EQ(err("LANDMARK 1 5 1 1 0.1 0 0.1\n"), f + ": no ODOMETRY record (nothing to convert)");

@@ -160,7 +160,23 @@ TEST(RawlogWriter, RawlogEditInfoReadsIt) {
   EXPECT_NE(info.find("BEARING_RANGE /      5"), std::string::npos) << info;
 }
 
-TEST(RawlogWriter, UnwritablePathIsAnInputError) {
-  EXPECT_EQ(inputErrorOf([] { RawlogWriter w("/nonexistent-dir/x.rawlog"); }),
-            "rawlog '/nonexistent-dir/x.rawlog': cannot be created");
+TEST(RawlogWriter, UnwritablePathIsAnErrorNamingTheFile) {
+  std::string what;
+  try {
+    RawlogWriter w("/nonexistent-dir/x.rawlog");
+  } catch (const Error& e) {
+    what = e.what();
+  }
+  EXPECT_EQ(what, "cannot write '/nonexistent-dir/x.rawlog' (No such file or directory)");
+}
+
+// Written under a temporary name: a writer that does not finish leaves no rawlog at all.
+TEST(RawlogWriter, AnUnfinishedRawlogLeavesNoFile) {
+  TempDir tmp;
+  {
+    RawlogWriter w(tmp.file("a.rawlog"));
+    for (const auto& s : sampleSteps()) w.write(s);
+  }
+  EXPECT_FALSE(fileExists(tmp.file("a.rawlog")));
+  EXPECT_FALSE(fileExists(tmp.file("a.rawlog.tmp")));
 }

@@ -87,5 +87,6 @@ TEST(Tools, SimulateIsReproducibleAndChecksItsOptions) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   r = runTool(tmp, bin("budget-simulate") + " --scenario rooms -o /nonexistent/x.rawlog");
   EXPECT_EQ(r.status, 1);
-  EXPECT_EQ(r.err, "budget-simulate: rawlog '/nonexistent/x.rawlog': cannot be created\n");
+  EXPECT_EQ(r.err,
+            "budget-simulate: cannot write '/nonexistent/x.rawlog' (No such file or directory)\n");
 }

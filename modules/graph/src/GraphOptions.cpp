@@ -19,8 +19,9 @@ OptionKey<GraphSlamOptions> maxPosesKey() {
           [read = k.read](GraphSlamOptions& o, const IniSection& s) {
             read(o, s);
             if (o.max_poses == 1)
-              throw ConfigError("[" + s.name() +
-                                "] max_poses = 1: must be 0 (unbounded) or at least 2");
+              throw KeyError(
+                  s.name(), "max_poses",
+                  "[" + s.name() + "] max_poses = 1: must be 0 (unbounded) or at least 2");
           },
           k.text, k.doc};
 }

@@ -28,8 +28,9 @@ OptionKey<BudgetOptions> capKey() {
             } else if (s.has("max_landmarks")) {
               try {
                 o.max_landmarks = static_cast<std::size_t>(s.readInt("max_landmarks", 50, 1));
-              } catch (const ConfigError& e) {
-                throw ConfigError(std::string(e.what()) + " (or none for no cap)");
+              } catch (const KeyError& e) {
+                throw KeyError(e.section(), e.key(),
+                               std::string(e.what()) + " (or none for no cap)");
               }
             }
           },

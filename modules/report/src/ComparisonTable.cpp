@@ -7,7 +7,7 @@
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/report/CsvWriter.h"
-#include "budget_slam/report/FileWrite.h"
+#include "budget_slam/core/FileWrite.h"
 
 namespace budget_slam::report {
 namespace {

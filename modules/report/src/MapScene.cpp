@@ -1,7 +1,6 @@
 #include "budget_slam/report/MapScene.h"
 
 #include <mrpt/io/CMemoryStream.h>
-#include <mrpt/io/zip.h>
 #include <mrpt/opengl/CEllipsoid2D.h>
 #include <mrpt/opengl/CGridPlaneXY.h>
 #include <mrpt/opengl/CPointCloud.h>
@@ -18,8 +17,9 @@
 #include <limits>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/FileWrite.h"
+#include "budget_slam/core/Gzip.h"
 #include "budget_slam/core/Text.h"
-#include "budget_slam/report/FileWrite.h"
 
 namespace budget_slam::report {
 
@@ -182,21 +182,18 @@ void writeMapScene(const std::string& path, const MapContent& content,
                    const mrpt::math::TPose2D& robot) {
   const auto scene = buildMapScene(content, robot);
   // The bytes COpenGLScene::saveToFile writes (the serialized scene, gzip-compressed), made in
-  // memory and written with a checked atomic write: a full disk is an error naming the file and
-  // never leaves a torn scene behind.
-  std::vector<std::uint8_t> plain, gz;
+  // memory (zlib, no temporary file) and written with a checked atomic write: a full disk is an
+  // error naming the file and never leaves a torn scene behind.
+  std::string plain;
   try {
     mrpt::io::CMemoryStream mem;
     auto arch = mrpt::serialization::archiveFrom(mem);
     arch << *scene;
-    const auto* begin = static_cast<const std::uint8_t*>(mem.getRawBufferData());
-    plain.assign(begin, begin + mem.getTotalBytesCount());
+    plain.assign(static_cast<const char*>(mem.getRawBufferData()), mem.getTotalBytesCount());
   } catch (const std::exception& e) {
     throw Error("cannot write '" + path + "' (" + exceptionLine(e) + ")");
   }
-  if (!mrpt::io::zip::compress_gz_data_block(plain, gz, 1))
-    throw Error("cannot write '" + path + "' (gzip compression failed)");
-  writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(gz.data()), gz.size()));
+  writeFileAtomically(path, gzipBytes(plain, 1));
 }
 
 }  // namespace budget_slam::report

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "budget_slam/core/Error.h"
-#include "budget_slam/report/FileWrite.h"
+#include "budget_slam/core/FileWrite.h"
 
 namespace budget_slam::report {
 namespace {

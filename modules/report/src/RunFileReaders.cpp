@@ -1,16 +1,19 @@
 #include "budget_slam/report/RunFileReaders.h"
 
 #include <cerrno>
-#include <filesystem>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/InputLimits.h"
+#include "budget_slam/core/Text.h"
 
 namespace budget_slam::report {
 namespace {
@@ -74,7 +77,18 @@ double finite(const Lines& l, const std::string& word, const char* name) {
   errno = 0;
   const double v = std::strtod(b, &end);
   if (word.empty() || end != b + word.size() || !std::isfinite(v))
-    l.fail(std::string(name) + " is not a finite number: '" + word + "'");
+    l.fail(std::string(name) + " is not a finite number: '" + excerpt(word) + "'");
+  return v;
+}
+
+/// A finite number of magnitude at most `limit` (core/InputLimits.h).
+double bounded(const Lines& l, const std::string& word, const char* name, double limit) {
+  const double v = finite(l, word, name);
+  if (std::abs(v) > limit) {
+    char text[64];
+    std::snprintf(text, sizeof text, " is out of range (at most %g either way)", limit);
+    l.fail(std::string(name) + " = " + excerpt(word) + text);
+  }
   return v;
 }
 
@@ -96,7 +110,7 @@ std::vector<LandmarkView> readLandmarksCsv(const std::string& path, std::size_t 
   // Later versions may add columns after these; the rows must then have as many cells.
   if (line.compare(0, std::strlen(kHeader), kHeader) != 0 ||
       (line.size() > std::strlen(kHeader) && line[std::strlen(kHeader)] != ','))
-    in.fail("not a budget-slam landmarks.csv header: '" + line + "'");
+    in.fail("not a budget-slam landmarks.csv header: '" + excerpt(line, 80) + "'");
   const std::size_t columns = split(line, ',').size();
   std::vector<LandmarkView> out;
   std::set<LandmarkId> ids;
@@ -106,20 +120,25 @@ std::vector<LandmarkView> readLandmarksCsv(const std::string& path, std::size_t 
     if (c.size() != columns)
       in.fail("expected " + std::to_string(columns) + " cells (" + std::string(kHeader) +
               "), found " + std::to_string(c.size()));
-    if (out.size() == max_rows)
-      in.fail("more than " + std::to_string(max_rows) + " landmarks");
+    if (out.size() == max_rows) in.fail("more than " + std::to_string(max_rows) + " landmarks");
     LandmarkView v;
     v.id = nonNegativeInteger(in, c[0], "id");
+    if (v.id > limits::kMaxLandmarkId)
+      in.fail("id " + c[0] + " is not a landmark id (0 to " +
+              std::to_string(limits::kMaxLandmarkId) + ")");
     if (!ids.insert(v.id).second) in.fail("landmark id " + c[0] + " appears twice");
-    v.mean = Eigen::Vector2d(finite(in, c[1], "x"), finite(in, c[2], "y"));
-    const double xx = finite(in, c[3], "cov_xx"), xy = finite(in, c[4], "cov_xy"),
-                 yy = finite(in, c[5], "cov_yy");
+    v.mean = Eigen::Vector2d(bounded(in, c[1], "x", limits::kMaxCoordinate),
+                             bounded(in, c[2], "y", limits::kMaxCoordinate));
+    const double xx = bounded(in, c[3], "cov_xx", limits::kMaxVariance),
+                 xy = bounded(in, c[4], "cov_xy", limits::kMaxVariance),
+                 yy = bounded(in, c[5], "cov_yy", limits::kMaxVariance);
     if (xx < 0 || yy < 0 || xy * xy > xx * yy * (1 + 1e-9) + 1e-300)
-      in.fail("covariance (cov_xx, cov_xy, cov_yy) = (" + c[3] + ", " + c[4] + ", " + c[5] +
-              ") is not positive semi-definite");
+      in.fail("covariance (cov_xx, cov_xy, cov_yy) = (" + excerpt(c[3]) + ", " + excerpt(c[4]) +
+              ", " + excerpt(c[5]) + ") is not positive semi-definite");
     v.cov << xx, xy, xy, yy;
     v.n_obs = static_cast<std::size_t>(nonNegativeInteger(in, c[6], "n_obs"));
-    v.obs_mean = Eigen::Vector2d(finite(in, c[7], "obs_mean_x"), finite(in, c[8], "obs_mean_y"));
+    v.obs_mean = Eigen::Vector2d(bounded(in, c[7], "obs_mean_x", limits::kMaxCoordinate),
+                                 bounded(in, c[8], "obs_mean_y", limits::kMaxCoordinate));
     v.first_step = static_cast<StepIndex>(nonNegativeInteger(in, c[9], "first_step"));
     v.last_step = static_cast<StepIndex>(nonNegativeInteger(in, c[10], "last_step"));
     out.push_back(v);
@@ -139,9 +158,16 @@ std::vector<TrajectoryPoint> readTrajectoryTum(const std::string& path, std::siz
     if (out.size() == max_rows) in.fail("more than " + std::to_string(max_rows) + " poses");
     double v[8];
     static const char* names[8] = {"t", "x", "y", "z", "qx", "qy", "qz", "qw"};
-    for (int i = 0; i < 8; ++i) v[i] = finite(in, w[i], names[i]);
-    if (!out.empty() && !(v[0] > out.back().t))
-      in.fail("time " + w[0] + " does not increase");
+    static const double limit[8] = {limits::kMaxTime,
+                                    limits::kMaxCoordinate,
+                                    limits::kMaxCoordinate,
+                                    limits::kMaxCoordinate,
+                                    2,
+                                    2,
+                                    2,
+                                    2};
+    for (int i = 0; i < 8; ++i) v[i] = bounded(in, w[i], names[i], limit[i]);
+    if (!out.empty() && !(v[0] > out.back().t)) in.fail("time " + w[0] + " does not increase");
     const double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
     if (!(norm > 0.5 && norm < 1.5)) in.fail("quaternion is not of unit length");
     // Yaw of the quaternion's rotation (about z for every budget-slam trajectory).

@@ -5,9 +5,12 @@
 #include <fstream>
 #include <iomanip>
 
+#include <opencv2/core.hpp>
+
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/FileWrite.h"
+#include "budget_slam/core/Text.h"
 #include "budget_slam/report/CsvWriter.h"
-#include "budget_slam/report/FileWrite.h"
 
 namespace budget_slam::report {
 
@@ -55,6 +58,31 @@ void writeJson(const std::string& path, const nlohmann::json& j) {
   // Strings that are not UTF-8 (an error text echoing corrupt file bytes) would make dump() throw:
   // their bad bytes become U+FFFD instead, so summary.json is always written and always valid.
   writeFileAtomically(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + '\n');
+}
+
+void writeSummaryJson(const std::string& path, const nlohmann::json& summary) {
+  try {
+    writeJson(path, summary);
+  } catch (const Error& e) {
+    // The short form: a few hundred bytes, whatever the run was.
+    constexpr std::size_t kMaxError = 1000;
+    nlohmann::json cut = nlohmann::json::object();
+    for (const char* key :
+         {"status", "error", "started", "command", "files_not_written", "earlier_run_moved_to"})
+      if (summary.contains(key)) cut[key] = summary[key];
+    if (cut.contains("error") && cut["error"].is_string() &&
+        cut["error"].get<std::string>().size() > kMaxError)
+      cut["error"] = cut["error"].get<std::string>().substr(0, kMaxError) + "...";
+    cut["summary_cut"] = std::string("the whole summary could not be written: ") + e.what();
+    writeJson(path, cut);
+  }
+}
+
+std::string outputFailureLine(const std::exception& e) {
+  if (const auto* cv = dynamic_cast<const cv::Exception*>(&e);
+      cv && cv->code == cv::Error::StsNoMem)
+    return "out of memory (" + exceptionLine(cv->err) + "; an address-space limit, ulimit -v?)";
+  return failureLine(e);
 }
 
 const std::vector<std::string>& stepsCsvColumns() {

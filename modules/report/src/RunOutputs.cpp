@@ -6,9 +6,9 @@
 #include <sstream>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
-#include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/MapScene.h"
 #include "budget_slam/report/RunFiles.h"
 
@@ -116,7 +116,7 @@ RunOutputs::EndFilesResult RunOutputs::writeEndFiles(const RunEndFiles& files) {
       write();
     } catch (const std::exception& e) {
       result.not_written.push_back(name);
-      if (result.first_error.empty()) result.first_error = exceptionLine(e);
+      if (result.first_error.empty()) result.first_error = outputFailureLine(e);
     }
   };
   attempt("steps.csv", [&] { steps_csv_.close(); });
@@ -143,7 +143,7 @@ RunOutputs::EndFilesResult RunOutputs::writeEndFiles(const RunEndFiles& files) {
 }
 
 void RunOutputs::writeSummary(const nlohmann::json& summary) const {
-  writeJson(folder_.file("summary.json"), summary);
+  writeSummaryJson(folder_.file("summary.json"), summary);
 }
 
 void writeGroundTruthTum(const std::string& path, const std::vector<TrajectoryPoint>& trajectory,

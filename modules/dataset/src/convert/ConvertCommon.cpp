@@ -3,6 +3,12 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "budget_slam/core/Error.h"
+#include "budget_slam/core/IniSection.h"
+#include "budget_slam/core/InputLimits.h"
 
 namespace budget_slam::dataset::convert {
 
@@ -19,7 +25,8 @@ Eigen::Matrix3d upperTriangle3(const TextTable& t, std::size_t first, const std:
   for (int r = 0; r < 3; ++r)
     for (int c = r; c < 3; ++c) {
       m(r, c) = m(c, r) =
-          t.number(k++, what + "(" + std::to_string(r + 1) + "," + std::to_string(c + 1) + ")");
+          t.bounded(k++, what + "(" + std::to_string(r + 1) + "," + std::to_string(c + 1) + ")",
+                    limits::kMaxVariance);
     }
   return m;
 }
@@ -30,7 +37,8 @@ Eigen::Matrix2d upperTriangle2(const TextTable& t, std::size_t first, const std:
   for (int r = 0; r < 2; ++r)
     for (int c = r; c < 2; ++c)
       m(r, c) = m(c, r) =
-          t.number(k++, what + "(" + std::to_string(r + 1) + "," + std::to_string(c + 1) + ")");
+          t.bounded(k++, what + "(" + std::to_string(r + 1) + "," + std::to_string(c + 1) + ")",
+                    limits::kMaxVariance);
   return m;
 }
 
@@ -41,6 +49,29 @@ void checkCovariance(const TextTable& t, const Eigen::MatrixXd& m, const std::st
   const double lo = es.eigenvalues().minCoeff();
   if (strict ? !(lo > 0) : lo < -1e-12 * scale)
     t.fail(what + " is not positive " + (strict ? "definite" : "semi-definite"));
+}
+
+Eigen::MatrixXd covarianceOfInformation(const TextTable& t, const Eigen::MatrixXd& info) {
+  const Eigen::MatrixXd cov = info.inverse();
+  if (!cov.allFinite() || !(cov.cwiseAbs().maxCoeff() <= limits::kMaxVariance))
+    t.fail(
+        "information matrix is nearly singular (its inverse, the covariance, has an entry "
+        "that is not finite or above 1e24)");
+  return cov;
+}
+
+void checkSensorNoise(const SensorNoise& noise, const std::string& file) {
+  const auto check = [&](double std, const char* what) {
+    if (!(std >= IniSection::kMinStd && std <= IniSection::kMaxStd)) {
+      char value[32];
+      std::snprintf(value, sizeof value, "%g", std);
+      throw InputError(file + ": the sensor noise it gives, " + what + " = " + value +
+                       ", is not a standard deviation from 1e-12 to 1e12 (too few readings, or "
+                       "all alike?)");
+    }
+  };
+  check(noise.std_range, "std_range");
+  check(noise.std_yaw, "std_yaw");
 }
 
 RangeBearingScan emptyScan(const SensorNoise& noise) {

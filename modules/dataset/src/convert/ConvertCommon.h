@@ -14,7 +14,7 @@ namespace budget_slam::dataset::convert {
 std::string baseName(const std::string& path);
 
 /// Symmetric matrix from the upper triangle stored row by row in fields first, first+1, ... of the
-/// current record.
+/// current record; each entry a finite number of at most limits::kMaxVariance.
 Eigen::Matrix3d upperTriangle3(const TextTable& t, std::size_t first, const std::string& what);
 Eigen::Matrix2d upperTriangle2(const TextTable& t, std::size_t first, const std::string& what);
 
@@ -22,6 +22,14 @@ Eigen::Matrix2d upperTriangle2(const TextTable& t, std::size_t first, const std:
 /// `strict`).
 void checkCovariance(const TextTable& t, const Eigen::MatrixXd& m, const std::string& what,
                      bool strict);
+
+/// The covariance of an information matrix (positive definite, checked before): fails on the
+/// current record when its inverse is not finite or beyond limits::kMaxVariance.
+Eigen::MatrixXd covarianceOfInformation(const TextTable& t, const Eigen::MatrixXd& info);
+
+/// Throws InputError naming `file` unless the sensor noise a converter made from it is one
+/// budget-slam accepts (std_range, std_yaw from IniSection::kMinStd to kMaxStd).
+void checkSensorNoise(const SensorNoise& noise, const std::string& file);
 
 /// An empty scan of the sensor `noise` describes.
 RangeBearingScan emptyScan(const SensorNoise& noise);

@@ -4,6 +4,7 @@
 #include "../TextTable.h"
 #include "ConvertCommon.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/InputLimits.h"
 #include "budget_slam/dataset/Converters.h"
 #include "budget_slam/dataset/StepToMrpt.h"
 
@@ -26,13 +27,13 @@ ConvertedDataset convertFreiburg(const std::string& world, const std::string& se
     std::map<LandmarkId, std::size_t> line_of;
     while (t.next()) {
       t.expectFields(3, "landmark (id x y)");
-      const long long id = t.integer(0, "landmark id");
-      if (id < 0) t.fail("landmark id must not be negative, found " + t.word(0));
+      const long long id = t.landmarkId(0, "landmark id");
       if (const auto it = line_of.find(id); it != line_of.end())
         t.fail("landmark id " + std::to_string(id) + " appears twice (first on line " +
                std::to_string(it->second) + ")");
       line_of[id] = t.line();
-      out.ground_truth.landmarks[id] = Eigen::Vector2d(t.number(1, "x"), t.number(2, "y"));
+      out.ground_truth.landmarks[id] = Eigen::Vector2d(t.bounded(1, "x", limits::kMaxCoordinate),
+                                                       t.bounded(2, "y", limits::kMaxCoordinate));
     }
   }
   out.noise.std_range = std::sqrt(kSensorVar);
@@ -53,16 +54,22 @@ ConvertedDataset convertFreiburg(const std::string& world, const std::string& se
     if (tag == "ODOMETRY") {
       // Rotation r1, translation t, rotation r2 (the course's odometry motion model).
       t.expectFields(4, "ODOMETRY (r1 t r2)");
-      const double r1 = t.number(1, "r1"), tr = t.number(2, "t"), r2 = t.number(3, "r2");
+      const double r1 = t.bounded(1, "r1", limits::kMaxAngle),
+                   tr = t.bounded(2, "t", limits::kMaxStepTranslation),
+                   r2 = t.bounded(3, "r2", limits::kMaxAngle);
+      if (blocks.size() >= limits::kMaxSteps)
+        t.fail("more than " + std::to_string(limits::kMaxSteps) +
+               " ODOMETRY records (steps of one conversion)");
       OdometryIncrement inc;
       inc.mean = {tr * std::cos(r1), tr * std::sin(r1), r1 + r2};
       inc.cov = Eigen::Vector3d(kMotionVarXY, kMotionVarXY, kMotionVarYaw).asDiagonal();
       blocks.push_back({inc, {}, {}});
     } else if (tag == "SENSOR") {
       t.expectFields(4, "SENSOR (id range bearing)");
-      const long long id = t.integer(1, "landmark id");
-      if (id < 0) t.fail("landmark id must not be negative, found " + t.word(1));
-      const double range = t.number(2, "range"), bearing = t.number(3, "bearing");
+      const long long id = t.landmarkId(1, "landmark id");
+      const double range = t.bounded(2, "range", limits::kMaxRange),
+                   bearing = t.bounded(3, "bearing", limits::kMaxAngle);
+      if (range == 0) t.fail("SENSOR at zero range has no bearing");
       if (range < 0) {
         // Simulated noise on a landmark a few cm away; MRPT's filter cannot take it. Left out.
         ++negative_left_out;

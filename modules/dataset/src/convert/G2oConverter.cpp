@@ -6,6 +6,7 @@
 #include "ConvertCommon.h"
 #include "PoseChain.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/InputLimits.h"
 #include "budget_slam/dataset/Converters.h"
 
 namespace budget_slam::dataset {
@@ -28,21 +29,23 @@ ConvertedDataset convertG2o(const std::string& path) {
     if (tag == "VERTEX_SE2") {
       // Initial guesses only: the rawlog carries the measurements.
       t.expectFields(5, "VERTEX_SE2 (id x y theta)");
-      for (std::size_t i = 2; i < 5; ++i) t.number(i, "coordinate " + std::to_string(i - 1));
+      t.bounded(2, "x", limits::kMaxCoordinate), t.bounded(3, "y", limits::kMaxCoordinate);
+      t.bounded(4, "theta", limits::kMaxAngle);
       declare(se2, t.integer(1, "vertex id"));
     } else if (tag == "VERTEX_XY") {
       t.expectFields(4, "VERTEX_XY (id x y)");
-      t.number(2, "x");
-      t.number(3, "y");
+      t.bounded(2, "x", limits::kMaxCoordinate), t.bounded(3, "y", limits::kMaxCoordinate);
       declare(xy, t.integer(1, "vertex id"));
     } else if (tag == "EDGE_SE2") {
       // EDGE_SE2 i j dx dy dtheta + upper triangle of the 3x3 information matrix.
       t.expectFields(12, "EDGE_SE2 (i j dx dy dtheta + 6 information entries)");
       OdometryIncrement inc;
-      inc.mean = {t.number(3, "dx"), t.number(4, "dy"), t.number(5, "dtheta")};
+      inc.mean = {t.bounded(3, "dx", limits::kMaxStepTranslation),
+                  t.bounded(4, "dy", limits::kMaxStepTranslation),
+                  t.bounded(5, "dtheta", limits::kMaxAngle)};
       const Eigen::Matrix3d info = convert::upperTriangle3(t, 6, "information");
       convert::checkCovariance(t, info, "information matrix", true);
-      inc.cov = info.inverse();
+      inc.cov = convert::covarianceOfInformation(t, info);
       const long long i = t.integer(1, "vertex id i"), j = t.integer(2, "vertex id j");
       need_se2.emplace_back(i, t.line());
       need_se2.emplace_back(j, t.line());
@@ -50,11 +53,12 @@ ConvertedDataset convertG2o(const std::string& path) {
     } else if (tag == "EDGE_SE2_XY") {
       // EDGE_SE2_XY i l x y + upper triangle of the 2x2 information matrix (robot frame).
       t.expectFields(8, "EDGE_SE2_XY (i l x y + 3 information entries)");
-      const double x = t.number(3, "x"), y = t.number(4, "y");
+      const double x = t.bounded(3, "x", limits::kMaxRange),
+                   y = t.bounded(4, "y", limits::kMaxRange);
       const Eigen::Matrix2d info = convert::upperTriangle2(t, 5, "information");
       convert::checkCovariance(t, info, "information matrix", true);
-      const long long i = t.integer(1, "vertex id i"), l = t.integer(2, "vertex id l");
-      if (l < 0) t.fail("landmark id must not be negative, found " + t.word(2));
+      const Eigen::Matrix2d cov = convert::covarianceOfInformation(t, info);
+      const long long i = t.integer(1, "vertex id i"), l = t.landmarkId(2, "vertex id l");
       need_se2.emplace_back(i, t.line());
       need_xy.emplace_back(l, t.line());
       const double r = std::hypot(x, y);
@@ -62,7 +66,9 @@ ConvertedDataset convertG2o(const std::string& path) {
       // First-order propagation of the Cartesian covariance to (range, bearing).
       Eigen::Matrix2d J;
       J << x / r, y / r, -y / (r * r), x / (r * r);
-      const Eigen::Matrix2d c = J * info.inverse() * J.transpose();
+      const Eigen::Matrix2d c = J * cov * J.transpose();
+      if (!c.allFinite() || !(c.cwiseAbs().maxCoeff() <= limits::kMaxVariance))
+        t.fail("the sighting's covariance in range and bearing is beyond 1e24");
       var_range_sum += c(0, 0);
       var_yaw_sum += c(1, 1);
       ++n_xy;
@@ -82,10 +88,12 @@ ConvertedDataset convertG2o(const std::string& path) {
       throw InputError(t.where(line) + ": vertex " + std::to_string(id) +
                        " is not declared by a VERTEX_XY line");
 
+  if (n_xy == 0) throw InputError(path + ": no EDGE_SE2_XY record (no landmark sighting)");
   ConvertedDataset out;
   out.noise.std_range = n_xy ? std::sqrt(var_range_sum / n_xy) : 0;
   out.noise.std_yaw = n_xy ? std::sqrt(var_yaw_sum / n_xy) : 0;
   convert::limitsFromReadings(chain.readings(), out.noise);
+  convert::checkSensorNoise(out.noise, path);
   out.steps = chain.build(t, out.noise);
   out.notes = {
       "Made by budget-convert --format g2o from " + convert::baseName(path) + ".",

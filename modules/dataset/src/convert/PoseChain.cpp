@@ -4,6 +4,7 @@
 
 #include "ConvertCommon.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/InputLimits.h"
 #include "budget_slam/dataset/StepToMrpt.h"
 
 namespace budget_slam::dataset::convert {
@@ -15,6 +16,9 @@ void PoseChain::addOdometry(const TextTable& t, long long from, long long to,
                             const OdometryIncrement& inc) {
   const std::string rec = odometry_record_ + " " + std::to_string(from) + " " + std::to_string(to);
   if (from == to) t.fail(rec + " goes from a pose to itself");
+  if (odometry_.size() >= limits::kMaxSteps)
+    t.fail("more than " + std::to_string(limits::kMaxSteps) + " " + odometry_record_ +
+           " records (steps of one conversion)");
   if (odometry_.empty()) {
     pose_index_[from] = 0;
     pose_line_[from] = t.line();
@@ -34,6 +38,9 @@ void PoseChain::addOdometry(const TextTable& t, long long from, long long to,
 void PoseChain::addSighting(const TextTable& t, long long pose, long long landmark, double range,
                             double bearing) {
   if (!(range > 0)) t.fail(sighting_record_ + " at zero range has no bearing");
+  if (!(range <= limits::kMaxRange))
+    t.fail(sighting_record_ + " at a range of " + std::to_string(range) + " m (at most " +
+           std::to_string(static_cast<long long>(limits::kMaxRange)) + " m is a reading)");
   sightings_.push_back({pose, landmark, range, bearing, t.line()});
 }
 

@@ -9,6 +9,7 @@
 #include "../TextTable.h"
 #include "ConvertCommon.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/InputLimits.h"
 #include "budget_slam/dataset/Converters.h"
 #include "budget_slam/dataset/StepToMrpt.h"
 
@@ -23,16 +24,27 @@ struct Timed {
   std::size_t line;
 };
 
-/// The records of a time-ordered UTIAS file with `fields` columns, time first.
-std::vector<Timed> readTimed(const std::string& file, std::size_t fields, const std::string& what,
-                             const std::vector<std::string>& names) {
+/// A column of a UTIAS file: its name and the largest magnitude it may take.
+struct Column {
+  const char* name;
+  double limit;
+};
+
+/// The largest barcode read (the dataset's are two-digit; a double holds integers exactly to
+/// 2^53).
+constexpr double kMaxBarcode = 1e9;
+
+/// The records of a time-ordered UTIAS file with `columns` after the time.
+std::vector<Timed> readTimed(const std::string& file, const std::string& what,
+                             const std::vector<Column>& columns) {
   std::vector<Timed> out;
   TextTable t(file);
   while (t.next()) {
-    t.expectFields(fields, what);
-    Timed r{t.number(0, "time"), 0, 0, 0, t.line()};
+    t.expectFields(columns.size() + 1, what);
+    Timed r{t.bounded(0, "time", limits::kMaxTime), 0, 0, 0, t.line()};
     double* dst[3] = {&r.a, &r.b, &r.c};
-    for (std::size_t i = 1; i < fields; ++i) *dst[i - 1] = t.number(i, names[i - 1]);
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      *dst[i] = t.bounded(i + 1, columns[i].name, columns[i].limit);
     if (!out.empty() && r.t < out.back().t)
       t.fail("time " + t.word(0) + " is earlier than the previous record's");
     out.push_back(r);
@@ -48,12 +60,14 @@ struct RobotRecords {
 
 RobotRecords readRobot(const std::string& prefix) {
   RobotRecords r;
-  r.odo = readTimed(prefix + "Odometry.dat", 3, "odometry record (time v omega)", {"v", "omega"});
-  r.gt = readTimed(prefix + "Groundtruth.dat", 4, "ground-truth record (time x y theta)",
-                   {"x", "y", "theta"});
-  r.meas =
-      readTimed(prefix + "Measurement.dat", 4, "measurement record (time barcode range bearing)",
-                {"barcode", "range", "bearing"});
+  r.odo = readTimed(prefix + "Odometry.dat", "odometry record (time v omega)",
+                    {{"v", limits::kMaxSpeed}, {"omega", limits::kMaxSpeed}});
+  r.gt = readTimed(
+      prefix + "Groundtruth.dat", "ground-truth record (time x y theta)",
+      {{"x", limits::kMaxCoordinate}, {"y", limits::kMaxCoordinate}, {"theta", limits::kMaxAngle}});
+  r.meas = readTimed(
+      prefix + "Measurement.dat", "measurement record (time barcode range bearing)",
+      {{"barcode", kMaxBarcode}, {"range", limits::kMaxRange}, {"bearing", limits::kMaxAngle}});
   return r;
 }
 
@@ -137,7 +151,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
     TextTable t(dir + "Barcodes.dat");
     while (t.next()) {
       t.expectFields(2, "barcode record (subject barcode)");
-      const long long subject = t.integer(0, "subject"), barcode = t.integer(1, "barcode");
+      const long long subject = t.landmarkId(0, "subject"), barcode = t.integer(1, "barcode");
       if (subject_of.count(barcode))
         t.fail("barcode " + std::to_string(barcode) + " is given to two subjects");
       subject_of[barcode] = subject;
@@ -148,10 +162,12 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
     TextTable t(dir + "Landmark_Groundtruth.dat");
     while (t.next()) {
       t.expectFields(5, "landmark record (subject x y sx sy)");
-      const long long subject = t.integer(0, "subject");
+      const long long subject = t.landmarkId(0, "subject");
       if (landmarks_world.count(subject))
         t.fail("landmark subject " + std::to_string(subject) + " appears twice");
-      landmarks_world[subject] = Eigen::Vector2d(t.number(1, "x"), t.number(2, "y"));
+      landmarks_world[subject] = Eigen::Vector2d(t.bounded(1, "x", limits::kMaxCoordinate),
+                                                 t.bounded(2, "y", limits::kMaxCoordinate));
+      t.bounded(3, "sx", limits::kMaxCoordinate), t.bounded(4, "sy", limits::kMaxCoordinate);
     }
   }
   const auto [odo, gt, meas] = readRobot(prefix);
@@ -161,6 +177,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
   // does not predict while its map is empty, so its frame is the pose of the first sighting.
   const double t_odo = odo.front().t;
   std::vector<double> times;
+  std::vector<std::size_t> lines;  // Measurement.dat line of each step's first sighting
   std::vector<std::vector<RangeBearingReading>> readings;
   std::size_t robots_left_out = 0, unknown_left_out = 0, early_left_out = 0;
   std::vector<RangeBearingReading> all;
@@ -185,7 +202,11 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
       continue;
     }
     if (times.empty() || m.t != times.back()) {
+      if (times.size() >= limits::kMaxSteps)
+        throw InputError(prefix + "Measurement.dat:" + std::to_string(m.line) + ": more than " +
+                         std::to_string(limits::kMaxSteps) + " steps in one conversion");
       times.push_back(m.t);
+      lines.push_back(m.line);
       readings.emplace_back();
     }
     auto& rs = readings.back();
@@ -226,6 +247,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
   out.noise.std_range = robustStd(er);
   out.noise.std_yaw = robustStd(eb);
   convert::limitsFromReadings(all, out.noise);
+  convert::checkSensorNoise(out.noise, prefix + "Measurement.dat");
 
   // Odometry increments, and their noise: a random walk whose variance grows with time,
   // q = sum of squared errors against ground truth / sum of durations (per axis).
@@ -235,6 +257,15 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
   CPose2D prev_true;
   for (std::size_t k = 0; k < times.size(); ++k) {
     inc.push_back(integrate(odo, prev_t, times[k]));
+    // Speeds are bounded, durations are not: a gap in time can integrate to an impossible step.
+    if (!(std::abs(inc.back().x()) <= limits::kMaxStepTranslation &&
+          std::abs(inc.back().y()) <= limits::kMaxStepTranslation))
+      throw InputError(prefix + "Measurement.dat:" + std::to_string(lines[k]) +
+                       ": the odometry since the previous step integrates to (" +
+                       std::to_string(inc.back().x()) + ", " + std::to_string(inc.back().y()) +
+                       ") m, more than " +
+                       std::to_string(static_cast<long long>(limits::kMaxStepTranslation)) +
+                       " m in one step");
     const CPose2D true_inc = true_at[k] - prev_true;
     sx += std::pow(inc.back().x() - true_inc.x(), 2);
     sy += std::pow(inc.back().y() - true_inc.y(), 2);
@@ -253,6 +284,10 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
     o.cov = Eigen::Vector3d(std::max(qxy * dt, 1e-12), std::max(qxy * dt, 1e-12),
                             std::max(qth * dt, 1e-12))
                 .asDiagonal();
+    if (!(o.cov.maxCoeff() <= limits::kMaxVariance))
+      throw InputError(prefix + "Measurement.dat:" + std::to_string(lines[k]) +
+                       ": the odometry noise fitted to the ground truth gives this step a "
+                       "variance above 1e24");
     RangeBearingScan scan = convert::emptyScan(out.noise);
     scan.readings = readings[k];
     out.steps.push_back(makeStep(k, times[k], o, scan));

@@ -10,6 +10,7 @@
 
 #include "Random.h"
 #include "Scenario.h"
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/dataset/DatasetFiles.h"
 #include "budget_slam/dataset/RawlogWriter.h"
@@ -187,15 +188,16 @@ ConvertedDataset simulate(const SimulationOptions& options) {
   return out;
 }
 
-std::size_t simulateToFiles(const SimulationOptions& options, const std::string& rawlog) {
+std::size_t simulateToFiles(const SimulationOptions& options, const std::string& rawlog,
+                            bool force) {
   checkRawlogName(rawlog);
   Simulator sim(options);
   RawlogWriter writer(rawlog);
-  sim.run([&](const Step& s) { writer.write(s); });
-  writer.close();
-  saveGroundTruthLandmarks(groundTruthLandmarksPathFor(rawlog), sim.groundTruth().landmarks);
-  saveGroundTruthPath(groundTruthRobotPathFor(rawlog), sim.groundTruth().path);
-  writeSidecarIni(sidecarIniPathFor(rawlog), sim.noise(), sim.notes());
+  sim.run([&](const Step& s) {
+    Cancellation::check();
+    writer.write(s);
+  });
+  saveDatasetFiles(writer, sim.groundTruth(), sim.noise(), sim.notes(), force);
   return writer.stepsWritten();
 }
 

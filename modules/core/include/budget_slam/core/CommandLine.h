@@ -4,6 +4,9 @@
 // command line is one line on stderr naming the flag, and exit 2.
 #include <tclap/CmdLine.h>
 
+#include <cerrno>
+#include <cstring>
+#include <ostream>
 #include <sstream>
 #include <string>
 
@@ -42,6 +45,21 @@ inline std::string describe(const TCLAP::ArgException& e) {
   const std::string id = e.argId();
   const bool named = id.find_first_not_of(' ') != std::string::npos;
   return e.error() + (named ? " (" + id + ")" : std::string());
+}
+
+/// Flushes `out` (stdout). When it cannot take the output (a closed pipe, `| head`: SIGPIPE is
+/// ignored, core/StopSignals.h, so the write fails instead of killing the program), writes one
+/// line on `err`, "<program>: error: cannot write to stdout (Broken pipe)<note>", and returns
+/// false: the program then exits 1, as coreutils' tools do.
+inline bool flushStdout(std::ostream& out, std::ostream& err, const std::string& program,
+                        const std::string& note = "") {
+  errno = 0;
+  out.flush();
+  if (out) return true;
+  const int e = errno;
+  err << program << ": error: cannot write to stdout (" << (e ? std::strerror(e) : "closed") << ")"
+      << note << std::endl;
+  return false;
 }
 
 }  // namespace budget_slam

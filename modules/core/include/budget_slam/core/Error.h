@@ -17,6 +17,21 @@ class ConfigError : public Error {
   using Error::Error;
 };
 
+/// A bad value, or an unknown key, of one ini key: the message names section, key and value, and
+/// section() and key() name them as data, so that the caller can say where the value came from
+/// (the -c file, a rawlog's sidecar, --set) without reading it back out of the message.
+/// key() is "" for an unknown section.
+class KeyError : public ConfigError {
+ public:
+  KeyError(std::string section, std::string key, const std::string& message)
+      : ConfigError(message), section_(std::move(section)), key_(std::move(key)) {}
+  const std::string& section() const { return section_; }
+  const std::string& key() const { return key_; }
+
+ private:
+  std::string section_, key_;
+};
+
 /// A bad command line: an unknown flag, or a flag value that is not of the flag's type, not one
 /// of its choices or out of its range. The executables exit with 2 (core/CommandLine.h).
 class UsageError : public ConfigError {

@@ -23,6 +23,15 @@ std::string excerpt(std::string_view s, std::size_t max_chars = 40);
 std::string exceptionLine(const std::exception& e);
 std::string exceptionLine(std::string_view what);
 
+/// The one line a program ends with for an exception that escaped its work: an Error's own text
+/// (it names the file, step or key), "out of memory (...)" for std::bad_alloc (an address-space
+/// limit, ulimit -v), "internal error: <exceptionLine>" for anything else (a bug).
+std::string failureLine(const std::exception& e);
+
+/// `why`, and `also` after it ("why; also") when `also` says something more: the one line that
+/// reports a failure and the summary.json that could not be written about it.
+std::string withAlso(const std::string& why, const std::string& also);
+
 /// `s` without the leading and trailing characters of `blanks`.
 std::string trimmed(const std::string& s, const char* blanks = " \t\r\n");
 

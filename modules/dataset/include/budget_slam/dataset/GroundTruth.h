@@ -31,7 +31,12 @@ std::string groundTruthRobotPathFor(const std::string& rawlog);
 GroundTruth loadGroundTruth(const std::string& rawlog, const std::string& landmarks_file = "",
                             const std::string& path_file = "");
 
-/// Writers in the same formats (used by the simulator and converters).
+/// The texts of the two files, in the formats loadGroundTruth reads (simul-landmarks' own).
+/// A landmark id that does not fit MRPT's int is an InputError.
+std::string groundTruthLandmarksText(const std::map<LandmarkId, Eigen::Vector2d>& landmarks);
+std::string groundTruthPathText(const std::vector<mrpt::math::TPose2D>& path);
+
+/// The texts written to `file` (atomically, core/FileWrite.h).
 void saveGroundTruthLandmarks(const std::string& file,
                               const std::map<LandmarkId, Eigen::Vector2d>& landmarks);
 void saveGroundTruthPath(const std::string& file, const std::vector<mrpt::math::TPose2D>& path);

@@ -16,7 +16,4 @@ std::string sidecarIniPathFor(const std::string& rawlog);
 /// settings of MRPT's filter.
 std::string sidecarIniText(const SensorNoise& noise, const std::vector<std::string>& notes);
 
-void writeSidecarIni(const std::string& file, const SensorNoise& noise,
-                     const std::vector<std::string>& notes);
-
 }  // namespace budget_slam::dataset

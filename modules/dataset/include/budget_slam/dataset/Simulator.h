@@ -78,7 +78,10 @@ class Simulator {
 ConvertedDataset simulate(const SimulationOptions& options);
 
 /// Simulates straight into `rawlog` + its ground-truth files + sidecar ini, without holding the
-/// steps in memory. Returns the number of steps written.
-std::size_t simulateToFiles(const SimulationOptions& options, const std::string& rawlog);
+/// steps in memory; the files appear together when all are written, and never replace one that
+/// exists (saveDatasetFiles: `force` keeps it as a numbered backup). A stop request (Ctrl-C) ends
+/// it between two steps with Interrupted, leaving no file. Returns the number of steps written.
+std::size_t simulateToFiles(const SimulationOptions& options, const std::string& rawlog,
+                            bool force = false);
 
 }  // namespace budget_slam::dataset

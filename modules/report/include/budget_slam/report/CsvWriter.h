@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "budget_slam/report/FileWrite.h"
+#include "budget_slam/core/FileWrite.h"
 
 namespace budget_slam::report {
 

@@ -1,4 +1,5 @@
 #pragma once
+#include <exception>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -21,6 +22,17 @@ void writeLandmarksCsv(const std::string& path, const std::vector<LandmarkView>&
 /// reader never sees half a file; bytes of strings that are not UTF-8 are written as U+FFFD, so
 /// the file is valid JSON whatever an error text echoes.
 void writeJson(const std::string& path, const nlohmann::json& j);
+
+/// summary.json of a run, compare or localization (writeJson). When the whole summary cannot be
+/// written (a full disk), a short one that fits the space the output folder set aside for it:
+/// status, error, started, files_not_written, earlier_run_moved_to, and `summary_cut` saying why
+/// the rest is missing. Throws Error naming the file when not even that can be written.
+void writeSummaryJson(const std::string& path, const nlohmann::json& summary);
+
+/// The one line for an exception out of writing an output: core's failureLine(), with OpenCV's
+/// "Insufficient memory" (a picture's pixels under an address-space limit) said as "out of
+/// memory (...)" like any other allocation failure.
+std::string outputFailureLine(const std::exception& e);
 
 /// Columns of steps.csv and evictions.csv (docs/OUTPUTS.md).
 const std::vector<std::string>& stepsCsvColumns();

@@ -1,26 +1,24 @@
 // Checked, atomic output files: a reader never sees a torn file, and a write that fails (a full
 // disk, a file-size limit) is an error naming the file. The failures are made real with a
 // file-size limit (RLIMIT_FSIZE, SIGXFSZ ignored): write(2) then fails with EFBIG exactly as it
-// fails with ENOSPC on a full disk. The full-disk case itself runs on a tmpfs in tests/.
+// fails with ENOSPC on a full disk; and with DiskSpaceForTests, a full disk made in-process. The
+// full-disk case itself runs on a tmpfs in tests/.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <nlohmann/json.hpp>
-#include <set>
 #include <sstream>
+#include <vector>
 
 #include "budget_slam/core/Error.h"
-#include "budget_slam/report/CsvWriter.h"
-#include "budget_slam/report/FileWrite.h"
-#include "budget_slam/report/OutputFolder.h"
-#include "budget_slam/report/RunFiles.h"
+#include "budget_slam/core/FileWrite.h"
 
 using namespace budget_slam;
-using namespace budget_slam::report;
 namespace fs = std::filesystem;
 
 namespace {
@@ -123,60 +121,81 @@ TEST(FileWrite, LineFileNeverEndsInsideALine) {
   EXPECT_EQ(slurp(p), line + line + line);  // the partial 4th line was cut off again
 }
 
-TEST(CsvWriter, AFailedRowIsNotHalfWritten) {
-  const auto d = tempDir("csv_fail");
+
+TEST(FileWrite, ASimulatedFullDiskFailsLikeARealOne) {
+  const auto d = tempDir("disk_space");
   const std::string p = (d / "steps.csv").string();
-  CsvWriter csv(p, {"a", "b"});
   std::string error;
   {
-    FileSizeLimit limit(20);
-    csv.cell(1.5).cell(std::string("xy")).endRow();                                 // 4 + 7 bytes
-    error = errorOf([&] { csv.cell(123456.25).cell(std::string("z")).endRow(); });  // 12 more
+    DiskSpaceForTests disk(45);
+    LineFile f(p);
+    f.append(std::string(29, 'a') + "\n");
+    error = errorOf([&] { f.append(std::string(29, 'b') + "\n"); });  // 15 of 30 bytes fit
   }
-  EXPECT_EQ(error, "cannot write '" + p + "' (File too large)");
-  EXPECT_EQ(slurp(p), "a,b\n1.5,xy\n");
+  EXPECT_EQ(error, "cannot write '" + p + "' (No space left on device)");
+  EXPECT_EQ(slurp(p), std::string(29, 'a') + "\n");
+  writeFileAtomically(p, "room again\n");  // the limit is gone with its object
+  EXPECT_EQ(slurp(p), "room again\n");
 }
 
-TEST(RunFiles, SummaryIsValidUtf8WhateverTheErrorTextHolds) {
-  const auto d = tempDir("utf8");
+TEST(FileWrite, CommitNewNeverReplacesAFile) {
+  const auto d = tempDir("commit_new");
+  const std::string p = (d / "out.rawlog").string();
+  {
+    PendingFile f(p);
+    f.write("mine\n");
+    f.commitNew();
+  }
+  EXPECT_EQ(slurp(p), "mine\n");
+  std::ofstream(d / "theirs.ini") << "theirs\n";
+  const std::string q = (d / "theirs.ini").string();
+  std::string error;
+  {
+    PendingFile f(q);
+    f.write("mine\n");
+    error = errorOf([&] { f.commitNew(); });
+  }
+  EXPECT_EQ(error, "cannot write '" + q + "' (File exists)");
+  EXPECT_EQ(slurp(q), "theirs\n");
+  EXPECT_FALSE(fs::exists(q + ".tmp"));
+}
+
+TEST(FileWrite, APendingFileNotCommittedLeavesNothing) {
+  const auto d = tempDir("not_committed");
+  const std::string p = (d / "a.txt").string();
+  std::ofstream(p) << "before\n";
+  {
+    PendingFile f(p);
+    f.write("half");
+  }
+  EXPECT_EQ(slurp(p), "before\n");
+  EXPECT_FALSE(fs::exists(p + ".tmp"));
+}
+
+// The reservation keeps its descriptor: the file is written even when the process has no
+// descriptor left to open one (a run under `ulimit -n`).
+TEST(FileWrite, ReservedFileIsWrittenWithoutANewDescriptor) {
+  const auto d = tempDir("reserve_fd");
   const std::string p = (d / "summary.json").string();
-  // A corrupt class name echoed by an error message: bytes that are not UTF-8.
-  writeJson(p, {{"status", "failed"},
-                {"error", std::string("class 'CObs\xff\xfe"
-                                      "x' unknown")}});
-  const auto j = nlohmann::json::parse(slurp(p));
-  EXPECT_EQ(j["status"], "failed");
-  EXPECT_EQ(j["error"], "class 'CObs\xEF\xBF\xBD\xEF\xBF\xBDx' unknown");  // U+FFFD each
+  ASSERT_TRUE(reserveFileSpace(p, 4096));
+  std::vector<int> taken;
+  for (int fd; (fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC)) >= 0;) taken.push_back(fd);
+  ASSERT_EQ(errno, EMFILE);
+  const std::string other = (d / "other.txt").string();
+  const std::string refused = errorOf([&] { writeFileAtomically(other, "x"); });
+  const std::string written = errorOf([&] { writeFileAtomically(p, "{}\n"); });
+  for (int fd : taken) ::close(fd);
+  EXPECT_EQ(refused, "cannot write '" + other + "' (Too many open files)");
+  EXPECT_EQ(written, "no error");
+  EXPECT_EQ(slurp(p), "{}\n");
 }
 
-TEST(OutputFolder, AForcedRunMovesTheEarlierRunAside) {
-  const auto d = tempDir("forced");
-  std::ofstream(d / "summary.json") << "{}\n";
-  std::ofstream(d / "ground_truth.tum") << "0 0 0 0 0 0 0 1\n";
-  std::ofstream(d / "steps.csv.tmp") << "cut";
-  fs::create_directories(d / "states");
-  std::ofstream(d / "states" / "step_3.txt") << "x";
-  std::ofstream(d / "notes.txt") << "mine";
-
-  OutputFolder f(d.string(), true);
-  const std::string earlier = f.earlierRun();
-  ASSERT_EQ(earlier.rfind("earlier_run_", 0), 0u) << earlier;
-  const fs::path moved = d / earlier;
-  for (const char* name : {"summary.json", "ground_truth.tum", "steps.csv.tmp", "states"}) {
-    EXPECT_TRUE(fs::exists(moved / name)) << name;
-    EXPECT_FALSE(fs::exists(d / name)) << name;
-  }
-  EXPECT_TRUE(fs::exists(moved / "states" / "step_3.txt"));
-  EXPECT_EQ(slurp(d / "notes.txt"), "mine");  // not ours: left where it is
-  // The folder now holds the user's file, the earlier run and the space set aside for the summary.
-  std::set<std::string> names;
-  for (const auto& e : fs::directory_iterator(d)) names.insert(e.path().filename().string());
-  EXPECT_EQ(names, (std::set<std::string>{"notes.txt", earlier, "summary.json.tmp"}));
-
-  // A second forced run keeps both earlier runs apart.
-  std::ofstream(d / "summary.json") << "{}\n";
-  OutputFolder g(d.string(), true);
-  EXPECT_NE(g.earlierRun(), earlier);
-  EXPECT_TRUE(fs::exists(d / g.earlierRun() / "summary.json"));
-  EXPECT_TRUE(fs::exists(d / earlier / "summary.json"));
+TEST(FileWrite, AnUnusedReservationIsGivenBack) {
+  const auto d = tempDir("release");
+  const std::string p = (d / "summary.json").string();
+  ASSERT_TRUE(reserveFileSpace(p, 4096));
+  EXPECT_TRUE(fs::exists(p + ".tmp"));
+  releaseFileSpace(p);
+  EXPECT_FALSE(fs::exists(p + ".tmp"));
+  releaseFileSpace(p);  // twice: nothing to do
 }

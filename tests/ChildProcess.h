@@ -1,0 +1,102 @@
+#pragma once
+// The executables of build/bin run as child processes under limits, for the tests that need a
+// real process: signals, resource limits, a hang (alarm), peak memory (wait4).
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace budget_slam::testing {
+
+/// build/bin/<tool>.
+inline std::string binary(const std::string& tool) {
+  return std::string(BUDGET_SLAM_BINARY_DIR) + "/bin/" + tool;
+}
+
+/// How a child ended.
+struct ChildExit {
+  int code = -1;         ///< exit code, or -signal when killed
+  long max_rss_kib = 0;  ///< peak resident memory (wait4)
+  bool signaled() const { return code < 0; }
+};
+
+/// Starts `program args` with stderr into `err_file`, stdout into `out_fd` (default /dev/null),
+/// every other descriptor closed, SIGPIPE at its default as a shell leaves it, and `setup` run in
+/// the child before exec (limits: setrlimit, alarm).
+inline pid_t startChild(const std::string& program, const std::vector<std::string>& args,
+                        const std::string& err_file, const std::function<void()>& setup = {},
+                        int out_fd = -1) {
+  const pid_t pid = ::fork();
+  if (pid != 0) return pid;
+  const int e = ::open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  ::dup2(e, 2);
+  const int o = out_fd >= 0 ? out_fd : ::open("/dev/null", O_WRONLY);
+  ::dup2(o, 1);
+  for (int fd = 3; fd < 1024; ++fd) ::close(fd);
+  std::signal(SIGPIPE, SIG_DFL);
+  if (setup) setup();
+  std::vector<char*> argv = {const_cast<char*>(program.c_str())};
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  ::execv(program.c_str(), argv.data());
+  ::_exit(127);
+}
+
+inline ChildExit waitChild(pid_t pid) {
+  int status = 0;
+  rusage use{};
+  ::wait4(pid, &status, 0, &use);
+  ChildExit r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+  r.max_rss_kib = use.ru_maxrss;
+  return r;
+}
+
+inline ChildExit runChild(const std::string& program, const std::vector<std::string>& args,
+                          const std::string& err_file, const std::function<void()>& setup = {},
+                          int out_fd = -1) {
+  return waitChild(startChild(program, args, err_file, setup, out_fd));
+}
+
+/// Runs `count` children, `parallel` at a time: `start(i)` starts child i, `done(i, exit)` gets
+/// how it ended.
+inline void runChildren(std::size_t count, std::size_t parallel,
+                        const std::function<pid_t(std::size_t)>& start,
+                        const std::function<void(std::size_t, const ChildExit&)>& done) {
+  std::map<pid_t, std::size_t> running;
+  std::size_t next = 0;
+  while (next < count || !running.empty()) {
+    while (next < count && running.size() < parallel) {
+      const pid_t pid = start(next);
+      running[pid] = next++;
+    }
+    int status = 0;
+    rusage use{};
+    const pid_t pid = ::wait4(-1, &status, 0, &use);
+    if (pid <= 0) break;
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    ChildExit r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+    r.max_rss_kib = use.ru_maxrss;
+    const std::size_t i = it->second;
+    running.erase(it);
+    done(i, r);
+  }
+}
+
+/// The limits of issue 23's hostile-input runs: a 3 GiB address space and a 60 s alarm (a child
+/// that hangs dies by SIGALRM, which the caller sees as a signal).
+inline void hostileLimits() {
+  const rlimit as{rlim_t{3} << 30, rlim_t{3} << 30};
+  ::setrlimit(RLIMIT_AS, &as);
+  ::alarm(60);
+}
+
+}  // namespace budget_slam::testing
