@@ -1,11 +1,18 @@
 #!/usr/bin/python3
-"""budget-slam run on a full disk: a small tmpfs mounted in a private mount namespace (unshare).
+"""budget-slam on a full disk: a small tmpfs mounted in a private mount namespace (unshare).
 
-For each disk size, the run must exit 1 with one line naming the file it could not write
+run: for each disk size, the run must exit 1 with one line naming the file it could not write
 ("cannot write '<file>' (No space left on device)"), summary.json must be valid JSON saying
 status failed and why, and no output may be torn: steps.csv ends with a whole line, its rows agree
 with trajectory.tum and with summary.json's step count. The largest size holds every output: the
-run must succeed there. Exits 77 (skipped) where a tmpfs cannot be mounted (no privileges).
+run must succeed there.
+
+Tiny disks and the other commands (issue 23, case 5): run on 4 to 24 KiB, compare and localize on
+100 KiB. Each exits 1 with one line (compare: one a run and one for its own files), and every
+folder made holds a valid summary.json, or the line says why it could not be written.
+
+Exits 77 (skipped) where a tmpfs cannot be mounted (no privileges): tests/test_limits.cpp runs the
+same cases on a simulated disk (DiskSpaceForTests), which needs no privileges.
 """
 import argparse
 import json
@@ -81,6 +88,27 @@ def check_failed(rc, err, out, size_kib):
     return os.path.basename(named)
 
 
+def check_small(rc, err, out, where, max_lines=1):
+    """Exit 1, at most max_lines lines of budget-slam's, and a valid summary.json in every folder
+    made (or the line saying why none could be written)."""
+    assert rc == 1, "%s: exit %d, stderr %r" % (where, rc, err)
+    lines = err.splitlines()
+    assert 1 <= len(lines) <= max_lines, "%s: %d lines: %r" % (where, len(lines), err)
+    for line in lines:
+        assert line.startswith("budget-slam: error: "), "%s: %r" % (where, line)
+    assert "No space left on device" in err, "%s: %r" % (where, err)
+    folders = [d for d, _, files in os.walk(out) if "config_used.ini" in files] or [out]
+    for folder in folders:
+        summary = os.path.join(folder, "summary.json")
+        if os.path.exists(summary):
+            with open(summary, "rb") as f:
+                j = json.loads(f.read().decode("utf-8"))
+            assert j["status"] == "failed", "%s: %s: %r" % (where, summary, j)
+        else:
+            assert "summary.json" in err, "%s: no %s and the line does not say why: %r" % (
+                where, summary, err)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--budget-slam", required=True)
@@ -111,6 +139,27 @@ def main():
             print("tmpfs %d KiB: exit 1, %s" % (size, err.strip()))
             named.add(name)
         assert len(named) >= 2, "every size failed on the same file: %r" % named
+
+        # Tiny disks: the space set aside for summary.json is all there is.
+        for size in (4, 8, 16, 24):
+            rc, err, out = run_on_tmpfs(a.budget_slam, args, size, work)
+            check_small(rc, err, out, "run on a tmpfs of %d KiB" % size)
+            print("run, tmpfs %d KiB: exit 1, %s" % (size, err.strip()))
+        # compare and localize on 100 KiB.
+        ini = os.path.join(a.source, "tests/data/EKF-SLAM_test_2d.ini")
+        demo = os.path.join(a.source, "rawlogs/kf-slam_demo.rawlog")
+        compare = ["compare", "-c", ini, "-i", demo, "--quiet", "--reducers", "mi,oldest", "--cap",
+                   "10"]
+        rc, err, out = run_on_tmpfs(a.budget_slam, compare, 100, work)
+        check_small(rc, err, out, "compare on a tmpfs of 100 KiB", max_lines=4)
+        print("compare, tmpfs 100 KiB: exit 1, %d line(s)" % len(err.splitlines()))
+        mapdir = os.path.join(work, "map")
+        p = subprocess.run([a.budget_slam] + args + ["-o", mapdir], capture_output=True, text=True)
+        assert p.returncode == 0, p.stderr
+        localize = ["localize", "-c", ini, "-i", demo, "--quiet", "--map", mapdir]
+        rc, err, out = run_on_tmpfs(a.budget_slam, localize, 100, work)
+        check_small(rc, err, out, "localize on a tmpfs of 100 KiB")
+        print("localize, tmpfs 100 KiB: exit 1, %s" % err.strip())
     finally:
         shutil.rmtree(work, ignore_errors=True)
     print("ok")

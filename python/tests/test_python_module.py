@@ -278,6 +278,45 @@ class CtrlC(unittest.TestCase):
             self.assertTrue(os.path.isfile(os.path.join(out, "landmarks.csv")))
 
 
+class OutputFoldersAsOnTheCommandLine(unittest.TestCase):
+    """The module's runs own their output folders as the executable's do (issue 23, 25)."""
+
+    def test_a_failed_start_does_not_block_the_retry(self):
+        with tempfile.TemporaryDirectory(prefix="test_python_retry_") as tmp:
+            out = os.path.join(tmp, "out")
+            with self.assertRaises(budget_slam.Error) as ctx:
+                budget_slam.run(CONFIG, DEMO, {"LandmarkBudget.max_landmarks": "abc"}, outdir=out)
+            self.assertEqual(str(ctx.exception),
+                             "--set 'LandmarkBudget.max_landmarks=abc': [LandmarkBudget] max_landmarks "
+                             "= 'abc': not an integer (or none for no cap)")
+            r = budget_slam.run(CONFIG, DEMO, {"MappingApplication.max_steps": 20}, outdir=out, cap=10)
+            self.assertEqual(r["summary"]["status"], "ok")
+            self.assertEqual(sorted(n for n in os.listdir(out) if n.startswith("earlier_run_")), [])
+
+    def test_a_folder_in_use_is_refused_naming_the_holder(self):
+        with tempfile.TemporaryDirectory(prefix="test_python_lock_") as tmp:
+            # Another process holds the folder, as a running budget-slam or sweep does.
+            holder = subprocess.Popen(
+                [sys.executable, "-c",
+                 "import fcntl, os, sys, time\n"
+                 f"f = open(os.path.join({tmp!r}, '.budget-slam.lock'), 'a+')\n"
+                 "fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)\n"
+                 "f.write(str(os.getpid()) + '\\n'); f.flush(); print('held', flush=True)\n"
+                 "time.sleep(60)\n"], stdout=subprocess.PIPE, text=True)
+            try:
+                self.assertEqual(holder.stdout.readline(), "held\n")
+                with self.assertRaises(budget_slam.Error) as ctx:
+                    budget_slam.run(CONFIG, DEMO, outdir=tmp, force=True)
+                self.assertEqual(str(ctx.exception),
+                                 f"output folder '{tmp}' is in use by process {holder.pid} (it holds "
+                                 f"{tmp}/.budget-slam.lock); wait for it to end or give another output folder")
+                self.assertFalse(os.path.exists(os.path.join(tmp, "summary.json")))
+            finally:
+                holder.kill()
+                holder.wait()
+                holder.stdout.close()
+
+
 class BadArgumentsRaiseTheCliMessage(unittest.TestCase):
     def both(self, tmp, python_call, cli_args):
         """The CLI's last stderr line and the exception of the same call in Python."""

@@ -170,6 +170,24 @@ class KilledSweepResumes(unittest.TestCase):
                 self.assertEqual(sum(1 for _ in f), 1 + 2 * (25 + 2 * 26))
 
 
+class OneSweepAFolder(unittest.TestCase):
+    def test_a_second_sweep_into_a_folder_in_use_is_refused_naming_the_holder(self):
+        # Two sweeps in one folder would remove each other's <job>.part folders: the second is
+        # refused at once, with the lock budget-slam takes on its output folders.
+        with tempfile.TemporaryDirectory(prefix="test_sweep_lock_") as tmp:
+            out = os.path.join(tmp, "out")
+            lock = sweeplib.FolderLock(out)  # as a running sweep holds it
+            try:
+                p = run_sweep(out)
+            finally:
+                lock.release()
+            self.assertEqual(p.returncode, 1, p.stderr)
+            self.assertEqual(p.stderr, f"sweep: output folder '{out}' is in use by process {os.getpid()} "
+                                       f"(it holds {out}/.budget-slam.lock); wait for it to end or give "
+                                       "another output folder\n")
+            self.assertEqual(sorted(os.listdir(out)), [])
+
+
 class PairwiseWithFakeBudgetSlam(unittest.TestCase):
     """Twelve seeds of four reducers on one file rawlog, relocalizing on another, with the fake."""
 
