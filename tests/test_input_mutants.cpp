@@ -267,6 +267,21 @@ std::string checkConverted(const fs::path& rawlog) {
   return "";
 }
 
+/// A mutant's end: exit 0 with nothing on stderr, or exit 1 with one printable line of
+/// `program`'s, never an internal error. Returns whether it was refused.
+bool expectEndedWell(const ChildExit& r, const std::string& err, const std::string& program) {
+  if (r.code == 0) {
+    EXPECT_EQ(err, "");
+    return false;
+  }
+  EXPECT_EQ(r.code, 1) << err;
+  EXPECT_EQ(countLines(err), 1u) << err;
+  EXPECT_EQ(err.rfind(program + ": ", 0), 0u) << err;
+  EXPECT_TRUE(printableLine(err)) << err;
+  EXPECT_EQ(err.find("internal error"), std::string::npos) << err;
+  return true;
+}
+
 }  // namespace
 
 TEST(InputMutants, ConverterMutantsFailCleanlyOrConvertWithinBounds) {
@@ -304,18 +319,12 @@ TEST(InputMutants, ConverterMutantsFailCleanlyOrConvertWithinBounds) {
           ASSERT_FALSE(r.signaled()) << "signal " << -r.code << ": " << err;
           for (const auto& e : fs::directory_iterator(out[k]))
             EXPECT_NE(e.path().extension(), ".tmp") << e.path();
-          if (r.code == 0) {
-            EXPECT_EQ(err, "");
-            EXPECT_EQ(checkConverted(out[k] / "c.rawlog"), "");
-            ++outcome["converted"];
-          } else {
-            EXPECT_EQ(r.code, 1) << err;
-            EXPECT_EQ(countLines(err), 1u) << err;
-            EXPECT_EQ(err.rfind("budget-convert: ", 0), 0u) << err;
-            EXPECT_TRUE(printableLine(err)) << err;
-            EXPECT_EQ(err.find("internal error"), std::string::npos) << err;
+          if (expectEndedWell(r, err, "budget-convert")) {
             EXPECT_FALSE(fs::exists(out[k] / "c.rawlog"));
             ++outcome["refused"];
+          } else {
+            EXPECT_EQ(checkConverted(out[k] / "c.rawlog"), "");
+            ++outcome["converted"];
           }
         });
     std::cout << format.name << " mutants: " << outcome["converted"] << " converted, "
@@ -360,17 +369,7 @@ TEST(InputMutants, MapFolderMutantsFailCleanlyOrLocalize) {
         EXPECT_LT(r.max_rss_kib, kMaxRssKiB);
         const std::string err = slurp(out[k].string() + ".err");
         ASSERT_FALSE(r.signaled()) << "signal " << -r.code << ": " << err;
-        if (r.code == 0) {
-          EXPECT_EQ(err, "");
-          ++outcome["localized"];
-        } else {
-          EXPECT_EQ(r.code, 1) << err;
-          EXPECT_EQ(countLines(err), 1u) << err;
-          EXPECT_EQ(err.rfind("budget-slam: error: ", 0), 0u) << err;
-          EXPECT_TRUE(printableLine(err)) << err;
-          EXPECT_EQ(err.find("internal error"), std::string::npos) << err;
-          ++outcome["refused"];
-        }
+        ++outcome[expectEndedWell(r, err, "budget-slam: error") ? "refused" : "localized"];
         ASSERT_TRUE(fs::exists(out[k] / "summary.json")) << err;
         const auto s = readJson(out[k] / "summary.json");
         EXPECT_EQ(s["status"], r.code == 0 ? "ok" : "failed");

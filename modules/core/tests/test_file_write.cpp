@@ -15,27 +15,15 @@
 #include <sstream>
 #include <vector>
 
+#include "TempFiles.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
 
 using namespace budget_slam;
+using namespace budget_slam::test;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-fs::path tempDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("budget_slam_file_write_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 /// Files of this process may not grow past `bytes` while it lives (restored after).
 class FileSizeLimit {
@@ -57,19 +45,10 @@ class FileSizeLimit {
   void (*previous_)(int) = SIG_DFL;
 };
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
-
 }  // namespace
 
 TEST(FileWrite, AtomicWriteReplacesAndLeavesNoTemporaryFile) {
-  const auto d = tempDir("atomic");
+  const auto d = tempDir("file_write_atomic");
   const std::string p = (d / "a.txt").string();
   writeFileAtomically(p, "first\n");
   writeFileAtomically(p, "second\n");
@@ -81,7 +60,7 @@ TEST(FileWrite, AtomicWriteReplacesAndLeavesNoTemporaryFile) {
 }
 
 TEST(FileWrite, AFailedAtomicWriteKeepsThePreviousFile) {
-  const auto d = tempDir("atomic_fail");
+  const auto d = tempDir("file_write_atomic_fail");
   const std::string p = (d / "summary.json").string();
   writeFileAtomically(p, "{\"status\": \"ok\"}\n");
   std::string error;
@@ -95,7 +74,7 @@ TEST(FileWrite, AFailedAtomicWriteKeepsThePreviousFile) {
 }
 
 TEST(FileWrite, ReservedSpaceIsReusedForTheFile) {
-  const auto d = tempDir("reserve");
+  const auto d = tempDir("file_write_reserve");
   const std::string p = (d / "summary.json").string();
   ASSERT_TRUE(reserveFileSpace(p, 32768));
   EXPECT_EQ(fs::file_size(p + ".tmp"), 32768u);
@@ -105,7 +84,7 @@ TEST(FileWrite, ReservedSpaceIsReusedForTheFile) {
 }
 
 TEST(FileWrite, LineFileNeverEndsInsideALine) {
-  const auto d = tempDir("lines");
+  const auto d = tempDir("file_write_lines");
   const std::string p = (d / "steps.csv").string();
   const std::string line = std::string(29, 'a') + "\n";  // 30 bytes
   std::string first, second;
@@ -121,9 +100,8 @@ TEST(FileWrite, LineFileNeverEndsInsideALine) {
   EXPECT_EQ(slurp(p), line + line + line);  // the partial 4th line was cut off again
 }
 
-
 TEST(FileWrite, ASimulatedFullDiskFailsLikeARealOne) {
-  const auto d = tempDir("disk_space");
+  const auto d = tempDir("file_write_disk_space");
   const std::string p = (d / "steps.csv").string();
   std::string error;
   {
@@ -139,7 +117,7 @@ TEST(FileWrite, ASimulatedFullDiskFailsLikeARealOne) {
 }
 
 TEST(FileWrite, CommitNewNeverReplacesAFile) {
-  const auto d = tempDir("commit_new");
+  const auto d = tempDir("file_write_commit_new");
   const std::string p = (d / "out.rawlog").string();
   {
     PendingFile f(p);
@@ -161,7 +139,7 @@ TEST(FileWrite, CommitNewNeverReplacesAFile) {
 }
 
 TEST(FileWrite, APendingFileNotCommittedLeavesNothing) {
-  const auto d = tempDir("not_committed");
+  const auto d = tempDir("file_write_not_committed");
   const std::string p = (d / "a.txt").string();
   std::ofstream(p) << "before\n";
   {
@@ -175,7 +153,7 @@ TEST(FileWrite, APendingFileNotCommittedLeavesNothing) {
 // The reservation keeps its descriptor: the file is written even when the process has no
 // descriptor left to open one (a run under `ulimit -n`).
 TEST(FileWrite, ReservedFileIsWrittenWithoutANewDescriptor) {
-  const auto d = tempDir("reserve_fd");
+  const auto d = tempDir("file_write_reserve_fd");
   const std::string p = (d / "summary.json").string();
   ASSERT_TRUE(reserveFileSpace(p, 4096));
   std::vector<int> taken;
@@ -191,7 +169,7 @@ TEST(FileWrite, ReservedFileIsWrittenWithoutANewDescriptor) {
 }
 
 TEST(FileWrite, AnUnusedReservationIsGivenBack) {
-  const auto d = tempDir("release");
+  const auto d = tempDir("file_write_release");
   const std::string p = (d / "summary.json").string();
   ASSERT_TRUE(reserveFileSpace(p, 4096));
   EXPECT_TRUE(fs::exists(p + ".tmp"));

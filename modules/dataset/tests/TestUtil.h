@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
@@ -65,6 +66,28 @@ inline std::string datasetsDir() { return sourceDir() + "/data/datasets"; }
 inline int run(const std::string& cmd) {
   const int rc = std::system(cmd.c_str());
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+/// build/bin/<tool>.
+inline std::string bin(const std::string& tool) {
+  return std::string(BUDGET_SLAM_BINARY_DIR) + "/bin/" + tool;
+}
+
+/// What a tool run printed, its exit status and how long it took.
+struct ToolResult {
+  int status;
+  std::string out, err;
+  double seconds;
+};
+
+/// Runs `command` (a shell line) with a 60 s limit (a hang is a failure, not a stuck test);
+/// stdout and stderr kept in `tmp`.
+inline ToolResult runTool(const TempDir& tmp, const std::string& command) {
+  const std::string out = tmp.file("stdout"), err = tmp.file("stderr");
+  const auto t0 = std::chrono::steady_clock::now();
+  const int status = run("timeout -s KILL 60 " + command + " > '" + out + "' 2> '" + err + "'");
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return {status, readFile(out), readFile(err), s};
 }
 
 }  // namespace budget_slam::dataset::test

@@ -15,25 +15,6 @@ using namespace budget_slam::dataset::test;
 
 namespace {
 
-std::string bin(const std::string& tool) {
-  return std::string(BUDGET_SLAM_BINARY_DIR) + "/bin/" + tool;
-}
-
-struct Result {
-  int status;
-  std::string out, err;
-  double seconds;
-};
-
-/// Runs `command` (a shell line) with a 60 s limit; stdout and stderr kept.
-Result runTool(const TempDir& tmp, const std::string& command) {
-  const std::string out = tmp.file("stdout"), err = tmp.file("stderr");
-  const auto t0 = std::chrono::steady_clock::now();
-  const int status = run("timeout -s KILL 60 " + command + " > '" + out + "' 2> '" + err + "'");
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return {status, readFile(out), readFile(err), s};
-}
-
 std::string q(const std::string& s) { return "'" + s + "'"; }
 
 std::string convert(const std::string& format, const std::string& input, const std::string& out,

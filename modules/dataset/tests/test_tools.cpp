@@ -4,25 +4,6 @@
 
 using namespace budget_slam::dataset::test;
 
-namespace {
-
-std::string bin(const std::string& tool) {
-  return std::string(BUDGET_SLAM_BINARY_DIR) + "/bin/" + tool;
-}
-
-struct Result {
-  int status;
-  std::string out, err;
-};
-
-Result runTool(const TempDir& tmp, const std::string& args) {
-  const std::string out = tmp.file("stdout"), err = tmp.file("stderr");
-  const int status = run(args + " > '" + out + "' 2> '" + err + "'");
-  return {status, readFile(out), readFile(err)};
-}
-
-}  // namespace
-
 TEST(Tools, ConvertWritesRawlogGroundTruthAndSidecar) {
   TempDir tmp;
   const std::string dir = datasetsDir() + "/freiburg_slam_course";

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "TempFiles.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
 #include "budget_slam/report/CsvWriter.h"
@@ -20,37 +21,11 @@
 
 using namespace budget_slam;
 using namespace budget_slam::report;
+using namespace budget_slam::test;
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-fs::path tempDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("budget_slam_output_folder_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
-
-}  // namespace
-
 TEST(CsvWriter, AFailedRowIsNotHalfWritten) {
-  const auto d = tempDir("csv_fail");
+  const auto d = tempDir("output_folder_csv_fail");
   const std::string p = (d / "steps.csv").string();
   CsvWriter csv(p, {"a", "b"});
   std::string error;
@@ -64,7 +39,7 @@ TEST(CsvWriter, AFailedRowIsNotHalfWritten) {
 }
 
 TEST(RunFiles, SummaryIsValidUtf8WhateverTheErrorTextHolds) {
-  const auto d = tempDir("utf8");
+  const auto d = tempDir("output_folder_utf8");
   const std::string p = (d / "summary.json").string();
   // A corrupt class name echoed by an error message: bytes that are not UTF-8.
   writeJson(p, {{"status", "failed"},
@@ -76,7 +51,7 @@ TEST(RunFiles, SummaryIsValidUtf8WhateverTheErrorTextHolds) {
 }
 
 TEST(OutputFolder, AForcedRunMovesTheEarlierRunAside) {
-  const auto d = tempDir("forced");
+  const auto d = tempDir("output_folder_forced");
   std::ofstream(d / "summary.json") << "{}\n";
   std::ofstream(d / "ground_truth.tum") << "0 0 0 0 0 0 0 1\n";
   std::ofstream(d / "steps.csv.tmp") << "cut";
@@ -115,7 +90,7 @@ TEST(OutputFolder, AForcedRunMovesTheEarlierRunAside) {
 
 // One writer at a time: a second OutputFolder on a folder in use is refused, naming the holder.
 TEST(OutputFolder, AFolderInUseIsRefused) {
-  const auto d = tempDir("in_use");
+  const auto d = tempDir("output_folder_in_use");
   auto first = std::make_unique<OutputFolder>(d.string(), false);
   const std::string error = errorOf([&] { OutputFolder second(d.string(), true); });
   EXPECT_EQ(error, "output folder '" + d.string() + "' is in use by process " +
@@ -130,7 +105,7 @@ TEST(OutputFolder, AFolderInUseIsRefused) {
 // A run that ended before its first step ("started": false) made nothing worth keeping: the next
 // run replaces its files without --force; anything else of the folder stays.
 TEST(OutputFolder, AnUnstartedRunIsReplaced) {
-  const auto d = tempDir("unstarted");
+  const auto d = tempDir("output_folder_unstarted");
   std::ofstream(d / "summary.json") << "{\"status\": \"failed\", \"started\": false}\n";
   std::ofstream(d / "config_used.ini") << "[LandmarkBudget]\n";
   fs::create_directories(d / "reference");
