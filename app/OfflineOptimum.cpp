@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/FileWrite.h"
 #include "budget_slam/reducers/CoverageOptimum.h"
 #include "budget_slam/reducers/PlaceCoverageReducer.h"
 
@@ -82,14 +82,7 @@ std::string writeOfflineOptimum(const std::string& csv_path,
     md << "| " << r.run << " | " << r.landmarks << " | " << r.coverage << " | " << pct(r.coverage)
        << " |\n";
   }
-  const std::string tmp = csv_path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << csv.str();
-    if (!out) throw Error("cannot write '" + csv_path + "'");
-  }
-  if (std::rename(tmp.c_str(), csv_path.c_str()) != 0)
-    throw Error("cannot write '" + csv_path + "'");
+  writeFileAtomically(csv_path, csv.str());  // checked, whole or not at all
   return md.str();
 }
 

@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -199,4 +200,34 @@ TEST(Limits, ASecondSignalEndsTheRunLikeTheFirst) {
     const auto s = readJson(out / "summary.json");
     EXPECT_EQ(s["status"], "interrupted");
   }
+}
+
+// Case 7: the signals come while the program starts, before any step: here while it waits for
+// its -c file (a FIFO nobody writes yet). The handlers are there from the first line of main():
+// the run ends as interrupted before its first step, one line, exit 130, never killed.
+TEST(Limits, SignalsDuringStartUpEndTheRunCleanly) {
+  const auto dir = freshDir("signals_at_start");
+  fs::create_directories(dir);
+  const auto fifo = dir / "config.ini";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  const auto out = dir / "out";
+  const pid_t pid =
+      startChild(kBin, {"run", "-c", fifo.string(), "-i", kDemo, "-o", out.string(), "--quiet"},
+                 (dir / "err").string());
+  ASSERT_GT(pid, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // blocked opening the FIFO
+  ::kill(pid, SIGINT);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ::kill(pid, SIGTERM);
+  {
+    std::ofstream(fifo) << slurp(kMrptIni);  // now the configuration comes
+  }
+  const auto r = waitChild(pid);
+  const std::string err = slurp(dir / "err");
+  ASSERT_FALSE(r.signaled()) << "killed by signal " << -r.code << ": " << err;
+  EXPECT_EQ(r.code, 130);
+  EXPECT_EQ(err, "budget-slam: interrupted by Ctrl-C before the first step\n");
+  const auto s = readJson(out / "summary.json");
+  EXPECT_EQ(s["status"], "interrupted");
+  EXPECT_EQ(s["started"], false);
 }
