@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "budget_slam/core/Text.h"
+
 namespace budget_slam::fuzz {
 
 /// The line between two files of one input.
@@ -55,12 +57,12 @@ inline void writeFile(const std::filesystem::path& p, const std::string& bytes) 
   std::ofstream(p, std::ios::binary) << bytes;
 }
 
-/// The message contract of every Error: one line of printable ASCII, the file's bytes escaped.
+/// The message contract of every Error: one line of valid UTF-8 without a control character
+/// (core/Text.h printable(): the file's other bytes escaped), so that it is one line on any
+/// terminal and can go into summary.json.
 inline void requireOneLine(const char* what) {
-  for (const char* p = what; *p; ++p)
-    if (*p == '\n' || static_cast<unsigned char>(*p) < 0x20 ||
-        static_cast<unsigned char>(*p) >= 0x7f)
-      __builtin_trap();
+  const std::string_view s(what);
+  if (!budget_slam::isValidUtf8(s) || budget_slam::printable(s) != s) __builtin_trap();
 }
 
 }  // namespace budget_slam::fuzz

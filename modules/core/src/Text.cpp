@@ -48,6 +48,15 @@ std::string trim(std::string_view s) {
   return std::string(s.substr(b, e - b + 1));
 }
 
+/// A character a terminal or an editor may take for a control or a line break: the C1 controls
+/// (U+0080 to U+009F, NEL among them) and the line and paragraph separators U+2028, U+2029.
+bool breaksALine(std::string_view ch) {
+  const auto b = [&](std::size_t k) { return static_cast<unsigned char>(ch[k]); };
+  if (ch.size() == 2) return b(0) == 0xC2 && b(1) <= 0x9F;
+  if (ch.size() == 3) return b(0) == 0xE2 && b(1) == 0x80 && (b(2) == 0xA8 || b(2) == 0xA9);
+  return false;
+}
+
 }  // namespace
 
 bool isValidUtf8(std::string_view s, std::size_t* bad) {
@@ -71,6 +80,9 @@ std::string printable(std::string_view s) {
     if (n == 0 || (n == 1 && (c < 0x20 || c == 0x7F))) {
       out += hexByte(c);
       ++i;
+    } else if (breaksALine(s.substr(i, n))) {
+      for (std::size_t k = 0; k < n; ++k) out += hexByte(static_cast<unsigned char>(s[i + k]));
+      i += n;
     } else {
       out.append(s.substr(i, n));
       i += n;

@@ -20,6 +20,11 @@ TEST(Text, Utf8Validation) {
 
 TEST(Text, PrintableIsOneLineOfValidUtf8) {
   EXPECT_EQ(printable("ok \xC3\xA9"), "ok \xC3\xA9");
+  // Unicode's own line breaks and C1 controls (NEL) are escaped too: one line on any terminal.
+  EXPECT_EQ(printable("a\xC2\x85"
+                      "b\xE2\x80\xA8"
+                      "c\xE2\x80\xA9"),
+            "a\\xc2\\x85b\\xe2\\x80\\xa8c\\xe2\\x80\\xa9");
   EXPECT_EQ(printable(std::string("a\nb\0c\xFF", 6)), "a\\x0ab\\x00c\\xff");
   EXPECT_TRUE(isValidUtf8(printable("\x80\x81\xFE\xFF mrpt::obs::C\xC1\xC2")));
   EXPECT_EQ(excerpt("abcdefghij", 4), "abcd...");

@@ -173,7 +173,10 @@ void TextTable::expectAtLeast(std::size_t n, const std::string& record) const {
          std::to_string(size()));
 }
 
-void TextTable::fail(const std::string& what) const { throw InputError(where() + ": " + what); }
+void TextTable::fail(const std::string& what) const {
+  // One line whatever a word of the file echoed in `what` holds (core/Text.h printable()).
+  throw InputError(where() + ": " + printable(what));
+}
 
 std::string TextTable::where() const { return where(line_); }
 

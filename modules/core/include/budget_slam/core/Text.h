@@ -10,9 +10,10 @@ namespace budget_slam {
 /// U+10FFFF). Otherwise `*bad` (if given) receives the offset of the first bad byte.
 bool isValidUtf8(std::string_view s, std::size_t* bad = nullptr);
 
-/// `s` as one printable line of valid UTF-8: control characters (newlines included) and bytes
-/// that are not UTF-8 become `\xNN`, so that a message echoing file content (a corrupt class name,
-/// a binary ini line) stays one line and can go into summary.json.
+/// `s` as one printable line of valid UTF-8: control characters (newlines included, and the C1
+/// controls and line separators of Unicode: U+0080 to U+009F, U+2028, U+2029) and bytes that are
+/// not UTF-8 become `\xNN`, so that a message echoing file content (a corrupt class name, a
+/// binary ini line) stays one line and can go into summary.json.
 std::string printable(std::string_view s);
 
 /// The first `max_chars` bytes of printable(s), cut at a character boundary, with "..." when cut.
