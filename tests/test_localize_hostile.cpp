@@ -2,6 +2,7 @@
 // docs/RELIABILITY.md "Map folders"): absurd values are refused with one line naming the file and
 // the key or line, a signal ends it, `--start-pose ''` is a bad command line.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -134,4 +135,42 @@ TEST(LocalizeHostile, SignalsEndIt) {
   const auto s = readJson(out / "summary.json");
   EXPECT_EQ(s["status"], "interrupted");
   EXPECT_EQ(s["counts"]["steps"], 21);
+}
+
+// Case 4, a hostile map folder that never ends: its summary.json a FIFO nobody writes (reading
+// it would block for ever) is refused at once; and Ctrl-C then SIGTERM 50 ms later, sent to the
+// executable while it waits for its -c file (a FIFO too), end it with exit 130 and one line,
+// never the default action.
+TEST(LocalizeHostile, AFolderThatNeverEndsOrTwoSignalsEndItAtOnce) {
+  const auto map = freshDir("fifo_summary");
+  fs::create_directories(map);
+  fs::copy_file(demoMap() / "landmarks.csv", map / "landmarks.csv");
+  ASSERT_EQ(::mkfifo((map / "summary.json").c_str(), 0644), 0);
+  auto r = localizeBinary(map, freshDir("fifo_summary_out"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err,
+            "budget-slam: error: " + (map / "summary.json").string() + ": not a regular file\n");
+  EXPECT_LT(r.seconds, 30);
+
+  const auto dir = freshDir("localize_signals_at_start");
+  fs::create_directories(dir);
+  const auto fifo = dir / "config.ini";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  const auto out = dir / "out";
+  const pid_t pid = startChild(binary("budget-slam"),
+                               {"localize", "-c", fifo.string(), "-i", kDemo, "--map",
+                                demoMap().string(), "-o", out.string(), "--quiet"},
+                               (dir / "err").string(), hostileLimits);
+  ASSERT_GT(pid, 0);
+  ::usleep(500000);  // blocked opening the FIFO
+  ::kill(pid, SIGINT);
+  ::usleep(50000);
+  ::kill(pid, SIGTERM);
+  { std::ofstream(fifo) << slurp(kMrptIni); }
+  const auto e = waitChild(pid);
+  const std::string err = slurp(dir / "err");
+  ASSERT_FALSE(e.signaled()) << "killed by signal " << -e.code << ": " << err;
+  EXPECT_EQ(e.code, 130);
+  EXPECT_EQ(err, "budget-slam: interrupted by Ctrl-C before the first step\n");
+  EXPECT_EQ(readJson(out / "summary.json")["status"], "interrupted");
 }
