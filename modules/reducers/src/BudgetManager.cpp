@@ -160,6 +160,18 @@ void BudgetManager::tellObservations(const Backend& backend, StepIndex step, con
   if (raw && raw->scan) {
     seen.sensor_max_range = raw->scan->max_range;
     seen.sensor_fov = raw->scan->fov_yaw;
+    const auto& s = raw->scan->sensor_pose_on_robot;
+    seen.sensor_pose = mrpt::math::TPose2D(s.x, s.y, s.yaw);
+    // The landmark of each reading: the backend's association when it gives one (readings
+    // without IDs), else the reading's own ID when that landmark is in the map.
+    const std::vector<LandmarkId> association = backend.lastAssociation();
+    const std::set<LandmarkId> observed(seen.observed.begin(), seen.observed.end());
+    const auto& readings = raw->scan->readings;
+    for (std::size_t i = 0; i < readings.size(); ++i) {
+      const LandmarkId id = association.size() == readings.size() ? association[i] : readings[i].id;
+      if (id != kNoLandmarkId && observed.count(id))
+        seen.sightings.push_back({id, readings[i].range, readings[i].yaw});
+    }
   }
   for (Reducer* r : observers_) r->observe(seen);
 }
