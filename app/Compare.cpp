@@ -187,11 +187,21 @@ std::vector<RelocalizationResult> relocalizeMaps(const Runs& runs,
                                                  const CommandLine& cli,
                                                  std::vector<report::ComparisonRow>& rows,
                                                  CompareOutcome& outcome) {
+  // One mapped area for every map (the reference run's path, when it ended ok), so that every
+  // map is scored on the same steps.
+  std::vector<mrpt::math::TPose2D> reference_path;
+  if (runs.front()->status == "ok")
+    for (const auto& p : runs.front()->driver->backend().trajectory())
+      reference_path.push_back(p.pose);
   std::vector<MapOfRun> maps;
   for (const auto& r : runs)
-    if (r->status == "ok")
+    if (r->status == "ok") {
+      std::vector<mrpt::math::TPose2D> own;
+      if (reference_path.empty())
+        for (const auto& p : r->driver->backend().trajectory()) own.push_back(p.pose);
       maps.push_back({r->name, r->driver->folder().path(), r->driver->backend().landmarks(),
-                      r->driver->mapAlignment()});
+                      r->driver->mapAlignment(), reference_path.empty() ? own : reference_path});
+    }
   auto relocalized =
       relocalizeAll(maps, traversals, reference, cli.reference_trajectory, cli.threads, cli.force);
   addRelocalizationColumns(rows, relocalized, kReference);

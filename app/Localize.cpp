@@ -185,10 +185,11 @@ int BudgetSlamApp::runLocalize() {
       throw InputError(cli_.map_dir +
                        "/summary.json: no ground_truth.map_alignment (the map was made without "
                        "ground truth); give --start-pose or --reference-trajectory");
-    const auto inputs =
-        resolveLocalization(steps, in_rawlog, truth, map.alignment, given,
-                            cli_.reference_trajectory.empty() ? nullptr : &reference,
-                            cli_.reference_trajectory, rc.localization);
+    auto inputs = resolveLocalization(steps, in_rawlog, truth, map.alignment, given,
+                                      cli_.reference_trajectory.empty() ? nullptr : &reference,
+                                      cli_.reference_trajectory, rc.localization);
+    // A path of one pose is a run without history (keep_history = false): no area to score in.
+    if (map.path.size() >= 2) inputs.mapping_path = map.path;
     localizer =
         std::make_unique<Localizer>(rc.ini, rc.localization, metric_options.reloc_min_landmarks,
                                     *folder, map.landmarks, inputs);

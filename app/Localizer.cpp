@@ -32,10 +32,23 @@ const TrajectoryPoint* atTime(const std::vector<TrajectoryPoint>& ref, double t)
 }
 
 const std::vector<std::string>& localizationStepsColumns() {
-  static const std::vector<std::string> c = {
-      "step",  "t",     "x",       "y",        "yaw",   "var_x", "var_y",
-      "var_yaw", "map_landmarks_seen", "readings_used", "readings_gated", "error_m", "lost",
-      "step_ms"};
+  static const std::vector<std::string> c = {"step",
+                                             "t",
+                                             "x",
+                                             "y",
+                                             "yaw",
+                                             "var_x",
+                                             "var_y",
+                                             "var_yaw",
+                                             "map_landmarks_seen",
+                                             "readings_used",
+                                             "readings_gated",
+                                             "error_m",
+                                             "lost",
+                                             "step_ms",
+                                             "recovered",
+                                             "scored",
+                                             "tracked"};
   return c;
 }
 
@@ -60,7 +73,8 @@ LocalizationInputs resolveLocalization(const std::vector<Step>& steps, std::size
       const std::size_t row = metrics::groundTruthRow(steps[k].index, rows, steps_in_rawlog);
       if (row < rows) truth.poses[k] = alignment->apply(gt.path[row]);
     }
-    for (const auto& [id, p] : gt.landmarks) truth.landmarks.push_back(alignment->transform.apply(p));
+    for (const auto& [id, p] : gt.landmarks)
+      truth.landmarks.push_back(alignment->transform.apply(p));
     // The pose before the first step: row 0 (MRPT's layout: the start pose first), or, with one
     // row a step, row 0 taken back by the first step's odometry.
     mrpt::poses::CPose2D s(gt.path.front());
@@ -99,6 +113,10 @@ LocalizationInputs resolveLocalization(const std::vector<Step>& steps, std::size
   }
   const double sxy = options.start_std_xy, syaw = options.start_std_yaw_deg * kDeg;
   in.start.cov = Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal();
+  const auto scan = std::find_if(steps.begin(), steps.end(), [](const Step& s) { return s.scan; });
+  in.sensor_range = scan != steps.end() ? scan->scan->max_range : 0;
+  in.places = PlaceGrid::fromSensor(options.place_size, options.heading_sectors, in.sensor_range,
+                                    scan != steps.end() ? scan->scan->fov_yaw : 0);
   return in;
 }
 
@@ -110,10 +128,16 @@ Localizer::Localizer(const mrpt::config::CConfigFileBase& ini, const Localizatio
       inputs_(inputs),
       min_landmarks_(min_landmarks),
       steps_csv_(folder_.file("steps.csv"), localizationStepsColumns()),
-      scorer_(options.lost_threshold, min_landmarks) {
+      scorer_(options.lost_threshold, min_landmarks, options.success_xy,
+              options.success_yaw_deg * kDeg),
+      area_(inputs.mapping_path.empty()
+                ? metrics::MappedArea()
+                : metrics::MappedArea(inputs.mapping_path, inputs.places.size(),
+                                      inputs.sensor_range)) {
   kf_.loadOptions(ini);  // MRPT's own sections, as for mapping
   kf_.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
-  kf_.gate_chi2 = options.gate_chi2;
+  kf_.gate = {options.gate_chi2, options.recover_after_steps, options.recovery_window_steps,
+              options.recovery_min_landmarks};
   kf_.initialize(inputs.start, map);
   for (const auto& l : map) map_ids_.insert(l.id);
 }
@@ -122,6 +146,7 @@ void Localizer::process(const Step& step) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t k = steps_done_++;
   std::size_t seen = 0, used = 0, gated = 0;
+  bool recovered = false;
   if (!diverged_at_) {
     try {
       kf_.processStep(step);
@@ -131,7 +156,8 @@ void Localizer::process(const Step& step) {
         diverged_at_ = step.index, diverged_why_ = "the robot pose or its covariance is not finite";
     } catch (const std::exception& e) {
       const std::string what = e.what();
-      diverged_at_ = step.index, diverged_why_ = "MRPT's filter failed: " + what.substr(0, what.find('\n'));
+      diverged_at_ = step.index,
+      diverged_why_ = "MRPT's filter failed: " + what.substr(0, what.find('\n'));
     }
   }
   if (!diverged_at_) {
@@ -143,26 +169,36 @@ void Localizer::process(const Step& step) {
       for (std::size_t r = 0; r < step.scan->readings.size(); ++r) {
         const LandmarkId id = step.scan->readings[r].id;
         if (id != kNoLandmarkId && map_ids_.count(id)) in_view.insert(id);
-        if (id == kNoLandmarkId && r < use.size() && use[r] != kNoLandmarkId) in_view.insert(use[r]);
+        if (id == kNoLandmarkId && r < use.size() && use[r] != kNoLandmarkId)
+          in_view.insert(use[r]);
         if (r < use.size() && use[r] != kNoLandmarkId) ++used;
         if (id != kNoLandmarkId && !map_ids_.count(id)) ++not_in_map_;
       }
     seen = in_view.size();
     gated = kf_.lastGated();
+    recovered = kf_.lastRecovered();
+    recoveries_ += recovered;
   }
   used_ += used;
   gated_ += gated;
 
   const auto& truth = k < inputs_.truth.poses.size() ? inputs_.truth.poses[k] : std::nullopt;
   const PoseEstimate pose = diverged_at_ ? PoseEstimate() : kf_.robotPose();
-  double error = std::numeric_limits<double>::quiet_NaN(), nees = error;
+  metrics::StepError e;
+  e.map_landmarks = seen;
   if (truth) {
-    error = diverged_at_ ? std::numeric_limits<double>::infinity()
-                         : std::hypot(pose.mean.x - truth->x, pose.mean.y - truth->y);
-    if (!diverged_at_ && inputs_.truth.kind == "ground_truth") nees = metrics::poseNees(pose, *truth);
+    const double inf = std::numeric_limits<double>::infinity();
+    e.error_m = diverged_at_ ? inf : std::hypot(pose.mean.x - truth->x, pose.mean.y - truth->y);
+    e.yaw_error =
+        diverged_at_ ? inf : std::abs(std::remainder(pose.mean.phi - truth->phi, 2 * M_PI));
+    if (!diverged_at_ && inputs_.truth.kind == "ground_truth")
+      e.nees = metrics::poseNees(pose, *truth);
+    e.in_mapped_area = area_.contains(truth->x, truth->y);
+    e.place = inputs_.places.placeOf(*truth);
     truth_rows_.push_back({step.index, step.t, *truth});
   }
-  const bool lost = scorer_.add(error, seen, nees);
+  const double error = e.error_m;
+  const bool lost = scorer_.add(e);
   if (!diverged_at_) {
     trajectory_.push_back({step.index, step.t, pose.mean});
     in_view_.push_back(seen);
@@ -183,7 +219,10 @@ void Localizer::process(const Step& step) {
       .cell(gated)
       .cell(error)
       .cell(truth ? (lost ? 1 : 0) : -1)
-      .cell(1e3 * dt);
+      .cell(1e3 * dt)
+      .cell(recovered ? 1 : 0)
+      .cell(truth ? (e.in_mapped_area ? 1 : 0) : -1)
+      .cell(truth && e.in_mapped_area ? (scorer_.tracked(e.error_m, e.yaw_error) ? 1 : 0) : -1);
   steps_csv_.endRow();
 }
 
@@ -191,7 +230,8 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
                                  const nlohmann::json& extra) {
   const auto landmarks = kf_.landmarks();
   report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory_);
-  report::writeLandmarksCsv(folder_.file("landmarks.csv"), diverged_at_ ? std::vector<LandmarkView>() : landmarks);
+  report::writeLandmarksCsv(folder_.file("landmarks.csv"),
+                            diverged_at_ ? std::vector<LandmarkView>() : landmarks);
   if (!inputs_.truth.kind.empty())
     report::writeTrajectoryTum(
         folder_.file(inputs_.truth.kind == "ground_truth" ? "ground_truth.tum" : "reference.tum"),
@@ -199,10 +239,11 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
 
   const auto s = scorer_.score();
   report::MapContent map;
-  map.title = "localization in a map of " + std::to_string(map_ids_.size()) + " landmarks: " +
-              (std::isfinite(s.lost_pct) ? std::to_string(static_cast<int>(std::lround(s.lost_pct))) +
-                                               "% of the steps lost"
-                                         : "no truth to compare with");
+  map.title =
+      "localization in a map of " + std::to_string(map_ids_.size()) + " landmarks: " +
+      (std::isfinite(s.lost_pct)
+           ? std::to_string(static_cast<int>(std::lround(s.lost_pct))) + "% of the steps lost"
+           : "no truth to compare with");
   for (const auto& p : trajectory_) map.trajectory.push_back(p.pose);
   map.trajectory_landmarks = in_view_;
   map.min_landmarks = min_landmarks_;
@@ -221,19 +262,33 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
   j["localization"] = {
       {"min_landmarks", min_landmarks_},
       {"lost_threshold_m", options_.lost_threshold},
-      {"error_against", inputs_.truth.kind.empty() ? nlohmann::json() : nlohmann::json(inputs_.truth.kind)},
+      {"error_against",
+       inputs_.truth.kind.empty() ? nlohmann::json() : nlohmann::json(inputs_.truth.kind)},
       {"error_file", inputs_.truth.file},
+      {"success_xy_m", options_.success_xy},
+      {"success_yaw_deg", options_.success_yaw_deg},
+      {"place_size_m", inputs_.places.size()},
+      {"heading_sectors", inputs_.places.sectors()},
+      {"mapped_area", area_.everywhere()
+                          ? "everywhere (no mapping path)"
+                          : "cells of " + std::to_string(area_.cell()) + " m within " +
+                                std::to_string(inputs_.sensor_range) + " m of the mapping path"},
       {"rmse_m", number(s.rmse_m)},
       {"max_m", number(s.max_m)},
       {"lost_pct", number(s.lost_pct)},
       {"steps_compared", s.compared},
+      {"steps_scored", s.scored},
+      {"scored_pct", number(s.scored_pct)},
       {"steps_lost", s.lost},
+      {"success_per_place_pct", number(s.success_pct)},
+      {"places", s.places},
       {"coverage_pct", number(s.coverage_pct)},
       {"mean_landmarks", number(s.mean_landmarks)},
       {"nees_mean", number(s.nees_mean)},
       {"nees_samples", s.nees_samples},
       {"readings_used", used_},
       {"readings_gated", gated_},
+      {"recoveries", recoveries_},
       {"readings_not_in_map", not_in_map_},
       {"diverged_at_step", diverged_at_ ? nlohmann::json(*diverged_at_) : nlohmann::json()},
       {"diverged_why", diverged_why_}};

@@ -25,13 +25,17 @@ double finiteField(const nlohmann::json& j, const char* key, const std::string& 
 
 }  // namespace
 
-MapFolder loadMapFolder(const std::string& dir, std::size_t max_landmarks) {
+MapFolder loadMapFolder(const std::string& dir, std::size_t max_landmarks,
+                        std::size_t max_path_poses) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) throw InputError("map folder '" + dir + "': no such folder");
   MapFolder m;
   m.dir = dir;
   const std::string csv = (fs::path(dir) / "landmarks.csv").string();
   m.landmarks = report::readLandmarksCsv(csv, max_landmarks);
+  const std::string tum = (fs::path(dir) / "trajectory.tum").string();
+  if (fs::exists(tum, ec))
+    for (const auto& p : report::readTrajectoryTum(tum, max_path_poses)) m.path.push_back(p.pose);
 
   const std::string summary = (fs::path(dir) / "summary.json").string();
   if (!fs::exists(summary, ec)) return m;
@@ -51,16 +55,16 @@ MapFolder loadMapFolder(const std::string& dir, std::size_t max_landmarks) {
   if (j.contains("ground_truth") && j["ground_truth"].is_object() &&
       j["ground_truth"].contains("map_alignment")) {
     const auto& a = j["ground_truth"]["map_alignment"];
-    if (!a.is_object())
-      throw InputError(summary + ": ground_truth.map_alignment is not an object");
+    if (!a.is_object()) throw InputError(summary + ": ground_truth.map_alignment is not an object");
     const std::string source = a.contains("source") && a["source"].is_string()
                                    ? a["source"].get<std::string>()
                                    : std::string("summary.json");
-    const std::size_t points =
-        a.contains("points") && a["points"].is_number_unsigned() ? a["points"].get<std::size_t>() : 0;
-    m.alignment = metrics::MapAlignment::fromPose(finiteField(a, "x", summary),
-                                                  finiteField(a, "y", summary),
-                                                  finiteField(a, "yaw", summary), source, points);
+    const std::size_t points = a.contains("points") && a["points"].is_number_unsigned()
+                                   ? a["points"].get<std::size_t>()
+                                   : 0;
+    m.alignment =
+        metrics::MapAlignment::fromPose(finiteField(a, "x", summary), finiteField(a, "y", summary),
+                                        finiteField(a, "yaw", summary), source, points);
   }
   return m;
 }

@@ -31,28 +31,33 @@ std::string withPct(std::size_t n, double pct) {
 /// with compare --relocalize, how it localized the other traversals.
 std::string relocalizationMarkdown(const std::vector<ComparisonRow>& rows) {
   bool traversals = false;
-  for (const auto& r : rows) traversals |= std::isfinite(r.reloc_rmse_m) || std::isfinite(r.reloc_lost_pct);
+  for (const auto& r : rows)
+    traversals |= std::isfinite(r.reloc_rmse_m) || std::isfinite(r.reloc_lost_pct);
   std::ostringstream md;
   md << "\n| run | reloc coverage (%) | map landmarks seen a step";
   if (traversals)
-    md << " | reloc RMSE (m) | reloc max (m) | lost (%) | traversal coverage (%) | RMSE ratio | lost "
-          "ratio";
-  md << " |\n|---|---|---" << (traversals ? "|---|---|---|---|---|---" : "") << "|\n";
+    md << " | reloc RMSE (m) | reloc max (m) | lost (%) | traversal coverage (%) | RMSE ratio | "
+          "lost "
+          "ratio | success per place (%)";
+  md << " |\n|---|---|---" << (traversals ? "|---|---|---|---|---|---|---" : "") << "|\n";
   for (const auto& r : rows) {
     md << "| " << r.run << " | " << shown(r.reloc_coverage_pct, 1) << " | "
        << shown(r.reloc_mean_landmarks, 2);
     if (traversals)
       md << " | " << shown(r.reloc_rmse_m) << " | " << shown(r.reloc_max_m) << " | "
          << shown(r.reloc_lost_pct, 1) << " | " << shown(r.reloc_traversal_coverage_pct, 1) << " | "
-         << shown(r.reloc_rmse_ratio, 2) << " | " << shown(r.reloc_lost_ratio, 2);
+         << shown(r.reloc_rmse_ratio, 2) << " | " << shown(r.reloc_lost_ratio, 2) << " | "
+         << shown(r.reloc_success_pct, 1);
     md << " |\n";
   }
   md << "\nReloc coverage: share of the rawlog's steps at which the robot observed at least k "
         "landmarks of the run's final map ([Metrics] reloc_min_landmarks).";
   if (traversals)
     md << " Reloc RMSE, max, lost, traversal coverage: the final map localizing the --relocalize "
-          "traversals (budget-slam localize), mean over the traversals; ratios: to the reference "
-          "map's.";
+          "traversals (budget-slam localize) over the steps in the reference run's mapped area, "
+          "mean "
+          "over the traversals; ratios: to the reference map's; success per place: the share of "
+          "a place's steps tracked ([Localization] success_xy, success_yaw_deg), mean over places.";
   md << "\n";
   return md.str();
 }
@@ -60,35 +65,38 @@ std::string relocalizationMarkdown(const std::vector<ComparisonRow>& rows) {
 }  // namespace
 
 void writeComparisonCsv(const std::string& path, const std::vector<ComparisonRow>& rows) {
-  CsvWriter csv(path, {"run",
-                       "reducer",
-                       "backend",
-                       "status",
-                       "cap",
-                       "landmarks",
-                       "landmarks_reduction_pct",
-                       "poses",
-                       "poses_reduction_pct",
-                       "evictions",
-                       "ate_m",
-                       "ale_m",
-                       "are_deg",
-                       "ud_pct",
-                       "eig_min",
-                       "eig_max",
-                       "gt_trajectory_rmse_m",
-                       "gt_trajectory_max_m",
-                       "gt_landmark_rmse_m",
-                       "nees_mean",
-                       "time_s",
-                       "reloc_coverage_pct",
-                       "reloc_mean_landmarks",
-                       "reloc_rmse_m",
-                       "reloc_max_m",
-                       "reloc_lost_pct",
-                       "reloc_traversal_coverage_pct",
-                       "reloc_rmse_ratio",
-                       "reloc_lost_ratio"},
+  CsvWriter csv(path,
+                {"run",
+                 "reducer",
+                 "backend",
+                 "status",
+                 "cap",
+                 "landmarks",
+                 "landmarks_reduction_pct",
+                 "poses",
+                 "poses_reduction_pct",
+                 "evictions",
+                 "ate_m",
+                 "ale_m",
+                 "are_deg",
+                 "ud_pct",
+                 "eig_min",
+                 "eig_max",
+                 "gt_trajectory_rmse_m",
+                 "gt_trajectory_max_m",
+                 "gt_landmark_rmse_m",
+                 "nees_mean",
+                 "time_s",
+                 "reloc_coverage_pct",
+                 "reloc_mean_landmarks",
+                 "reloc_rmse_m",
+                 "reloc_max_m",
+                 "reloc_lost_pct",
+                 "reloc_traversal_coverage_pct",
+                 "reloc_rmse_ratio",
+                 "reloc_lost_ratio",
+                 "reloc_success_pct",
+                 "reloc_scored_pct"},
                 CsvWriter::Mode::WholeFile);
   for (const auto& r : rows) {
     csv.cell(r.run).cell(r.reducer).cell(r.backend).cell(r.status);
@@ -119,7 +127,9 @@ void writeComparisonCsv(const std::string& path, const std::vector<ComparisonRow
         .cell(r.reloc_lost_pct)
         .cell(r.reloc_traversal_coverage_pct)
         .cell(r.reloc_rmse_ratio)
-        .cell(r.reloc_lost_ratio);
+        .cell(r.reloc_lost_ratio)
+        .cell(r.reloc_success_pct)
+        .cell(r.reloc_scored_pct);
     csv.endRow();
   }
   csv.close();

@@ -31,6 +31,9 @@ struct ComparisonRow {
   double reloc_traversal_coverage_pct = kNaN;
   /// reloc_rmse_m and reloc_lost_pct over the reference map's.
   double reloc_rmse_ratio = kNaN, reloc_lost_ratio = kNaN;
+  /// compare --relocalize, mean over the traversals: relocalization success per place [%] and
+  /// the share of the traversals' steps scored (in the mapped area) [%] (docs/OUTPUTS.md).
+  double reloc_success_pct = kNaN, reloc_scored_pct = kNaN;
 };
 
 void writeComparisonCsv(const std::string& path, const std::vector<ComparisonRow>& rows);
