@@ -32,23 +32,10 @@ const TrajectoryPoint* atTime(const std::vector<TrajectoryPoint>& ref, double t)
 }
 
 const std::vector<std::string>& localizationStepsColumns() {
-  static const std::vector<std::string> c = {"step",
-                                             "t",
-                                             "x",
-                                             "y",
-                                             "yaw",
-                                             "var_x",
-                                             "var_y",
-                                             "var_yaw",
-                                             "map_landmarks_seen",
-                                             "readings_used",
-                                             "readings_gated",
-                                             "error_m",
-                                             "lost",
-                                             "step_ms",
-                                             "recovered",
-                                             "scored",
-                                             "tracked"};
+  static const std::vector<std::string> c = {
+      "step",  "t",     "x",       "y",        "yaw",   "var_x", "var_y",
+      "var_yaw", "map_landmarks_seen", "readings_used", "readings_gated", "error_m", "lost",
+      "step_ms", "recovered", "scored", "tracked"};
   return c;
 }
 
@@ -73,8 +60,7 @@ LocalizationInputs resolveLocalization(const std::vector<Step>& steps, std::size
       const std::size_t row = metrics::groundTruthRow(steps[k].index, rows, steps_in_rawlog);
       if (row < rows) truth.poses[k] = alignment->apply(gt.path[row]);
     }
-    for (const auto& [id, p] : gt.landmarks)
-      truth.landmarks.push_back(alignment->transform.apply(p));
+    for (const auto& [id, p] : gt.landmarks) truth.landmarks.push_back(alignment->transform.apply(p));
     // The pose before the first step: row 0 (MRPT's layout: the start pose first), or, with one
     // row a step, row 0 taken back by the first step's odometry.
     mrpt::poses::CPose2D s(gt.path.front());
@@ -156,8 +142,7 @@ void Localizer::process(const Step& step) {
         diverged_at_ = step.index, diverged_why_ = "the robot pose or its covariance is not finite";
     } catch (const std::exception& e) {
       const std::string what = e.what();
-      diverged_at_ = step.index,
-      diverged_why_ = "MRPT's filter failed: " + what.substr(0, what.find('\n'));
+      diverged_at_ = step.index, diverged_why_ = "MRPT's filter failed: " + what.substr(0, what.find('\n'));
     }
   }
   if (!diverged_at_) {
@@ -169,8 +154,7 @@ void Localizer::process(const Step& step) {
       for (std::size_t r = 0; r < step.scan->readings.size(); ++r) {
         const LandmarkId id = step.scan->readings[r].id;
         if (id != kNoLandmarkId && map_ids_.count(id)) in_view.insert(id);
-        if (id == kNoLandmarkId && r < use.size() && use[r] != kNoLandmarkId)
-          in_view.insert(use[r]);
+        if (id == kNoLandmarkId && r < use.size() && use[r] != kNoLandmarkId) in_view.insert(use[r]);
         if (r < use.size() && use[r] != kNoLandmarkId) ++used;
         if (id != kNoLandmarkId && !map_ids_.count(id)) ++not_in_map_;
       }
@@ -230,8 +214,7 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
                                  const nlohmann::json& extra) {
   const auto landmarks = kf_.landmarks();
   report::writeTrajectoryTum(folder_.file("trajectory.tum"), trajectory_);
-  report::writeLandmarksCsv(folder_.file("landmarks.csv"),
-                            diverged_at_ ? std::vector<LandmarkView>() : landmarks);
+  report::writeLandmarksCsv(folder_.file("landmarks.csv"), diverged_at_ ? std::vector<LandmarkView>() : landmarks);
   if (!inputs_.truth.kind.empty())
     report::writeTrajectoryTum(
         folder_.file(inputs_.truth.kind == "ground_truth" ? "ground_truth.tum" : "reference.tum"),
@@ -239,11 +222,10 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
 
   const auto s = scorer_.score();
   report::MapContent map;
-  map.title =
-      "localization in a map of " + std::to_string(map_ids_.size()) + " landmarks: " +
-      (std::isfinite(s.lost_pct)
-           ? std::to_string(static_cast<int>(std::lround(s.lost_pct))) + "% of the steps lost"
-           : "no truth to compare with");
+  map.title = "localization in a map of " + std::to_string(map_ids_.size()) + " landmarks: " +
+              (std::isfinite(s.lost_pct) ? std::to_string(static_cast<int>(std::lround(s.lost_pct))) +
+                                               "% of the steps lost"
+                                         : "no truth to compare with");
   for (const auto& p : trajectory_) map.trajectory.push_back(p.pose);
   map.trajectory_landmarks = in_view_;
   map.min_landmarks = min_landmarks_;
@@ -262,8 +244,7 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
   j["localization"] = {
       {"min_landmarks", min_landmarks_},
       {"lost_threshold_m", options_.lost_threshold},
-      {"error_against",
-       inputs_.truth.kind.empty() ? nlohmann::json() : nlohmann::json(inputs_.truth.kind)},
+      {"error_against", inputs_.truth.kind.empty() ? nlohmann::json() : nlohmann::json(inputs_.truth.kind)},
       {"error_file", inputs_.truth.file},
       {"success_xy_m", options_.success_xy},
       {"success_yaw_deg", options_.success_yaw_deg},

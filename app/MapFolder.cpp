@@ -55,16 +55,16 @@ MapFolder loadMapFolder(const std::string& dir, std::size_t max_landmarks,
   if (j.contains("ground_truth") && j["ground_truth"].is_object() &&
       j["ground_truth"].contains("map_alignment")) {
     const auto& a = j["ground_truth"]["map_alignment"];
-    if (!a.is_object()) throw InputError(summary + ": ground_truth.map_alignment is not an object");
+    if (!a.is_object())
+      throw InputError(summary + ": ground_truth.map_alignment is not an object");
     const std::string source = a.contains("source") && a["source"].is_string()
                                    ? a["source"].get<std::string>()
                                    : std::string("summary.json");
-    const std::size_t points = a.contains("points") && a["points"].is_number_unsigned()
-                                   ? a["points"].get<std::size_t>()
-                                   : 0;
-    m.alignment =
-        metrics::MapAlignment::fromPose(finiteField(a, "x", summary), finiteField(a, "y", summary),
-                                        finiteField(a, "yaw", summary), source, points);
+    const std::size_t points =
+        a.contains("points") && a["points"].is_number_unsigned() ? a["points"].get<std::size_t>() : 0;
+    m.alignment = metrics::MapAlignment::fromPose(finiteField(a, "x", summary),
+                                                  finiteField(a, "y", summary),
+                                                  finiteField(a, "yaw", summary), source, points);
   }
   return m;
 }

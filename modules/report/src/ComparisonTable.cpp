@@ -31,13 +31,11 @@ std::string withPct(std::size_t n, double pct) {
 /// with compare --relocalize, how it localized the other traversals.
 std::string relocalizationMarkdown(const std::vector<ComparisonRow>& rows) {
   bool traversals = false;
-  for (const auto& r : rows)
-    traversals |= std::isfinite(r.reloc_rmse_m) || std::isfinite(r.reloc_lost_pct);
+  for (const auto& r : rows) traversals |= std::isfinite(r.reloc_rmse_m) || std::isfinite(r.reloc_lost_pct);
   std::ostringstream md;
   md << "\n| run | reloc coverage (%) | map landmarks seen a step";
   if (traversals)
-    md << " | reloc RMSE (m) | reloc max (m) | lost (%) | traversal coverage (%) | RMSE ratio | "
-          "lost "
+    md << " | reloc RMSE (m) | reloc max (m) | lost (%) | traversal coverage (%) | RMSE ratio | lost "
           "ratio | success per place (%)";
   md << " |\n|---|---|---" << (traversals ? "|---|---|---|---|---|---|---" : "") << "|\n";
   for (const auto& r : rows) {
@@ -54,10 +52,10 @@ std::string relocalizationMarkdown(const std::vector<ComparisonRow>& rows) {
         "landmarks of the run's final map ([Metrics] reloc_min_landmarks).";
   if (traversals)
     md << " Reloc RMSE, max, lost, traversal coverage: the final map localizing the --relocalize "
-          "traversals (budget-slam localize) over the steps in the reference run's mapped area, "
-          "mean "
-          "over the traversals; ratios: to the reference map's; success per place: the share of "
-          "a place's steps tracked ([Localization] success_xy, success_yaw_deg), mean over places.";
+          "traversals (budget-slam localize), mean over the traversals, over their steps in the "
+          "reference run's mapped area; ratios: to the reference map's; success per place: the "
+          "share of a place's steps tracked ([Localization] success_xy, success_yaw_deg), mean "
+          "over places.";
   md << "\n";
   return md.str();
 }
@@ -65,38 +63,37 @@ std::string relocalizationMarkdown(const std::vector<ComparisonRow>& rows) {
 }  // namespace
 
 void writeComparisonCsv(const std::string& path, const std::vector<ComparisonRow>& rows) {
-  CsvWriter csv(path,
-                {"run",
-                 "reducer",
-                 "backend",
-                 "status",
-                 "cap",
-                 "landmarks",
-                 "landmarks_reduction_pct",
-                 "poses",
-                 "poses_reduction_pct",
-                 "evictions",
-                 "ate_m",
-                 "ale_m",
-                 "are_deg",
-                 "ud_pct",
-                 "eig_min",
-                 "eig_max",
-                 "gt_trajectory_rmse_m",
-                 "gt_trajectory_max_m",
-                 "gt_landmark_rmse_m",
-                 "nees_mean",
-                 "time_s",
-                 "reloc_coverage_pct",
-                 "reloc_mean_landmarks",
-                 "reloc_rmse_m",
-                 "reloc_max_m",
-                 "reloc_lost_pct",
-                 "reloc_traversal_coverage_pct",
-                 "reloc_rmse_ratio",
-                 "reloc_lost_ratio",
-                 "reloc_success_pct",
-                 "reloc_scored_pct"},
+  CsvWriter csv(path, {"run",
+                       "reducer",
+                       "backend",
+                       "status",
+                       "cap",
+                       "landmarks",
+                       "landmarks_reduction_pct",
+                       "poses",
+                       "poses_reduction_pct",
+                       "evictions",
+                       "ate_m",
+                       "ale_m",
+                       "are_deg",
+                       "ud_pct",
+                       "eig_min",
+                       "eig_max",
+                       "gt_trajectory_rmse_m",
+                       "gt_trajectory_max_m",
+                       "gt_landmark_rmse_m",
+                       "nees_mean",
+                       "time_s",
+                       "reloc_coverage_pct",
+                       "reloc_mean_landmarks",
+                       "reloc_rmse_m",
+                       "reloc_max_m",
+                       "reloc_lost_pct",
+                       "reloc_traversal_coverage_pct",
+                       "reloc_rmse_ratio",
+                       "reloc_lost_ratio",
+                       "reloc_success_pct",
+                       "reloc_scored_pct"},
                 CsvWriter::Mode::WholeFile);
   for (const auto& r : rows) {
     csv.cell(r.run).cell(r.reducer).cell(r.backend).cell(r.status);
