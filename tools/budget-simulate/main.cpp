@@ -57,8 +57,8 @@ int main(int argc, char** argv) {
     TCLAP::ValuesConstraint<std::string> route_values(routes);
     TCLAP::ValueArg<std::string> route(
         "", "route",
-        "revisit (rooms, park): the same world from another start along another route through "
-        "every room or region, other noise (default: default)",
+        "revisit (rooms, park, corridors, clusters): the same world from another start along "
+        "another route through every room or region, other noise (default: default)",
         false, "default", &route_values, cmd);
     TCLAP::SwitchArg zero_noise("", "zero-noise", "no odometry or sensor noise at all", cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "output rawlog (name ends in .rawlog)", true, "",
