@@ -12,6 +12,7 @@ import math
 import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 import threading
@@ -659,3 +660,52 @@ def position_error(folder):
     err = np.hypot(s["x"] - gt[idx, 1], s["y"] - gt[idx, 2])
     sigma = np.sqrt(np.maximum(s["var_x"] + s["var_y"], 0.0))
     return s["step"][ok], err[ok], sigma[ok]
+
+
+# ---- what the scripts built on the sweep share (paper_tables, benchmark) ----
+
+def write_experiment(path, sweep, groups, written_by):
+    """An experiment file: [sweep] with the keys of `sweep`, then a [group NAME] per (name, keys) of
+    `groups`; a list value is written one item a line (the `set` key)."""
+    def block(keys):
+        out = []
+        for k, v in keys.items():
+            if isinstance(v, list):
+                v = "\n    ".join(v)
+            out.append(f"{k} = {v}")
+        return "\n".join(out)
+    text = f"# Written by {written_by}.\n[sweep]\n" + block(sweep) + "\n"
+    for name, keys in groups:
+        text += f"\n[group {name}]\n" + block(keys) + "\n"
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    write_atomic(path, text)
+
+
+def run_experiment(ini, outdir, budget_slam, budget_simulate, jobs, retry_failed=False, log=print):
+    """Simulations, baselines and the jobs of an experiment file that are not done yet, then
+    results.csv. Returns (Experiment, rows, jobs run)."""
+    exp = Experiment(ini, outdir, budget_slam, budget_simulate)
+    runner = Runner(jobs, os.path.join(outdir, "logs"))
+    prepare(exp, runner, log)
+    ran = run_jobs(exp, runner, retry_failed=retry_failed, log=log)
+    rows = collect(exp, os.path.join(outdir, "results.csv"))
+    return exp, rows, ran
+
+
+def unreduced_trajectory(budget_slam, config, rawlog, dst, log=print):
+    """trajectory.tum of one unreduced EKF run over the whole `rawlog` in the folder dst (made once,
+    written as dst.part then renamed): what a traversal without ground truth is measured against."""
+    tum = os.path.join(dst, "trajectory.tum")
+    if os.path.isfile(tum):
+        return tum
+    log(f"unreduced EKF run over the whole {os.path.basename(rawlog)} (the reference trajectory of its split)")
+    part = dst + ".part"
+    p = subprocess.run([budget_slam, "run", "-c", config, "-i", rawlog, "-o", part, "--reducer", "none",
+                        "--backend", "ekf", "--quiet", "--force"], capture_output=True, text=True)
+    if p.returncode != 0 or not os.path.isfile(os.path.join(part, "trajectory.tum")):
+        raise RuntimeError(f"the unreduced run over {os.path.basename(rawlog)} failed (exit {p.returncode}): "
+                           + (p.stderr.strip().splitlines() or ["no trajectory.tum"])[-1])
+    if os.path.isdir(dst):
+        shutil.rmtree(dst)
+    os.rename(part, dst)
+    return tum
