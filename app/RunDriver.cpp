@@ -106,7 +106,7 @@ void RunDriver::process(const Step& raw) {
   if (diverged(backend_->robotPose()))
     throw Error("step " + std::to_string(raw.index) + ": the " + backend_->name() +
                 " estimate diverged (the robot pose or its covariance is not finite)");
-  const auto drops = manager_->enforce(*backend_, filtered);
+  const auto drops = manager_->enforce(*backend_, filtered, raw);
   heap_release_.afterStep();  // timed with the step: its cost is the run's
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = threadCpuSeconds() - cpu0;

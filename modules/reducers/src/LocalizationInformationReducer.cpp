@@ -46,6 +46,8 @@ const OptionTable<LocalizationInformationOptions>& LocalizationInformationOption
       option::integer("heading_sectors", &O::heading_sectors, 0, 360,
                       "0 = from the sensor's field of view"),
       option::integer("max_places", &O::max_places, 1, 100000000, "[places]"),
+      option::integer("remember_dropped", &O::remember_dropped, 0, 100000000,
+                      "[landmarks], 0 = forget at once"),
   };
   return t;
 }
@@ -68,51 +70,110 @@ void LocalizationInformationReducer::fixGeometry(const StepObservation& seen) {
   prior_ = Eigen::Vector3d(1 / (sxy * sxy), 1 / (sxy * sxy), 1 / (syaw * syaw)).asDiagonal();
 }
 
+void LocalizationInformationReducer::addReading(std::uint32_t slot, const StepObservation& seen,
+                                                const Sighting& r, bool active) {
+  // The landmark where the reading puts it, and the reading's information at that geometry.
+  const double c = std::cos(seen.robot.phi), s = std::sin(seen.robot.phi);
+  const Eigen::Vector2d q = readingInRobotFrame(r.range, r.bearing, seen.sensor_pose);
+  const Eigen::Vector2d at(seen.robot.x + c * q.x() - s * q.y(), seen.robot.y + s * q.x() + c * q.y());
+  if (!(r.range > 0) || !at.allFinite()) return;
+  const auto H = predictRangeBearing(seen.robot, seen.sensor_pose, at).H_robot;
+  const Eigen::Matrix3d info = readingInformation(H, std_range_, std_bearing_);
+  Place& p = places_[slot];
+  auto it = std::lower_bound(p.entries.begin(), p.entries.end(), r.id,
+                             [](const Entry& e, LandmarkId id) { return e.id < id; });
+  if (it == p.entries.end() || it->id != r.id) {
+    it = p.entries.insert(it, Entry{r.id});
+    it->active = active;
+    places_of_[r.id].push_back(slot);
+  }
+  it->info_sum += info;
+  it->readings += 1;
+  if (it->active) markDirty(slot);
+}
+
 void LocalizationInformationReducer::observe(const StepObservation& seen) {
   fixGeometry(seen);
-  if (seen.sightings.empty()) return;  // a place with no landmark constrains no choice
+  const bool withheld = options_.remember_dropped > 0 && !seen.withheld.empty();
+  if (seen.sightings.empty() && !withheld) return;  // no landmark read: no choice constrained
   const std::uint32_t slot = slots_.visit(grid_->placeOf(seen.robot), seen.step,
                                           [this](std::uint32_t gone) { forgetPlace(gone); });
   places_.resize(slots_.slots());
-  Place& p = places_[slot];
-  const double c = std::cos(seen.robot.phi), s = std::sin(seen.robot.phi);
   for (const Sighting& r : seen.sightings) {
-    // The landmark where the reading puts it, and the reading's information at that geometry.
-    const Eigen::Vector2d q = readingInRobotFrame(r.range, r.bearing, seen.sensor_pose);
-    const Eigen::Vector2d at(seen.robot.x + c * q.x() - s * q.y(),
-                             seen.robot.y + s * q.x() + c * q.y());
-    if (!(r.range > 0) || !at.allFinite()) continue;
-    const auto H = predictRangeBearing(seen.robot, seen.sensor_pose, at).H_robot;
-    const Eigen::Matrix3d info = readingInformation(H, std_range_, std_bearing_);
-    auto it = std::lower_bound(p.entries.begin(), p.entries.end(), r.id,
-                               [](const Entry& e, LandmarkId id) { return e.id < id; });
-    if (it == p.entries.end() || it->id != r.id) {
-      it = p.entries.insert(it, Entry{r.id});
-      places_of_[r.id].push_back(slot);
+    if (dropped_at_.count(r.id)) {  // back in the map: every place on record counts again
+      dropped_.erase(dropped_at_.at(r.id));
+      dropped_at_.erase(r.id);
+      setActive(r.id, true);
     }
-    it->info_sum += info;
-    it->readings += 1;
+    addReading(slot, seen, r, true);
   }
-  markDirty(slot);
+  if (!withheld) return;
+  for (const Sighting& r : seen.withheld) {
+    const auto on_map = places_of_.find(r.id);
+    if (on_map != places_of_.end() && !dropped_at_.count(r.id)) continue;  // in the map: not withheld
+    addReading(slot, seen, r, false);
+    remember(r.id);
+  }
 }
 
-void LocalizationInformationReducer::forget(LandmarkId id) {
+void LocalizationInformationReducer::setActive(LandmarkId id, bool active) {
   const auto it = places_of_.find(id);
   if (it == places_of_.end()) return;
   for (const std::uint32_t slot : it->second) {
     Place& p = places_[slot];
-    p.entries.erase(std::find_if(p.entries.begin(), p.entries.end(),
-                                 [&](const Entry& e) { return e.id == id; }));
-    markDirty(slot);
+    for (Entry& e : p.entries)
+      if (e.id == id && e.active != active) {
+        e.active = active;
+        markDirty(slot);
+      }
+  }
+}
+
+void LocalizationInformationReducer::remember(LandmarkId id) {
+  const auto at = dropped_at_.find(id);
+  if (at != dropped_at_.end()) dropped_.erase(at->second);
+  dropped_.push_back(id);
+  dropped_at_[id] = std::prev(dropped_.end());
+  while (dropped_.size() > options_.remember_dropped) {
+    const LandmarkId oldest = dropped_.front();
+    dropped_.pop_front();
+    dropped_at_.erase(oldest);
+    eraseLandmark(oldest);
+  }
+}
+
+void LocalizationInformationReducer::eraseLandmark(LandmarkId id) {
+  const auto it = places_of_.find(id);
+  if (it == places_of_.end()) return;
+  for (const std::uint32_t slot : it->second) {
+    Place& p = places_[slot];
+    const auto e = std::find_if(p.entries.begin(), p.entries.end(),
+                                [&](const Entry& x) { return x.id == id; });
+    if (e->active) markDirty(slot);
+    p.entries.erase(e);
   }
   places_of_.erase(it);
+}
+
+void LocalizationInformationReducer::forget(LandmarkId id) {
+  if (!places_of_.count(id)) return;
+  if (options_.remember_dropped == 0) {
+    eraseLandmark(id);
+    return;
+  }
+  setActive(id, false);
+  remember(id);
 }
 
 void LocalizationInformationReducer::forgetPlace(std::uint32_t slot) {
   for (const Entry& e : places_[slot].entries) {
     auto& slots = places_of_[e.id];
     slots.erase(std::find(slots.begin(), slots.end(), slot));
-    if (slots.empty()) places_of_.erase(e.id);
+    if (slots.empty()) {
+      places_of_.erase(e.id);
+      const auto at = dropped_at_.find(e.id);
+      if (at != dropped_at_.end()) dropped_.erase(at->second), dropped_at_.erase(at);
+    }
   }
   places_[slot] = Place();
 }
@@ -128,9 +189,11 @@ void LocalizationInformationReducer::refresh() const {
     Place& p = places_[slot];
     if (!p.dirty || !slots_.used(slot)) continue;
     p.lambda = prior_;
-    for (const Entry& e : p.entries) p.lambda += e.info_sum / e.readings;
+    for (const Entry& e : p.entries)
+      if (e.active) p.lambda += e.info_sum / e.readings;
     p.logdet = logDet(p.lambda);
-    for (Entry& e : p.entries) e.without = logDet(p.lambda - e.info_sum / e.readings);
+    for (Entry& e : p.entries)
+      if (e.active) e.without = logDet(p.lambda - e.info_sum / e.readings);
     p.dirty = false;
   }
   dirty_.clear();
@@ -169,7 +232,7 @@ double LocalizationInformationReducer::leastPlace() const {
 double LocalizationInformationReducer::loss(LandmarkId id) const {
   refresh();
   const auto it = places_of_.find(id);
-  if (it == places_of_.end()) return 0;
+  if (it == places_of_.end() || dropped_at_.count(id)) return 0;
   double sum = 0;
   for (const std::uint32_t slot : it->second) {
     const Place& p = places_[slot];
@@ -183,7 +246,7 @@ double LocalizationInformationReducer::minLoss(LandmarkId id) const {
   // without it): the loss of the minimum is max(0, m - that least).
   refresh();
   const auto it = places_of_.find(id);
-  if (it == places_of_.end()) return 0;
+  if (it == places_of_.end() || dropped_at_.count(id)) return 0;
   double least_without = kInf;
   for (const std::uint32_t slot : it->second)
     least_without = std::min(least_without, entryOf(places_[slot], id)->without);

@@ -276,6 +276,80 @@ TEST(LocalizationInformationReducer, LearnsItsReadingsThroughTheBudgetManager) {
   EXPECT_EQ(drops[0].reducer, "localization-information");
 }
 
+TEST(LocalizationInformationReducer, ALandmarkThatComesBackCountsEveryPlaceItWasReadFrom) {
+  // Landmark 9 is read at places 0-3 while it is not in the map (a refused newcomer, withheld
+  // while it waits), then enters at place 4. On record, its loss counts the five places; with
+  // remember_dropped = 0 only the place where it entered. Dropped again, it counts for nothing
+  // (off the map) until it is back.
+  const std::map<LandmarkId, Eigen::Vector2d> where = {{1, {2.5, 3}}, {9, {3, 6}}};
+  const auto run = [&](std::size_t remember) {
+    auto o = options();
+    o.remember_dropped = remember;
+    LocalizationInformationReducer r(o, kStdRange, kStdBearing);
+    for (StepIndex k = 0; k < 4; ++k) {
+      StepObservation seen = readings(k, {k + 0.5, 0.5, 0.7}, {}, {1}, where);
+      const Eigen::Vector2d z = predictRangeBearing(seen.robot, {}, where.at(9)).z;
+      seen.withheld.push_back({9, z(0), z(1)});
+      r.observe(seen);
+    }
+    r.observe(readings(4, {4.5, 0.5, 0.7}, {}, {1, 9}, where));
+    return r;
+  };
+  const auto remembered = run(1024), forgotten = run(0);
+  LocalizationInformationReducer one(options(), kStdRange, kStdBearing);  // 9 at one place
+  one.observe(readings(4, {4.5, 0.5, 0.7}, {}, {1, 9}, where));
+  EXPECT_NEAR(forgotten.loss(9), one.loss(9), 1e-9);
+  EXPECT_GT(remembered.loss(9), 3 * forgotten.loss(9));
+  // The map without 9 is the same either way: readings on record change no place's information.
+  EXPECT_NEAR(remembered.objective() - remembered.loss(9), forgotten.objective() - forgotten.loss(9),
+              1e-9);
+  auto dropped = run(1024);
+  dropped.forget(9);
+  EXPECT_EQ(dropped.loss(9), 0.0);
+  EXPECT_NEAR(dropped.objective(), remembered.objective() - remembered.loss(9), 1e-9);
+}
+
+TEST(LocalizationInformationReducer, TheManagerTellsTheReadingsItLeftOut) {
+  // compete: newcomer 3 is refused at step 0; at step 1 its reading is left out of the processed
+  // step (it waits), and the reducer is told it as withheld.
+  struct Spy : public Reducer {
+    std::string name() const override { return "spy"; }
+    ReducerChoice choose(const DropContext& ctx) override {
+      return {ctx.landmarks[ctx.candidates.back()].id, 0};  // the newest goes
+    }
+    bool wantsObservations() const override { return true; }
+    void observe(const StepObservation& seen) override { withheld.push_back(seen.withheld); }
+    std::vector<std::vector<Sighting>> withheld;
+  };
+  BudgetOptions bo;
+  bo.max_landmarks = 2;
+  bo.admission = BudgetOptions::Admission::Compete;
+  auto spy = std::make_unique<Spy>();
+  Spy* s = spy.get();
+  BudgetManager manager(bo, std::move(spy));
+  FakeBackend b({budget_slam::testing::landmark(1, 1, 1, 0, 0),
+                 budget_slam::testing::landmark(2, 1, 1, 0, 0),
+                 budget_slam::testing::landmark(3, 1, 1, 0, 0)});
+  Step step;
+  step.index = 0;
+  step.scan.emplace();
+  step.scan->readings = {{1, 2.0, 0.1, 0}, {2, 3.0, -0.2, 0}, {3, 4.0, 0.3, 0}};
+  const auto drops = manager.enforce(b, step, step);
+  ASSERT_EQ(drops.size(), 1u);
+  EXPECT_EQ(drops[0].id, 3);
+  EXPECT_EQ(drops[0].reason, "refused");
+  Step next = step;
+  next.index = 1;
+  const Step processed = manager.admissible(next);
+  ASSERT_EQ(processed.scan->readings.size(), 2u);  // 3 waits
+  manager.enforce(b, processed, next);
+  ASSERT_EQ(s->withheld.size(), 2u);
+  EXPECT_TRUE(s->withheld[0].empty());
+  ASSERT_EQ(s->withheld[1].size(), 1u);
+  EXPECT_EQ(s->withheld[1][0].id, 3);
+  EXPECT_DOUBLE_EQ(s->withheld[1][0].range, 4.0);
+}
+
 TEST(LocalizationInformationReducer, RegisteredWithItsSectionAndValidatedKeys) {
   mrpt::config::CConfigFileMemory ini;
   ini.write("LocalizationInformationReducer", "objective", "min_log_det");

@@ -65,6 +65,10 @@ struct StepObservation {
   /// The readings behind `observed`: each reading of the step with the landmark it went to
   /// (its sensor ID, else the backend's association, Backend::lastAssociation).
   std::vector<Sighting> sightings;
+  /// Readings the map did not take in at this step (landmarks refused and waiting for a retry,
+  /// or dropped for good; BudgetManager::admissible), with their sensor IDs: what the robot saw of
+  /// landmarks it does not keep.
+  std::vector<Sighting> withheld;
   mrpt::math::TPose2D sensor_pose;  ///< the sensor's pose on the robot (2D) [m, m, rad]
   double sensor_max_range = 0;      ///< [m]; 0 when the step did not say
   double sensor_fov = 0;            ///< total horizontal field of view [rad]; 0 when unknown

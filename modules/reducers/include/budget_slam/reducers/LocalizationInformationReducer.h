@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <list>
 #include <optional>
 #include <unordered_map>
 #include <vector>
@@ -30,6 +31,10 @@ struct LocalizationInformationOptions : public TabledOptions<LocalizationInforma
   double place_size = 0;
   std::size_t heading_sectors = 0;
   std::size_t max_places = 100000;  ///< places remembered at most, the oldest visit forgotten first
+  /// Landmarks not in the map (dropped, refused, or waiting for a retry) whose readings stay on
+  /// record, the one that left longest ago forgotten first; 0 = forgotten when they leave
+  /// [landmarks]. A landmark that comes back is valued by every place it was read from.
+  std::size_t remember_dropped = 1024;
 
   static const OptionTable<LocalizationInformationOptions>& table();
 };
@@ -52,7 +57,10 @@ struct LocalizationInformationOptions : public TabledOptions<LocalizationInforma
 ///
 /// Lazy evaluation: a place's log-determinants are recomputed only when a landmark is read from
 /// it again, enters it or leaves the map; every other place keeps its numbers. The reducer decides
-/// with what it has seen so far (the places visited up to the drop).
+/// with what it has seen so far (the places visited up to the drop), and that includes the
+/// readings of landmarks it does not keep (refused newcomers, withheld while they wait, and
+/// dropped ones): they stay on record, outside every Lambda_p, so that a landmark that enters
+/// (again) is valued by all the places the robot read it from, not by the last one alone.
 class LocalizationInformationReducer : public Reducer {
  public:
   /// `std_range` [m] and `std_bearing` [rad]: the sensor noise the filter assumes.
@@ -86,6 +94,7 @@ class LocalizationInformationReducer : public Reducer {
     Eigen::Matrix3d info_sum = Eigen::Matrix3d::Zero();  ///< sum of I over its readings here
     double readings = 0;
     double without = 0;  ///< log det (Lambda_p - I_l(p)), valid while the place is clean
+    bool active = true;  ///< the landmark is in the map (else only on record)
   };
   struct Place {
     std::vector<Entry> entries;  ///< sorted by id
@@ -95,6 +104,13 @@ class LocalizationInformationReducer : public Reducer {
   };
 
   void fixGeometry(const StepObservation& seen);
+  /// Adds a reading of `id` at place `slot` (active: the landmark is in the map).
+  void addReading(std::uint32_t slot, const StepObservation& seen, const Sighting& r, bool active);
+  /// Turns every entry of `id` active or not, marking their places dirty.
+  void setActive(LandmarkId id, bool active);
+  /// `id` is off the map: on record, the least recent forgotten beyond remember_dropped.
+  void remember(LandmarkId id);
+  void eraseLandmark(LandmarkId id);
   void forgetPlace(std::uint32_t slot);
   void markDirty(std::uint32_t slot);
   /// Recomputes the places changed since the last refresh (lazy evaluation).
@@ -108,7 +124,9 @@ class LocalizationInformationReducer : public Reducer {
   PlaceSlots slots_;
   mutable std::vector<Place> places_;  ///< by slot; refresh() updates the cached numbers
   mutable std::vector<std::uint32_t> dirty_;
-  std::unordered_map<LandmarkId, std::vector<std::uint32_t>> places_of_;
+  std::unordered_map<LandmarkId, std::vector<std::uint32_t>> places_of_;  ///< active or not
+  std::list<LandmarkId> dropped_;  ///< ids off the map on record, least recent first
+  std::unordered_map<LandmarkId, std::list<LandmarkId>::iterator> dropped_at_;
 };
 
 }  // namespace budget_slam::reducers
