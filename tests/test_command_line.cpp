@@ -115,7 +115,8 @@ TEST(CommandLine, ABadCommandLineIsOneLineNamingTheFlagAndExitTwo) {
        "--help"},
       {"budget-simulate' --scenario mars -o out.rawlog",
        "budget-simulate: Value 'mars' does not meet constraint: "
-       "paper-synthetic|rooms|park|lifelong (Argument: -s (--scenario)); see budget-simulate "
+       "paper-synthetic|rooms|park|lifelong|corridors|clusters (Argument: -s (--scenario)); see "
+       "budget-simulate "
        "--help"},
   };
   for (const auto& [c, message] : cases) {

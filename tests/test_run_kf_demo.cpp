@@ -153,10 +153,10 @@ TEST(CompareKfDemo, WritesTableWithReferenceAndEveryReducer) {
   ASSERT_EQ(rows.size(), 1 + reducers.size());
   EXPECT_EQ(rows[0][0], "reference");
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    ASSERT_EQ(rows[i].size(), 29u);  // 21 + 8 relocalization columns
+    ASSERT_EQ(rows[i].size(), 31u);  // 21 + 10 relocalization columns
     if (i > 0) EXPECT_EQ(rows[i][0], reducers[i - 1]);
     EXPECT_EQ(rows[i][3], "ok");
-    // columns 23-28 are for compare --relocalize only
+    // columns 23-30 are for compare --relocalize only
     for (std::size_t c = 5; c < 23; ++c)
       EXPECT_FALSE(rows[i][c].empty() || rows[i][c] == "nan") << rows[i][0] << " column " << c;
     EXPECT_TRUE(fs::exists(dir / rows[i][0] / "summary.json"));

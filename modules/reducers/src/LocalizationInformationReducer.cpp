@@ -287,12 +287,13 @@ ReducerRegistry::Entry LocalizationInformationReducer::entry() {
           [](const mrpt::config::CConfigFileBase& ini, std::uint64_t) {
             LocalizationInformationOptions o;
             o.loadFromConfigFile(ini, LocalizationInformationOptions::kSection);
-            // The sensor noise the filter assumes (MRPT's defaults: 0.1 m, 0.5 deg).
+            // The sensor noise the filter assumes (MRPT's defaults: 0.1 m, 0.5 deg), checked as
+            // the filter checks it; a noise of 0 is read as 1e-12 (the information is finite).
             const IniSection sensor(ini, "RangeBearingKFSLAM");
-            const double std_range = sensor.readDouble("std_sensor_range", 0.1, 1e-9, 1e6);
-            const double std_yaw_deg = sensor.readDouble("std_sensor_yaw_deg", 0.5, 1e-9, 360);
-            return std::make_unique<LocalizationInformationReducer>(o, std_range,
-                                                                    std_yaw_deg * kDeg);
+            const double std_range = sensor.readDouble("std_sensor_range", 0.1, 0, 1e6);
+            const double std_yaw_deg = sensor.readDouble("std_sensor_yaw_deg", 0.5, 0, 360);
+            return std::make_unique<LocalizationInformationReducer>(
+                o, std::max(std_range, 1e-12), std::max(std_yaw_deg * kDeg, 1e-12));
           }};
 }
 

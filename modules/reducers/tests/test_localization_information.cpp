@@ -366,6 +366,6 @@ TEST(LocalizationInformationReducer, RegisteredWithItsSectionAndValidatedKeys) {
     EXPECT_NE(std::string(e.what()).find("objective"), std::string::npos) << e.what();
   }
   mrpt::config::CConfigFileMemory bad_noise;
-  bad_noise.write("RangeBearingKFSLAM", "std_sensor_range", "0");
+  bad_noise.write("RangeBearingKFSLAM", "std_sensor_range", "-0.1");
   EXPECT_THROW(builtinReducers().create("localization-information", bad_noise, 1), ConfigError);
 }
