@@ -53,27 +53,29 @@ dataset::ConvertedDataset withWrongReadings(double wrong, std::size_t* corrupted
   return d;
 }
 
-/// Localizes the steps in the true map; returns the share of steps with a position error above
-/// 1 m [%] and the largest error [m].
-std::pair<double, double> localize(const dataset::ConvertedDataset& d,
-                                   const LocalizationKF2D::Gate& gate) {
-  LocalizationKF2D kf;
+/// The filter with `gate`, the sensor noise of `d`, its true landmarks (1 cm) as the map, started
+/// at `start` (0.1 m, 0.03 rad).
+void initialize(LocalizationKF2D& kf, const dataset::ConvertedDataset& d,
+                const LocalizationKF2D::Gate& gate, const mrpt::math::TPose2D& start) {
   kf.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
   kf.options.std_sensor_range = static_cast<float>(d.noise.std_range);
   kf.options.std_sensor_yaw = static_cast<float>(d.noise.std_yaw);
   kf.gate = gate;
   std::vector<LandmarkView> map;
-  for (const auto& [id, p] : d.ground_truth.landmarks) {
-    LandmarkView l;
-    l.id = id;
-    l.mean = p;
-    l.cov = Eigen::Matrix2d::Identity() * 1e-4;
-    map.push_back(l);
-  }
-  PoseEstimate start;
-  start.mean = d.ground_truth.path.front();
-  start.cov = Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal();
-  kf.initialize(start, map);
+  for (const auto& [id, p] : d.ground_truth.landmarks)
+    map.push_back({id, p, Eigen::Matrix2d::Identity() * 1e-4});
+  PoseEstimate s;
+  s.mean = start;
+  s.cov = Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal();
+  kf.initialize(s, map);
+}
+
+/// Localizes the steps in the true map; returns the share of steps with a position error above
+/// 1 m [%] and the largest error [m].
+std::pair<double, double> localize(const dataset::ConvertedDataset& d,
+                                   const LocalizationKF2D::Gate& gate) {
+  LocalizationKF2D kf;
+  initialize(kf, d, gate, d.ground_truth.path.front());
   std::size_t lost = 0;
   double worst = 0;
   for (std::size_t k = 0; k < d.steps.size(); ++k) {
@@ -118,19 +120,10 @@ TEST(LocalizationGate, RecoversFromAWrongStartThatTheGateAloneNeverLeaves) {
   auto d = dataset::simulate(o);
   const auto run = [&](const LocalizationKF2D::Gate& gate) {
     LocalizationKF2D kf;
-    kf.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
-    kf.options.std_sensor_range = static_cast<float>(d.noise.std_range);
-    kf.options.std_sensor_yaw = static_cast<float>(d.noise.std_yaw);
-    kf.gate = gate;
-    std::vector<LandmarkView> map;
-    for (const auto& [id, p] : d.ground_truth.landmarks)
-      map.push_back({id, p, Eigen::Matrix2d::Identity() * 1e-4});
-    PoseEstimate start;
-    start.mean = d.ground_truth.path.front();
-    start.mean.x += 3;
-    start.mean.phi += 40 * M_PI / 180;
-    start.cov = Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal();
-    kf.initialize(start, map);
+    mrpt::math::TPose2D start = d.ground_truth.path.front();
+    start.x += 3;
+    start.phi += 40 * M_PI / 180;
+    initialize(kf, d, gate, start);
     std::size_t recovered_at = 0, tracked_after = 0, steps_after = 0;
     for (std::size_t k = 0; k < d.steps.size(); ++k) {
       kf.processStep(d.steps[k]);
