@@ -75,7 +75,8 @@ void LocalizationInformationReducer::addReading(std::uint32_t slot, const StepOb
   // The landmark where the reading puts it, and the reading's information at that geometry.
   const double c = std::cos(seen.robot.phi), s = std::sin(seen.robot.phi);
   const Eigen::Vector2d q = readingInRobotFrame(r.range, r.bearing, seen.sensor_pose);
-  const Eigen::Vector2d at(seen.robot.x + c * q.x() - s * q.y(), seen.robot.y + s * q.x() + c * q.y());
+  const Eigen::Vector2d at(seen.robot.x + c * q.x() - s * q.y(),
+                           seen.robot.y + s * q.x() + c * q.y());
   if (!(r.range > 0) || !at.allFinite()) return;
   const auto H = predictRangeBearing(seen.robot, seen.sensor_pose, at).H_robot;
   const Eigen::Matrix3d info = readingInformation(H, std_range_, std_bearing_);
@@ -110,7 +111,8 @@ void LocalizationInformationReducer::observe(const StepObservation& seen) {
   if (!withheld) return;
   for (const Sighting& r : seen.withheld) {
     const auto on_map = places_of_.find(r.id);
-    if (on_map != places_of_.end() && !dropped_at_.count(r.id)) continue;  // in the map: not withheld
+    if (on_map != places_of_.end() && !dropped_at_.count(r.id))
+      continue;  // in the map: not withheld
     addReading(slot, seen, r, false);
     remember(r.id);
   }

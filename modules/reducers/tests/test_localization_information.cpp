@@ -301,8 +301,8 @@ TEST(LocalizationInformationReducer, ALandmarkThatComesBackCountsEveryPlaceItWas
   EXPECT_NEAR(forgotten.loss(9), one.loss(9), 1e-9);
   EXPECT_GT(remembered.loss(9), 3 * forgotten.loss(9));
   // The map without 9 is the same either way: readings on record change no place's information.
-  EXPECT_NEAR(remembered.objective() - remembered.loss(9), forgotten.objective() - forgotten.loss(9),
-              1e-9);
+  EXPECT_NEAR(remembered.objective() - remembered.loss(9),
+              forgotten.objective() - forgotten.loss(9), 1e-9);
   auto dropped = run(1024);
   dropped.forget(9);
   EXPECT_EQ(dropped.loss(9), 0.0);

@@ -255,7 +255,7 @@ Scenario corridors(Random& rng) {
       "Office floor: 60 x 40 m, corridors 2.4 m wide around and through the middle both ways, "
       "landmarks on the corridor walls 2-8 m apart, 180 deg sensor to 8 m.";
   auto& w = s.world;
-  const double W = 60, H = 40, c = 2.4;  // building, corridor width [m]
+  const double W = 60, H = 40, c = 2.4;                 // building, corridor width [m]
   const double xm = W / 2 - c / 2, ym = H / 2 - c / 2;  // the middle corridors' low sides
   w.walls.push_back({V(0, 0), V(W, 0)});
   w.walls.push_back({V(W, 0), V(W, H)});
@@ -292,13 +292,13 @@ Scenario corridors(Random& rng) {
   s.start = V(h, h);
   // The outer corridors anticlockwise, then the middle one northwards, back to the crossing,
   // and the middle one westwards and eastwards.
-  s.route = {V(W - h, h), V(W - h, H - h), V(h, H - h), V(h, h),  V(xc, h),
-             V(xc, H - h), V(xc, yc),      V(h, yc),     V(W - h, yc)};
+  s.route = {V(W - h, h),  V(W - h, H - h), V(h, H - h), V(h, h),     V(xc, h),
+             V(xc, H - h), V(xc, yc),       V(h, yc),    V(W - h, yc)};
   // Revisit: from the east side's middle, the outer corridors clockwise, the middle westwards,
   // then the middle north-south.
   s.revisit_start = V(W - h, yc);
   s.revisit_start_yaw = M_PI / 2;
-  s.revisit_route = {V(W - h, H - h), V(h, H - h), V(h, h), V(W - h, h), V(W - h, yc),
+  s.revisit_route = {V(W - h, H - h), V(h, H - h), V(h, h),      V(W - h, h), V(W - h, yc),
                      V(h, yc),        V(xc, yc),   V(xc, H - h), V(xc, h)};
   s.step = 0.4;
   s.max_turn = 30 * kDeg;
@@ -325,8 +325,8 @@ Scenario clusters(Random& rng) {
   std::vector<V> centres;
   for (int row = 0; row < 4; ++row)
     for (int col = 0; col < 4; ++col)
-      centres.push_back(V(30 + 60 * col + rng.uniform(-12, 12),
-                          30 + 60 * row + rng.uniform(-12, 12)));
+      centres.push_back(
+          V(30 + 60 * col + rng.uniform(-12, 12), 30 + 60 * row + rng.uniform(-12, 12)));
   for (const V& centre : centres) {
     const int n = 6 + static_cast<int>(rng.uniform() * 7);  // 6..12
     for (int placed = 0, tries = 0; placed < n && tries < 1000; ++tries) {
@@ -353,8 +353,7 @@ Scenario clusters(Random& rng) {
   for (int row = 2; row >= 0; --row) s.route.push_back(at(row, 0, V(-14, 0)));
   s.route.push_back(s.start);
   for (int col = 3; col >= 0; --col)
-    for (int k = 0; k < 4; ++k)
-      s.revisit_route.push_back(at(col % 2 ? k : 3 - k, col, V(-14, 0)));
+    for (int k = 0; k < 4; ++k) s.revisit_route.push_back(at(col % 2 ? k : 3 - k, col, V(-14, 0)));
   s.revisit_start = s.revisit_route.front() + V(0, 20);
   s.revisit_start_yaw = -M_PI / 2;
   s.step = 1.0;

@@ -23,9 +23,9 @@ struct SimulationOptions : public TabledOptions<SimulationOptions> {
 
   /// The worlds of docs/DATASETS.md; ini and command-line names in scenarioNames().
   enum class ScenarioKind { PaperSynthetic, Rooms, Park, Lifelong, Corridors, Clusters };
-  /// default: the scenario's route; revisit (rooms, park, corridors, clusters): the same world (same seed, landmarks,
-  /// ids and frame) driven from another start along another route through every room or region,
-  /// with another noise stream: a second traversal to relocalize on.
+  /// default: the scenario's route; revisit (rooms, park, corridors, clusters): the same world
+  /// (same seed, landmarks, ids and frame) driven from another start along another route through
+  /// every room or region, with another noise stream: a second traversal to relocalize on.
   enum class Route { Default, Revisit };
 
   ScenarioKind scenario = ScenarioKind::Rooms;  ///< paper-synthetic | rooms | park | lifelong |
