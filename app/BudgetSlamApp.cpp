@@ -388,17 +388,20 @@ int BudgetSlamApp::runRun() {
            << ", reducer " << rc.budget.reducer;
       if (driver->budget().capped()) *out << ", cap " << *rc.budget.max_landmarks;
       *out << ": " << driver->backend().landmarkCount() << " landmarks kept, "
-           << driver->evictions() << " dropped\n"
+           << driver->evictions() << " dropped";
+      if (driver->refused()) *out << ", " << driver->refused() << " newcomers refused";
+      *out << "\n"
            << "final pose x=" << fixed(pose.x, 3) << " m y=" << fixed(pose.y, 3)
            << " m yaw=" << fixed(pose.phi * 180 / M_PI, 2) << " deg";
       if (result.ground_truth) {
         const auto val = [](double v, int d) {
           return std::isfinite(v) ? fixed(v, d) : std::string("n/a");
         };
-        *out << "; vs ground truth: trajectory RMSE "
-             << val(result.ground_truth->trajectory_rmse, 3) << " m, landmark RMSE "
-             << val(result.ground_truth->landmark_rmse, 3) << " m, mean NEES "
-             << val(result.nees.mean, 2);
+        const auto& gt = *result.ground_truth;
+        *out << "\nvs ground truth: ATE " << val(gt.trajectory_rmse_aligned, 3) << " m aligned ("
+             << val(gt.trajectory_rmse, 3) << " m in the start frame), RPE " << val(gt.rpe.rmse, 3)
+             << " m per 10 m, landmark RMSE " << val(gt.landmark_rmse_aligned, 3)
+             << " m aligned, mean NEES " << val(result.nees.mean, 2);
       }
       *out << "\noutputs in " << folder->path() << "/ (" << fixed(driver->totalStepSeconds(), 2)
            << " s of SLAM)\n";

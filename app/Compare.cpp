@@ -37,9 +37,16 @@ using Runs = std::vector<std::unique_ptr<CompareRun>>;
 
 nlohmann::json toJson(const metrics::ReferenceMetrics& m) {
   const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
-  return {{"poses", m.poses},          {"landmarks", m.landmarks},  {"ate_m", num(m.ate)},
-          {"ale_m", num(m.ale)},       {"are_deg", num(m.are_deg)}, {"ud_pct", num(m.ud_percent)},
-          {"eig_min", num(m.eig_min)}, {"eig_max", num(m.eig_max)}, {"eig_rows", m.eig_rows}};
+  return {{"poses", m.poses},
+          {"landmarks", m.landmarks},
+          {"ate_m", num(m.ate)},
+          {"ale_m", num(m.ale)},
+          {"are_deg", num(m.are_deg)},
+          {"ud_pct", num(m.ud_percent)},
+          {"ud_std_factor", num(m.ud_std_factor)},
+          {"eig_min", num(m.eig_min)},
+          {"eig_max", num(m.eig_max)},
+          {"eig_rows", m.eig_rows}};
 }
 
 /// What summary.json holds of a number: a non-finite value is null there, missing in the table.
@@ -157,18 +164,26 @@ report::ComparisonRow comparisonRow(const CompareRun& r, const metrics::Referenc
   row.backend = p.backend().name();
   row.status = r.status;
   row.cap = p.budget().capped() ? static_cast<long long>(*p.budget().options().max_landmarks) : -1;
+  row.seed = static_cast<long long>(p.budget().options().seed);
   row.landmarks = p.backend().landmarkCount();
   row.poses = p.backend().poseCount();
   if (ref_landmarks)
     row.landmarks_reduction_pct = 100.0 * (1.0 - double(row.landmarks) / double(ref_landmarks));
   if (ref_poses) row.poses_reduction_pct = 100.0 * (1.0 - double(row.poses) / double(ref_poses));
   row.evictions = p.evictions();
-  row.ate_m = m.ate, row.ale_m = m.ale, row.are_deg = m.are_deg, row.ud_pct = m.ud_percent;
-  row.eig_min = m.eig_min, row.eig_max = m.eig_max;
+  row.refused = p.refused();
+  row.ref_ate_m = m.ate, row.ref_ale_m = m.ale, row.ref_are_deg = m.are_deg;
+  row.ref_ud_pct = m.ud_percent, row.ref_ud_std_factor = m.ud_std_factor;
+  row.ref_eig_min = m.eig_min, row.ref_eig_max = m.eig_max;
   if (r.result && r.result->ground_truth) {
-    row.gt_trajectory_rmse_m = finiteOrNaN(r.result->ground_truth->trajectory_rmse);
-    row.gt_trajectory_max_m = finiteOrNaN(r.result->ground_truth->trajectory_max);
-    row.gt_landmark_rmse_m = finiteOrNaN(r.result->ground_truth->landmark_rmse);
+    // The numbers of the run's summary.json (metrics::groundTruthErrors), not a second computation.
+    const metrics::GroundTruthErrors& gt = *r.result->ground_truth;
+    row.gt_trajectory_rmse_aligned_m = finiteOrNaN(gt.trajectory_rmse_aligned);
+    row.gt_trajectory_rpe_10m_m = finiteOrNaN(gt.rpe.rmse);
+    row.gt_trajectory_rmse_m = finiteOrNaN(gt.trajectory_rmse);
+    row.gt_trajectory_max_m = finiteOrNaN(gt.trajectory_max);
+    row.gt_landmark_rmse_m = finiteOrNaN(gt.landmark_rmse);
+    row.gt_landmark_rmse_aligned_m = finiteOrNaN(gt.landmark_rmse_aligned);
     row.nees_mean = finiteOrNaN(r.result->nees.mean);
   }
   row.time_s = p.totalStepSeconds();

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,33 @@ inline std::vector<std::vector<std::string>> readCsv(const std::filesystem::path
   std::getline(in, line);  // header
   while (std::getline(in, line)) rows.push_back(csvCells(line));
   return rows;
+}
+
+/// A CSV file read with its header, its cells found by column name.
+struct CsvTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  /// The column's index; -1 when the header has no such column.
+  int column(const std::string& name) const {
+    for (std::size_t c = 0; c < header.size(); ++c)
+      if (header[c] == name) return static_cast<int>(c);
+    return -1;
+  }
+  /// Row `row`'s cell of column `name` (throws std::out_of_range when either is missing).
+  const std::string& at(std::size_t row, const std::string& name) const {
+    const int c = column(name);
+    if (c < 0) throw std::out_of_range("no column " + name);
+    return rows.at(row).at(static_cast<std::size_t>(c));
+  }
+};
+
+inline CsvTable readCsvTable(const std::filesystem::path& p) {
+  CsvTable t;
+  std::istringstream in(slurp(p));
+  std::string line;
+  if (std::getline(in, line)) t.header = csvCells(line);
+  while (std::getline(in, line)) t.rows.push_back(csvCells(line));
+  return t;
 }
 
 /// Result of one in-process run of the application.

@@ -7,7 +7,7 @@ registered reducer's scores on a Gaussian state (docs/PYTHON.md).
                         reducer="mi", cap=20)
     r["summary"]["counts"]["landmarks_final"], r["steps"]["x"], r["landmarks"]["id"]
     c = budget_slam.compare("config.ini", "rawlogs/kf-slam_demo.rawlog", reducers=["mi", "coverage"])
-    c["comparison"]["ate_m"], c["runs"]["mi"]["trajectory"]
+    c["comparison"]["ref_ate_m"], c["runs"]["mi"]["trajectory"]
     s = budget_slam.load_state("OUT/states/step_120.txt")
     budget_slam.reducer_scores("mi", s["mean"], s["cov"], s["ids"])["scores"]
 

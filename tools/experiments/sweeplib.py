@@ -536,7 +536,9 @@ SUMMARY_METRICS = [
     ("peak_rss_bytes", ("timings", "peak_rss_bytes")),
     ("steps", ("counts", "steps")),
 ]
-NON_METRIC_COLUMNS = {"run", "reducer", "backend", "status", "cap"}
+NON_METRIC_COLUMNS = {"run", "reducer", "backend", "status", "cap", "seed"}
+# comparison.csv of budget-slam before the reference metrics got their ref_ prefix.
+LEGACY_COLUMNS = {c: "ref_" + c for c in ("ate_m", "ale_m", "are_deg", "ud_pct", "eig_min", "eig_max")}
 RESULT_COLUMNS = ["rawlog", "backend", "reducer", "cap", "seed", "metric", "value"]
 
 
@@ -558,10 +560,12 @@ def job_rows(job):
         metrics = [("status_ok", 1.0 if r["status"] == "ok" else 0.0)]
         if reducer != "none" and job.cap_landmarks != "none":
             metrics.append(("cap_landmarks", float(job.cap_landmarks)))
-        metrics += [(c, as_number(r[c])) for c in r if c not in NON_METRIC_COLUMNS]
+        metrics += [(LEGACY_COLUMNS.get(c, c), as_number(r[c])) for c in r if c not in NON_METRIC_COLUMNS]
         summary = read_json(os.path.join(job.folder, r["run"], "summary.json"))
+        in_table = {m for m, _ in metrics}
         for name, (a, b) in SUMMARY_METRICS:
-            metrics.append((name, as_number(summary.get(a, {}).get(b))))
+            if name not in in_table:  # comparison.csv carries the aligned ATE too: one row
+                metrics.append((name, as_number(summary.get(a, {}).get(b))))
         for m, v in metrics:
             if v is not None:
                 rows.append(dict(key, metric=m, value=fmt_value(v)))

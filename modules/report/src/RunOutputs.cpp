@@ -65,7 +65,8 @@ void RunOutputs::addStep(const StepRow& r) {
       .cell(r.cpu_ms)
       .cell(r.rss_bytes)
       .cell(r.reloc_landmarks)
-      .cell(r.reloc_coverage_so_far_pct);
+      .cell(r.reloc_coverage_so_far_pct)
+      .cell(r.refused);
   steps_csv_.endRow();
 }
 

@@ -20,15 +20,16 @@ namespace budget_slam::report {
 /// One row of steps.csv (docs/OUTPUTS.md): the state after the step, SI units.
 struct StepRow {
   StepIndex step = 0;
-  double t = 0;                          ///< [s]
-  std::size_t landmarks = 0;             ///< in the map after the step's drops
-  std::size_t added = 0;                 ///< landmarks the step brought in
-  std::size_t dropped = 0;               ///< evictions.csv rows of the step
-  std::size_t poses = 0;                 ///< poses the backend holds
-  PoseEstimate pose;                     ///< online robot pose and its covariance
-  double step_ms = 0;                    ///< wall time of the step [ms]
-  double cpu_ms = 0;                     ///< CPU time of the step's thread [ms]
-  std::size_t rss_bytes = 0;             ///< resident memory after the step [bytes]
+  double t = 0;               ///< [s]
+  std::size_t landmarks = 0;  ///< in the map after the step's drops
+  std::size_t added = 0;      ///< landmarks the step brought in
+  std::size_t dropped = 0;    ///< landmarks dropped after holding a place (evictions.csv rows)
+  std::size_t refused = 0;    ///< newcomers refused (evictions.csv rows with reason refused)
+  std::size_t poses = 0;      ///< poses the backend holds
+  PoseEstimate pose;          ///< online robot pose and its covariance
+  double step_ms = 0;         ///< wall time of the step [ms]
+  double cpu_ms = 0;          ///< CPU time of the step's thread [ms]
+  std::size_t rss_bytes = 0;  ///< resident memory after the step [bytes]
   std::size_t reloc_landmarks = 0;       ///< landmarks of the map held then, observed then
   double reloc_coverage_so_far_pct = 0;  ///< [%]
 };
