@@ -10,13 +10,13 @@
 #include "CompareRuns.h"
 #include "Interrupt.h"
 #include "OfflineOptimum.h"
-#include "ProgressBar.h"
 #include "Relocalize.h"
 #include "RunConfig.h"
 #include "RunDriver.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniText.h"
+#include "budget_slam/core/Progress.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
@@ -77,7 +77,7 @@ struct CompareOutcome {
 /// The rawlog's steps, read once for every driver (at most `limit`, 0 = all); nullopt when a
 /// stop request came while reading. Throws InputError when no step has a bearing-range reading.
 std::optional<std::vector<Step>> readSteps(const std::string& rawlog, std::size_t limit,
-                                           ProgressBar& reading) {
+                                           ProgressReporter& reading) {
   std::vector<Step> steps;
   dataset::RawlogReader reader(rawlog);
   reader.setStopCheck([] { return InterruptGuard::requested(); });
@@ -85,37 +85,50 @@ std::optional<std::vector<Step>> readSteps(const std::string& rawlog, std::size_
     auto s = reader.next();
     if (s) {
       steps.push_back(std::move(*s));
-      reading.update(reader.progress(), "reading step " + std::to_string(steps.size()));
+      reading.update(limit ? double(steps.size()) / double(limit) : reader.progress(), steps.size(),
+                     limit, "");
     } else if (!reader.stopped()) {
       break;
     }
     if (InterruptGuard::requested()) {
-      reading.done();
+      reading.finish(false);
       return std::nullopt;
     }
   }
-  reading.done();
+  reading.finish(true);
   if (reader.bearingRangeSteps() == 0)
     throw InputError("rawlog '" + rawlog + "' holds no CObservationBearingRange");
   return steps;
 }
 
-/// The reference run (reducer none) and one run a reducer of `names`, each with its folder under
-/// `top` and its config_used.ini.
+/// The reference run (reducer none) and one run a reducer of `names` (with `seeds`: one a reducer
+/// and seed, named <reducer>/seed<S>), each with its folder under `top` and its config_used.ini.
+/// The reference drops nothing, so no seed changes it: it runs once.
 Runs makeRuns(const RunConfig& rc, const std::vector<std::string>& names,
-              const report::OutputFolder& top, bool force,
+              const std::vector<std::uint64_t>& seeds, const report::OutputFolder& top, bool force,
               const std::shared_ptr<dataset::GroundTruth>& truth) {
   Runs runs;
-  std::vector<std::string> all = {kReference};
-  all.insert(all.end(), names.begin(), names.end());
-  for (const auto& name : all) {
+  struct Planned {
+    std::string name, reducer;
+    std::optional<std::uint64_t> seed;
+  };
+  std::vector<Planned> all = {{kReference, "none", std::nullopt}};
+  for (const auto& n : names) {
+    if (seeds.empty()) all.push_back({n, n, std::nullopt});
+    for (const auto s : seeds) all.push_back({n + "/seed" + std::to_string(s), n, s});
+  }
+  for (const auto& [name, reducer, seed] : all) {
     auto run = std::make_unique<CompareRun>();
     run->name = name;
     mrpt::config::CConfigFileMemory ini;
     copyIni(rc.ini, ini);  // no second ${...} expansion
     reducers::BudgetOptions budget = rc.budget;
-    budget.reducer = name == kReference ? "none" : name;
+    budget.reducer = reducer;
     ini.write(reducers::BudgetOptions::kSection, "reducer", budget.reducer);
+    if (seed) {
+      budget.seed = *seed;
+      ini.write(reducers::BudgetOptions::kSection, "seed", std::to_string(*seed));
+    }
     report::OutputFolder folder(top.file(name), force);
     report::writeFileAtomically(folder.file("config_used.ini"), ini.getContent());
     run->driver = std::make_unique<RunDriver>(ini, rc.mapping.backend, budget, folder, truth);
@@ -332,7 +345,6 @@ int BudgetSlamApp::runCompare() {
     *err << "budget-slam: note: " << top->path() << " held an earlier run; its files were moved to "
          << top->earlierRun() << "/" << std::endl;
 
-  const bool show_progress = !cli_.quiet && err == &std::cerr && stderrIsTerminal();
   Runs runs;
   std::shared_ptr<dataset::GroundTruth> truth;
   std::vector<Step> steps;
@@ -345,7 +357,7 @@ int BudgetSlamApp::runCompare() {
     report::writeFileAtomically(top->file("config_used.ini"), rc.ini.getContent());
     truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
-    ProgressBar reading(*err, show_progress);
+    ProgressReporter reading(*err, "reading the rawlog", progressSettings(rc.report));
     auto read = readSteps(rc.rawlog, rc.mapping.max_steps, reading);
     if (!read) {
       *err << "budget-slam: interrupted by " << InterruptGuard::what()
@@ -355,7 +367,7 @@ int BudgetSlamApp::runCompare() {
       return 130;
     }
     steps = std::move(*read);
-    runs = makeRuns(rc, names, *top, cli_.force, truth);
+    runs = makeRuns(rc, names, cli_.seeds, *top, cli_.force, truth);
   } catch (const Error& e) {
     return fail(e.what());
   } catch (const std::exception& e) {
@@ -366,8 +378,8 @@ int BudgetSlamApp::runCompare() {
   const std::size_t wanted = cli_.threads ? cli_.threads : std::thread::hardware_concurrency();
   const std::size_t threads = std::max<std::size_t>(1, std::min<std::size_t>(wanted, runs.size()));
   {
-    ProgressBar bar(*err, show_progress);
-    runInThreads(runs, steps, threads, on_end_phase, bar);
+    ProgressReporter progress(*err, "compare", progressSettings(rc.report));
+    runInThreads(runs, steps, threads, on_end_phase, progress);
   }
 
   // Metrics against the reference, then every run's files.
@@ -405,10 +417,18 @@ int BudgetSlamApp::runCompare() {
   try {
     report::writeComparisonCsv(top->file("comparison.csv"), rows);
     if (!traversals.empty()) writeRelocalizationCsv(top->file("relocalization.csv"), relocalized);
+    std::string seed_text = "seed " + std::to_string(rc.budget.seed);
+    if (!cli_.seeds.empty()) {
+      const bool range = cli_.seeds.back() - cli_.seeds.front() + 1 == cli_.seeds.size();
+      seed_text = cli_.seeds.size() == 1 ? "seed " + std::to_string(cli_.seeds.front())
+                  : range                ? "seeds " + std::to_string(cli_.seeds.front()) + " to " +
+                                std::to_string(cli_.seeds.back())
+                          : std::to_string(cli_.seeds.size()) + " seeds";
+    }
     const std::string title = "budget-slam compare: " + rc.rawlog + ", backend " +
                               rc.mapping.backend + ", cap " +
                               reducers::BudgetOptions::capText(rc.budget.max_landmarks) + ", " +
-                              std::to_string(steps.size()) + " steps";
+                              std::to_string(steps.size()) + " steps, " + seed_text;
     std::string md = report::writeComparisonMarkdown(top->file("comparison.md"), title, rows);
     if (cli_.offline_optimum) md += writeOfflineOptimumFiles(*top, rc, runs, steps);
     writeComparisonChart(top->file("comparison.png"), runs, steps, truth.get());
@@ -419,7 +439,8 @@ int BudgetSlamApp::runCompare() {
         {"rawlog", rc.rawlog},
         {"sidecar_ini", rc.sidecar},
         {"config", config_label_},
-        {"runs", names.size() + 1},
+        {"runs", runs.size()},
+        {"seeds", cli_.seeds},
         {"steps", steps.size()},
         {"threads", threads}};
     if (!top->earlierRun().empty()) summary["earlier_run_moved_to"] = top->earlierRun();

@@ -34,6 +34,7 @@ IniSchema knownKeys() {
   schema.addSection(reducers::BudgetOptions::kSection, reducers::BudgetOptions::keys());
   schema.addSection(metrics::MetricsOptions::kSection, metrics::MetricsOptions::keys());
   schema.addSection(LocalizationOptions::kSection, LocalizationOptions::keys());
+  schema.addSection(report::ReportOptions::kSection, report::ReportOptions::keys());
   for (const auto* e : reducers::builtinReducers().entries())
     if (!e->section.empty()) schema.addSection(e->section, e->keys);
   // An MRPT ini shared with MRPT's other applications (simul-landmarks...) keeps their sections.
@@ -135,12 +136,17 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
       rc.ini.write(MappingOptions::kSection, "backend", cli.backend);
     }
     if (!cli.rawlog.empty()) rc.ini.write(MappingOptions::kSection, "rawlog_file", cli.rawlog);
+    if (cli.max_steps)
+      rc.ini.write(
+          cli.command == "localize" ? LocalizationOptions::kSection : MappingOptions::kSection,
+          "max_steps", std::to_string(*cli.max_steps));
 
     schema.validate(rc.ini);
     rc.mapping.loadFromConfigFile(rc.ini, MappingOptions::kSection);
     rc.budget.loadFromConfigFile(rc.ini, reducers::BudgetOptions::kSection);
     checkValues(rc.ini, rc.budget.seed);
     rc.localization.loadFromConfigFile(rc.ini, LocalizationOptions::kSection);
+    rc.report.loadFromConfigFile(rc.ini, report::ReportOptions::kSection);
     reducers::builtinReducers().entry(rc.budget.reducer);  // unknown name: error now
     for (const auto& s : rc.budget.shadow_reducers) reducers::builtinReducers().entry(s);
   } catch (const ConfigError& e) {

@@ -7,6 +7,7 @@
 #include "LocalizationOptions.h"
 #include "MappingOptions.h"
 #include "budget_slam/reducers/BudgetOptions.h"
+#include "budget_slam/report/ReportOptions.h"
 
 namespace budget_slam::app {
 
@@ -18,8 +19,9 @@ struct RunConfig {
   MappingOptions mapping;
   reducers::BudgetOptions budget;
   LocalizationOptions localization;  ///< [Localization] (localize, compare --relocalize)
-  std::string rawlog;   ///< resolved path of the input rawlog
-  std::string sidecar;  ///< sidecar ini applied, "" if none
+  report::ReportOptions report;      ///< [Report]: figure formats, progress lines
+  std::string rawlog;                ///< resolved path of the input rawlog
+  std::string sidecar;               ///< sidecar ini applied, "" if none
   std::string outdir;
 };
 

@@ -62,6 +62,9 @@ struct ComparisonColumn {
   std::string heading;  ///< comparison.md header
   /// comparison.md cell (default: the value, 4 decimals, "-" when missing).
   std::function<std::string(const ComparisonRow&)> shown;
+  /// In comparison.md's "mean ± std over the seeds" table (compare --seeds).
+  bool over_seeds = false;
+  int digits = 4;  ///< decimals of a number in comparison.md
 };
 
 /// The columns of comparison.csv, in order; comparison.md's tables show the marked ones in the
@@ -69,7 +72,9 @@ struct ComparisonColumn {
 const std::vector<ComparisonColumn>& comparisonColumns();
 
 void writeComparisonCsv(const std::string& path, const std::vector<ComparisonRow>& rows);
-/// Markdown tables, with lines saying what the columns mean. Returns the text it wrote.
+/// Markdown tables, with lines saying what the columns mean; when a reducer ran with several
+/// seeds, also the mean ± std over its seeds of the columns marked over_seeds. Returns the text it
+/// wrote.
 std::string writeComparisonMarkdown(const std::string& path, const std::string& title,
                                     const std::vector<ComparisonRow>& rows);
 
