@@ -11,6 +11,7 @@ import csv
 import json
 import math
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -55,7 +56,9 @@ def assertColumnsEqual(tc, table, rows, skip=()):
         for k, r in enumerate(rows):
             want, got = as_value(r[name]), table[name][k]
             if isinstance(want, float):
-                if math.isnan(want):
+                if math.isnan(want) and isinstance(got, str):  # an empty text field
+                    tc.assertEqual(got, "", f"{name} row {k}")
+                elif math.isnan(want):
                     tc.assertTrue(math.isnan(float(got)), f"{name} row {k}")
                 else:
                     tc.assertEqual(float(got), want, f"{name} row {k}")
@@ -268,13 +271,15 @@ class CtrlC(unittest.TestCase):
             proc.send_signal(signal.SIGINT)
             stdout, stderr = proc.communicate(timeout=120)
             self.assertEqual(proc.returncode, 130, stderr)
-            self.assertRegex(stdout, r"^KeyboardInterrupt: interrupted by Ctrl-C after step \d+\n$")
+            # Between two steps, or while the next one was being read (a race with the signal).
+            m = re.match(r"^KeyboardInterrupt: interrupted by Ctrl-C (after|while reading) step (\d+)\n$", stdout)
+            self.assertIsNotNone(m, stdout)
+            done = int(m.group(2)) + (1 if m.group(1) == "after" else 0)
             with open(os.path.join(out, "summary.json")) as f:
                 summary = json.load(f)
             self.assertEqual(summary["status"], "interrupted")
-            last = int(stdout.split()[-1])
-            self.assertEqual(summary["counts"]["steps"], last + 1)
-            self.assertEqual(len(csv_rows(steps)), last + 1)
+            self.assertEqual(summary["counts"]["steps"], done)
+            self.assertEqual(len(csv_rows(steps)), done)
             self.assertTrue(os.path.isfile(os.path.join(out, "landmarks.csv")))
 
 
