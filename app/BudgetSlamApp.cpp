@@ -364,6 +364,7 @@ int BudgetSlamApp::runRun() {
     return fail(why, "failed");
   }
 
+  for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
   given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", config_label_}};
   try {
     folder.emplace(rc.outdir, cli_.force);

@@ -334,6 +334,7 @@ int BudgetSlamApp::runCompare() {
       }
     return fail(e.what());
   }
+  for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
   metrics::MetricsOptions metric_options;
   try {
     metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);

@@ -147,6 +147,7 @@ int BudgetSlamApp::runLocalize() {
   try {
     loadConfig();
     rc = loadRunConfig(params, cli_, config_label_);
+    for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
     folder.emplace(rc.outdir, cli_.force);
   } catch (const Error& e) {
     if (!cli_.outdir.empty() && !folder) try {
@@ -215,6 +216,16 @@ int BudgetSlamApp::runLocalize() {
       }
     }
     progress.finish(true);
+    // A map of another place (whose sensor IDs may happen to repeat): readings pair with its
+    // landmarks but do not agree with where it has them. Every step is then dead reckoning.
+    const std::size_t paired = localizer->readingsPairedWithMap(),
+                      agree = localizer->readingsConsistentWithMap();
+    if (2 * agree < paired || paired == 0)
+      *err << "budget-slam: warning: " << agree << " of the " << paired << " readings of "
+           << rc.rawlog << " that pair with a landmark of the map in " << cli_.map_dir
+           << " agree with it (innovation within the 99.9% bound): the map and the traversal "
+              "share no place"
+           << std::endl;
     const auto summary = localizer->finish("ok", "",
                                            {{"rawlog", rc.rawlog},
                                             {"sidecar_ini", rc.sidecar},

@@ -149,6 +149,7 @@ void Localizer::process(const Step& step) {
       }
     seen = in_view.size();
     gated = kf_.lastGated();
+    consistent_ += kf_.lastConsistent();
   }
   used_ += used;
   gated_ += gated;
@@ -235,6 +236,7 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
       {"readings_used", used_},
       {"readings_gated", gated_},
       {"readings_not_in_map", not_in_map_},
+      {"readings_consistent_with_map", consistent_},
       {"diverged_at_step", diverged_at_ ? nlohmann::json(*diverged_at_) : nlohmann::json()},
       {"diverged_why", diverged_why_}};
   j["timings"] = {{"steps_s", total_s_},

@@ -67,6 +67,48 @@ void checkValues(const mrpt::config::CConfigFileBase& ini, std::uint64_t seed) {
   for (const auto* e : reducers::builtinReducers().entries()) e->factory(ini, seed);
 }
 
+/// Two ini values that say the same: the same text, or the same number ("0.10" and "0.1").
+bool sameValue(const std::string& a, const std::string& b) {
+  if (a == b) return true;
+  char *end_a = nullptr, *end_b = nullptr;
+  const double x = std::strtod(a.c_str(), &end_a), y = std::strtod(b.c_str(), &end_b);
+  return !a.empty() && !b.empty() && *end_a == '\0' && *end_b == '\0' && x == y;
+}
+
+/// A warning a key the sidecar sets over another value of the user's ini (docs/OUTPUTS.md,
+/// "Sidecar ini"): the sidecar wins, as documented, but never silently.
+std::vector<std::string> sidecarOverrides(const mrpt::config::CConfigFileBase& user,
+                                          const mrpt::config::CConfigFileBase& side,
+                                          const std::string& user_label,
+                                          const std::string& sidecar) {
+  std::vector<std::string> warnings;
+  std::vector<std::string> sections;
+  side.getAllSections(sections);
+  for (const auto& section : sections) {
+    std::vector<std::string> keys;
+    side.getAllKeys(section, keys);
+    for (const auto& key : keys) {
+      if (!user.keyExists(section, key)) continue;
+      const std::string mine = user.read_string(section, key, "", false);
+      const std::string theirs = side.read_string(section, key, "", false);
+      if (sameValue(mine, theirs)) continue;
+      warnings.push_back(sidecar + " (the rawlog's sidecar) sets [" + section + "] " + key + " = " +
+                         printable(theirs) + " over " + user_label + "'s " + printable(mine) +
+                         "; --set " + section + "." + key + "=" + printable(mine) + " keeps yours");
+    }
+  }
+  return warnings;
+}
+
+/// One layer of the configuration checked alone (its sections, keys and values), so that a bad
+/// value names the file that holds it, even when a later layer replaces it.
+void checkLayer(const mrpt::config::CConfigFileBase& layer, const IniSchema& schema) {
+  schema.validate(layer);
+  reducers::BudgetOptions budget;
+  budget.loadFromConfigFile(layer, reducers::BudgetOptions::kSection);
+  checkValues(layer, budget.seed);
+}
+
 std::string resolveRawlog(const std::string& from_ini, const std::string& config_path) {
   if (from_ini.empty() || fs::path(from_ini).is_absolute() || fs::exists(from_ini)) return from_ini;
   if (!config_path.empty()) {
@@ -116,14 +158,23 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
     if (rc.rawlog.empty())
       throw ConfigError("no rawlog: give -i or [MappingApplication] rawlog_file");
 
+    const IniSchema schema = knownKeys();
     const fs::path sidecar = fs::path(rc.rawlog).replace_extension(".ini");
     if (fs::path(rc.rawlog).extension() == ".rawlog" && fs::exists(sidecar)) {
       rc.sidecar = sidecar.string();
       mrpt::config::CConfigFileMemory side;
       loadIniText(side, readIniFile(rc.sidecar, rc.sidecar), rc.sidecar);
+      // Each file's values checked in that file: the sidecar replaces some of the user's, and a
+      // bad one on either side must name its own file.
+      checkLayer(rc.ini, schema);
+      try {
+        checkLayer(side, schema);
+      } catch (const ConfigError& e) {
+        throw ConfigError(rc.sidecar + ": " + e.what());
+      }
+      rc.warnings = sidecarOverrides(rc.ini, side, config_label, rc.sidecar);
       copyIni(side, rc.ini);
     }
-    const IniSchema schema = knownKeys();
     for (const auto& s : cli.sets) applySet(rc.ini, s, schema);
     if (!cli.reducer.empty())
       rc.ini.write(reducers::BudgetOptions::kSection, "reducer", cli.reducer);

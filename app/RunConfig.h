@@ -2,6 +2,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <string>
+#include <vector>
 
 #include "BudgetSlamApp.h"
 #include "LocalizationOptions.h"
@@ -23,6 +24,9 @@ struct RunConfig {
   std::string rawlog;                ///< resolved path of the input rawlog
   std::string sidecar;               ///< sidecar ini applied, "" if none
   std::string outdir;
+  /// What the merge replaced that the user wrote (a sidecar's key over the ini's): one line each,
+  /// for stderr as "budget-slam: warning: <line>".
+  std::vector<std::string> warnings;
 };
 
 /// Throws ConfigError whose message names the file, flag or key at fault.

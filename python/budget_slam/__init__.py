@@ -23,6 +23,7 @@ import numbers
 import os
 import shutil
 import tempfile
+import warnings
 
 import numpy as np
 
@@ -229,6 +230,9 @@ def _invoke(command, config, rawlog, overrides, outdir, force, flags, progress=N
             outcome = _core.run_app(args, params, progress)
         except _core.ConfigError as e:
             raise ConfigError(str(e)) from None
+        for line in outcome.err.splitlines():  # what the CLI warns of on stderr
+            if line.startswith(_PREFIX + "warning: "):
+                warnings.warn(line[len(_PREFIX + "warning: "):], RuntimeWarning, stacklevel=3)
         if outcome.exit_code == 130:
             raise KeyboardInterrupt(_message(outcome.err) or "interrupted")
         if outcome.exit_code != 0:

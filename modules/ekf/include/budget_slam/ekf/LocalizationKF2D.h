@@ -24,7 +24,6 @@ namespace budget_slam::ekf {
 ///    filter skips prediction while its map is empty, which would freeze a robot in an empty map).
 class LocalizationKF2D : public mrpt::slam::CRangeBearingKFSLAM2D {
  public:
-
   /// Sets the state: `start` (mean and 3x3 covariance) and `map`, whose ids become the filter's
   /// landmark IDs (ID-less readings are paired by MRPT's data association against them).
   void initialize(const PoseEstimate& start, const std::vector<LandmarkView>& map);
@@ -45,6 +44,12 @@ class LocalizationKF2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   const std::vector<LandmarkId>& lastUsed() const { return used_; }
   /// Readings of the last step paired with a map landmark but rejected by the gate.
   std::size_t lastGated() const { return gated_; }
+  /// Readings of the last step paired with a map landmark where the map says it is: innovation
+  /// d^2 within kConsistentChi2, gate or no gate. None over a whole traversal: the map and the
+  /// traversal share no place (a map of another world whose sensor IDs happen to repeat).
+  std::size_t lastConsistent() const { return consistent_; }
+  /// Chi-square, 2 degrees of freedom, 99.9%.
+  static constexpr double kConsistentChi2 = 13.8155;
 
  protected:
   void OnTransitionModel(const KFArray_ACT& in_u, KFArray_VEH& inout_x,
@@ -60,7 +65,7 @@ class LocalizationKF2D : public mrpt::slam::CRangeBearingKFSLAM2D {
 
  private:
   std::vector<LandmarkId> used_;
-  std::size_t gated_ = 0;
+  std::size_t gated_ = 0, consistent_ = 0;
 };
 
 }  // namespace budget_slam::ekf
