@@ -147,7 +147,23 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   cli_.command = command;
   const bool compare = cli_.command == "compare";
 
-  CapturedUsage usage;  // outlives cmd, which only borrows it
+  CapturedUsage usage(  // outlives cmd, which only borrows it
+      compare
+          ? "   budget-slam compare -c config.ini -o CMP --cap 50\n"
+            "      every reducer and the unreduced reference on config.ini's rawlog:\n"
+            "      CMP/comparison.md, comparison.csv, comparison.png, a folder a run\n"
+            "   budget-slam compare -c config.ini -i rawlogs/kf-slam_demo.rawlog --reducers "
+            "random,mi --cap 20 --seeds 1:5 -o CMP5\n"
+            "      each reducer with seeds 1 to 5, and the mean and std over the seeds\n"
+            "   budget-slam compare -c config.ini -i rawlogs/rooms.rawlog --cap 50 --relocalize "
+            "rawlogs/rooms_revisit.rawlog -o CMPR\n"
+            "      every final map also localizes another traversal of the same place\n"
+          : "   budget-slam run -c config.ini -o OUT\n"
+            "      config.ini's rawlog, reducer and cap\n"
+            "   budget-slam run -c config.ini -i rawlogs/kf-slam_demo.rawlog -o OUT2 --reducer "
+            "mi --cap 20 --set LandmarkBudget.seed=3\n"
+            "   budget-slam run -c config.ini -i rawlogs/victoria_park.rawlog --backend graph "
+            "--max-steps 1000 -o OUT3\n");
   TCLAP::CmdLine cmd(compare ? "Runs every reducer and the unreduced reference on one rawlog and "
                                "compares them"
                              : "Runs landmark SLAM on a rawlog under a landmark budget",

@@ -10,6 +10,7 @@
 #include "CompareRuns.h"
 #include "Interrupt.h"
 #include "OfflineOptimum.h"
+#include "ProcessProbes.h"
 #include "Relocalize.h"
 #include "RunConfig.h"
 #include "RunDriver.h"
@@ -376,7 +377,7 @@ int BudgetSlamApp::runCompare() {
   }
 
   // One thread a core, each taking whole runs; every run's outputs are written whatever its end.
-  const std::size_t wanted = cli_.threads ? cli_.threads : std::thread::hardware_concurrency();
+  const std::size_t wanted = cli_.threads ? cli_.threads : availableCpus();
   const std::size_t threads = std::max<std::size_t>(1, std::min<std::size_t>(wanted, runs.size()));
   {
     ProgressReporter progress(*err, "compare", progressSettings(rc.report));

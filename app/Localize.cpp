@@ -59,7 +59,10 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
   cli_ = CommandLine();
   help_.clear();
   cli_.command = "localize";
-  CapturedUsage usage;  // outlives cmd, which only borrows it
+  CapturedUsage usage(  // outlives cmd, which only borrows it
+      "   budget-slam run -c config.ini -i rawlogs/rooms.rawlog -o ROOMS\n"
+      "   budget-slam localize -c config.ini --map ROOMS -i rawlogs/rooms_revisit.rawlog -o LOC\n"
+      "      rooms' final map localizing another traversal of the same rooms\n");
   TCLAP::CmdLine cmd(
       "Localizes a traversal in the final map of an earlier run (its landmarks.csv) with MRPT's "
       "EKF, no landmark added, and measures the error, the share of steps lost and the map's "
