@@ -2,6 +2,7 @@
 // parallel threads, then every run measured against the reference and the ground truth
 // (docs/ARCHITECTURE.md "Data flow", docs/OUTPUTS.md).
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <thread>
@@ -261,14 +262,19 @@ std::vector<report::Series> errorSeries(const Runs& runs, const dataset::GroundT
   return out;
 }
 
-/// comparison.png: the landmark count over the steps, and the robot position error against
-/// ground truth (else the difference to the reference run).
-void writeComparisonChart(const std::string& path, const Runs& runs, const std::vector<Step>& steps,
-                          const dataset::GroundTruth* truth) {
+/// comparison.<png|pdf|svg>: the landmark count over the steps (the cap marked), and the robot
+/// position error against ground truth (else the difference to the reference run); the
+/// reference dashed black.
+void writeComparisonChart(const report::OutputFolder& top, const std::string& title,
+                          const Runs& runs, const std::vector<Step>& steps,
+                          const dataset::GroundTruth* truth, const RunConfig& rc) {
   std::vector<report::ChartPanel> panels;
-  report::ChartPanel count{"landmarks in the map", "step", "landmarks", {}, false};
+  report::ChartPanel count{"landmarks in the map", "step", "landmarks", {}, false, {}, true};
+  if (rc.budget.max_landmarks)
+    count.marks.push_back(
+        {double(*rc.budget.max_landmarks), "cap " + std::to_string(*rc.budget.max_landmarks)});
   for (const auto& r : runs) {
-    report::Series s{r->name, {}, {}};
+    report::Series s{r->name, {}, {}, r->name == kReference};
     const auto& counts = r->driver->landmarkCounts();
     for (std::size_t k = 0; k < counts.size(); ++k)
       s.x.push_back(double(steps[k].index)), s.y.push_back(double(counts[k]));
@@ -279,8 +285,14 @@ void writeComparisonChart(const std::string& path, const Runs& runs, const std::
   const auto gt = has_path ? metrics::toEstimateFrame(*truth) : dataset::GroundTruth();
   panels.push_back({has_path ? "robot position error against ground truth (online estimate)"
                              : "robot position difference to the reference run (online estimate)",
-                    "step", "m", errorSeries(runs, has_path ? &gt : nullptr, steps.size()), false});
-  report::writeChartPng(path, panels);
+                    "step",
+                    "m",
+                    errorSeries(runs, has_path ? &gt : nullptr, steps.size()),
+                    false,
+                    {}});
+  for (auto& s : panels.back().series) s.reference = s.name == kReference;
+  for (const auto format : rc.report.figure_formats)
+    report::writeChart(top.file(report::figureFile("comparison", format)), title, panels, format);
 }
 
 /// --offline-optimum: offline_optimum.csv, and its table appended to comparison.md; returns the
@@ -433,7 +445,11 @@ int BudgetSlamApp::runCompare() {
                               std::to_string(steps.size()) + " steps, " + seed_text;
     std::string md = report::writeComparisonMarkdown(top->file("comparison.md"), title, rows);
     if (cli_.offline_optimum) md += writeOfflineOptimumFiles(*top, rc, runs, steps);
-    writeComparisonChart(top->file("comparison.png"), runs, steps, truth.get());
+    // The figure names the rawlog by its file name: a paper's caption has no room for a path.
+    std::string figure_title = title.substr(std::string("budget-slam ").size());
+    figure_title.replace(figure_title.find(rc.rawlog), rc.rawlog.size(),
+                         std::filesystem::path(rc.rawlog).filename().string());
+    writeComparisonChart(*top, figure_title, runs, steps, truth.get(), rc);
     const int code = outcome.exit_code;
     nlohmann::json summary = {
         {"status", code == 0 ? "ok" : (code == 130 ? "interrupted" : "failed")},

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
@@ -111,6 +112,12 @@ Localizer::Localizer(const mrpt::config::CConfigFileBase& ini, const Localizatio
       min_landmarks_(min_landmarks),
       steps_csv_(folder_.file("steps.csv"), localizationStepsColumns()),
       scorer_(options.lost_threshold, min_landmarks) {
+  report::ReportOptions report_options;
+  report_options.loadFromConfigFile(ini, report::ReportOptions::kSection);
+  figure_formats_ = report_options.figure_formats;
+  traversal_name_ = std::filesystem::path(ini.read_string("MappingApplication", "rawlog_file", ""))
+                        .filename()
+                        .string();
   kf_.loadOptions(ini);  // MRPT's own sections, as for mapping
   kf_.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
   kf_.gate_chi2 = options.gate_chi2;
@@ -210,7 +217,9 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
   if (!diverged_at_) map.kept = landmarks;
   for (const auto& p : truth_rows_) map.ground_truth_path.push_back(p.pose);
   map.ground_truth_landmarks = inputs_.truth.landmarks;
-  report::writeMapPng(folder_.file("map.png"), map);
+  if (!traversal_name_.empty()) map.title = traversal_name_ + ": " + map.title;
+  for (const auto format : figure_formats_)
+    report::writeMapFigure(folder_.file(report::figureFile("map", format)), map, format);
 
   nlohmann::json j;
   j["status"] = status;

@@ -15,6 +15,7 @@
 #include "budget_slam/metrics/MapAlignment.h"
 #include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/report/OutputFolder.h"
+#include "budget_slam/report/ReportOptions.h"
 
 namespace budget_slam::app {
 
@@ -82,6 +83,8 @@ class Localizer {
   std::size_t min_landmarks_;
   ekf::LocalizationKF2D kf_;
   std::set<LandmarkId> map_ids_;
+  std::vector<report::FigureFormat> figure_formats_;  ///< [Report] figure_format
+  std::string traversal_name_;                        ///< the rawlog's file name, for the title
   report::CsvWriter steps_csv_;
   metrics::LocalizationScorer scorer_;
   std::vector<TrajectoryPoint> trajectory_, truth_rows_;

@@ -84,6 +84,9 @@ RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const std::string
   save_3d_scene_ = mapping.save_3d_scene;
   scene_every_steps_ = mapping.scene_every_steps;
   rawlog_name_ = std::filesystem::path(mapping.rawlog_file).filename().string();
+  report::ReportOptions report_options;
+  report_options.loadFromConfigFile(ini, report::ReportOptions::kSection);
+  figure_formats_ = report_options.figure_formats;
   if (budget.dump_states)
     manager_->setBeforeDropEvent(
         [this](const Backend& b, StepIndex step) { outputs_.writeState(b, step); });
@@ -257,6 +260,7 @@ RunResult RunDriver::finish(const std::string& status, const std::string& error,
   const FinalCoverage coverage = final_coverage_ ? *final_coverage_ : finalCoverage();
   files.map = [&] { return mapContent(trajectory, landmarks, &coverage); };
   files.scene = save_3d_scene_;
+  files.figure_formats = figure_formats_;
   if (save_3d_scene_) files.robot = backend_->robotPose().mean;
   files.truth = truth_.get();
   files.steps_in_rawlog = steps_in_rawlog;

@@ -135,7 +135,7 @@ TEST(MapScene, ObjectsMatchTheRunFiles) {
     EXPECT_NEAR(cov(0, 1), std::stod(r[4]), 1e-12 + 1e-9 * std::abs(std::stod(r[4])));
     EXPECT_NEAR(cov(1, 1), std::stod(r[5]), 1e-12 + 1e-9 * std::abs(std::stod(r[5])));
     EXPECT_FLOAT_EQ(e->getQuantiles(), 2.0f);
-    const auto rgb = report::paletteRgb(clusters.label[i]);
+    const auto rgb = report::clusterRgb(clusters.label[i]);
     EXPECT_EQ(e->getColorR_u8(), rgb[0]);
     EXPECT_EQ(e->getColorG_u8(), rgb[1]);
     EXPECT_EQ(e->getColorB_u8(), rgb[2]);

@@ -52,9 +52,11 @@ struct EvictionRow {
 struct RunEndFiles {
   std::vector<TrajectoryPoint> trajectory;
   std::vector<LandmarkView> landmarks;
-  /// What map.png and map.3Dscene show; called at most once (the k-means it runs is not cheap).
+  /// What the map figure and map.3Dscene show; called at most once (the k-means it runs is not
+  /// cheap).
   std::function<MapContent()> map;
-  bool scene = true;                            ///< write map.3Dscene
+  std::vector<FigureFormat> figure_formats = {FigureFormat::Png};  ///< map.png, map.pdf, ...
+  bool scene = true;                                               ///< write map.3Dscene
   mrpt::math::TPose2D robot;                    ///< where map.3Dscene draws the robot
   const dataset::GroundTruth* truth = nullptr;  ///< ground_truth.tum when it has a path
   std::size_t steps_in_rawlog = 0;              ///< maps ground-truth rows (groundTruthRow)
@@ -62,7 +64,7 @@ struct RunEndFiles {
 
 /// The files one run writes in its folder (docs/OUTPUTS.md): steps.csv and evictions.csv a row at
 /// a time as the run goes, state dumps and kf-slam's per-step scenes during the run, then at the
-/// end trajectory.tum, landmarks.csv, map.png, map.3Dscene, ground_truth.tum and, last,
+/// end trajectory.tum, landmarks.csv, map.<png|pdf|svg>, map.3Dscene, ground_truth.tum and, last,
 /// summary.json. Every write is checked (Error naming the file).
 class RunOutputs {
  public:
@@ -84,8 +86,8 @@ class RunOutputs {
                   const mrpt::math::TPose2D& robot) const;
 
   /// The end files, in this order: steps.csv and evictions.csv flushed, trajectory.tum,
-  /// landmarks.csv, map.png, map.3Dscene, ground_truth.tum. Each is attempted even when another
-  /// fails (a full disk); returns the names of those not written, and the first error.
+  /// landmarks.csv, the map figures, map.3Dscene, ground_truth.tum. Each is attempted even when
+  /// another fails (a full disk); returns the names of those not written, and the first error.
   struct EndFilesResult {
     std::vector<std::string> not_written;
     std::string first_error;  ///< "" when all were written
