@@ -22,7 +22,7 @@ from reportlib import write_atomic
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
-GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics"}
+GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics", "figure_format"}
 GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config", "relocalize",
               "reference_trajectory"}
 BACKENDS = ("ekf", "graph")
@@ -216,6 +216,7 @@ class Experiment:
         self.budget_simulate = os.path.abspath(budget_simulate or top.get("budget_simulate") and resolve_path(top["budget_simulate"], base_dirs) or default_binary("budget-simulate"))
         self.default_jobs = int(top.get("jobs", "0") or 0)
         self.metrics = parse_metrics(top.get("metrics", ""), f"{path}: [sweep]")
+        self.figure_format = top.get("figure_format", "png")
         group_sections = [s for s in ini.sections() if s.startswith("group ")]
         for s in ini.sections():
             if s != "sweep" and not s.startswith("group "):
