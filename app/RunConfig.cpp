@@ -76,11 +76,17 @@ bool sameValue(const std::string& a, const std::string& b) {
 }
 
 /// A warning a key the sidecar sets over another value of the user's ini (docs/OUTPUTS.md,
-/// "Sidecar ini"): the sidecar wins, as documented, but never silently.
+/// "Sidecar ini"): the sidecar wins, as documented, but never silently. A key a --set gives
+/// (`sets`, Section.key=value) is the user's again: no warning.
 std::vector<std::string> sidecarOverrides(const mrpt::config::CConfigFileBase& user,
                                           const mrpt::config::CConfigFileBase& side,
-                                          const std::string& user_label,
-                                          const std::string& sidecar) {
+                                          const std::string& user_label, const std::string& sidecar,
+                                          const std::vector<std::string>& sets) {
+  const auto set_by_flag = [&](const std::string& section, const std::string& key) {
+    for (const auto& s : sets)
+      if (s.rfind(section + "." + key + "=", 0) == 0) return true;
+    return false;
+  };
   std::vector<std::string> warnings;
   std::vector<std::string> sections;
   side.getAllSections(sections);
@@ -88,7 +94,7 @@ std::vector<std::string> sidecarOverrides(const mrpt::config::CConfigFileBase& u
     std::vector<std::string> keys;
     side.getAllKeys(section, keys);
     for (const auto& key : keys) {
-      if (!user.keyExists(section, key)) continue;
+      if (!user.keyExists(section, key) || set_by_flag(section, key)) continue;
       const std::string mine = user.read_string(section, key, "", false);
       const std::string theirs = side.read_string(section, key, "", false);
       if (sameValue(mine, theirs)) continue;
@@ -172,7 +178,7 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
       } catch (const ConfigError& e) {
         throw ConfigError(rc.sidecar + ": " + e.what());
       }
-      rc.warnings = sidecarOverrides(rc.ini, side, config_label, rc.sidecar);
+      rc.warnings = sidecarOverrides(rc.ini, side, config_label, rc.sidecar, cli.sets);
       copyIni(side, rc.ini);
     }
     for (const auto& s : cli.sets) applySet(rc.ini, s, schema);

@@ -1,4 +1,7 @@
 #pragma once
+#include <sys/wait.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -88,6 +91,29 @@ inline CsvTable readCsvTable(const std::filesystem::path& p) {
   if (std::getline(in, line)) t.header = csvCells(line);
   while (std::getline(in, line)) t.rows.push_back(csvCells(line));
   return t;
+}
+
+/// Result of an executable run as a subprocess.
+struct Process {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+/// Runs build/bin/<command line> in `cwd` (a shell line starting with the executable's name and
+/// its closing quote, e.g. "budget-slam' run -c x": arguments are quoted by the caller), stdout
+/// and stderr captured (so stderr is not a terminal).
+inline Process runBinary(const std::string& command_line, const std::filesystem::path& cwd) {
+  const auto out = cwd / "stdout.txt", err = cwd / "stderr.txt";
+  const std::string sh = "cd '" + cwd.string() + "' && '" + BUDGET_SLAM_BINARY_DIR + "/bin/" +
+                         command_line + " > '" + out.string() + "' 2> '" + err.string() + "'";
+  const int status = std::system(sh.c_str());
+  Process p;
+  p.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  p.out = slurp(out);
+  p.err = slurp(err);
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
+  return p;
 }
 
 /// Result of one in-process run of the application.
