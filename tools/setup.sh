@@ -6,7 +6,6 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libmrpt-dev mrpt-apps            # MRPT 2.5: libraries, kf-slam, rawlog-edit, simul-landmarks
   libeigen3-dev libsuitesparse-dev # linear algebra, CHOLMOD
-  libopencv-dev                    # map pictures
   libtclap-dev nlohmann-json3-dev  # command line, JSON output
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib  # experiment scripts and plots

@@ -277,6 +277,35 @@ class PairwiseWithFakeBudgetSlam(unittest.TestCase):
         self.assertTrue(all(f"--relocalize {ROOT}/rawlogs/park.rawlog --quiet" in l for l in lines))
 
 
+class SlurmDefaults(unittest.TestCase):
+    """Issue 25: without --cpus-per-task a task asks for 4 CPUs, or for the largest node's count
+    when the partition has no node that large (a 2-core node), as sinfo reports it."""
+
+    def fake_sinfo(self, tmp, output):
+        path = os.path.join(tmp, "sinfo")
+        with open(path, "w") as f:
+            f.write("#!/bin/sh\n" + "".join(f"echo '{line}'\n" for line in output))
+        os.chmod(path, 0o755)
+
+    def test_default_cpus_per_task_fits_the_largest_node(self):
+        import slurmlib
+        old_path = os.environ["PATH"]
+        with tempfile.TemporaryDirectory(prefix="test_slurm_defaults_") as tmp:
+            os.environ["PATH"] = tmp + os.pathsep + old_path
+            try:
+                self.fake_sinfo(tmp, ["2"])
+                self.assertEqual(slurmlib.default_cpus_per_task("local"), 2)
+                self.fake_sinfo(tmp, ["2", "16+"])
+                self.assertEqual(slurmlib.default_cpus_per_task(), 4)
+                self.fake_sinfo(tmp, [])
+                self.assertIsNone(slurmlib.default_cpus_per_task())
+                os.environ["PATH"] = tmp  # no sinfo at all (only an empty folder and this one)
+                os.remove(os.path.join(tmp, "sinfo"))
+                self.assertIsNone(slurmlib.default_cpus_per_task())
+            finally:
+                os.environ["PATH"] = old_path
+
+
 class Readers(unittest.TestCase):
     def test_steps_csv_with_empty_and_nan_fields_reads_them_as_nan(self):
         with tempfile.TemporaryDirectory() as tmp:
