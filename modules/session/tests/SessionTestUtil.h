@@ -47,8 +47,8 @@ inline SessionState sampleState(std::size_t n = 3, bool with_robot = true, unsig
     v.mean = Eigen::Vector2d(u(rng) / 3.0, i == 0 ? -0.0 : 0.1 * static_cast<double>(i));
     v.n_obs = 4 + i;
     v.obs_mean = Eigen::Vector2d(u(rng), i == 1 ? 4.9406564584124654e-324 : u(rng));
-    v.first_step = 100 + i;
-    v.last_step = 200 + i;
+    v.first_step = 100 + i % 50;
+    v.last_step = 200 + i % 50;
     s.map.landmarks.push_back(v);
   }
   s.map.covariance = joint.bottomRightCorner(2 * n, 2 * n);

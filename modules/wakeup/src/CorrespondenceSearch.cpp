@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "budget_slam/wakeup/PoseFit.h"
 
@@ -91,32 +92,36 @@ std::int64_t MapIndex::key(long cx, long cy) const {
   return (static_cast<std::int64_t>(cx) << 32) ^ static_cast<std::int64_t>(cy & 0xffffffffL);
 }
 
+void MapIndex::forEachNear(const Eigen::Vector2d& point, double radius,
+                           const std::function<void(std::size_t)>& f) const {
+  const Eigen::Vector2d lo = ((point - origin_).array() - radius) / cell_;
+  const Eigen::Vector2d hi = ((point - origin_).array() + radius) / cell_;
+  const double cells =
+      (std::floor(hi.x()) - std::floor(lo.x()) + 1) * (std::floor(hi.y()) - std::floor(lo.y()) + 1);
+  if (!std::isfinite(cells) || cells > static_cast<double>(map_.size())) {
+    for (std::size_t i = 0; i < map_.size(); ++i) f(i);
+    return;
+  }
+  for (auto cx = static_cast<long>(std::floor(lo.x())); cx <= static_cast<long>(std::floor(hi.x()));
+       ++cx)
+    for (auto cy = static_cast<long>(std::floor(lo.y()));
+         cy <= static_cast<long>(std::floor(hi.y())); ++cy) {
+      const auto it = grid_.find(key(cx, cy));
+      if (it == grid_.end()) continue;
+      for (const auto i : it->second) f(i);
+    }
+}
+
 std::optional<std::pair<std::size_t, double>> MapIndex::nearest(const Eigen::Vector2d& point,
                                                                 const Eigen::Matrix2d& cov,
                                                                 double gate_chi2) const {
   std::optional<std::pair<std::size_t, double>> best;
-  const auto consider = [&](std::uint32_t i) {
-    const double d = mahalanobis2(point - map_[i].mean, cov + map_[i].cov);
-    if (d <= gate_chi2 && (!best || d < best->second)) best = std::make_pair(i, d);
-  };
   // Every landmark within the gate lies within this Euclidean radius.
   const double radius = std::sqrt(gate_chi2 * (largestEigenvalue(cov) + max_var_));
-  const Eigen::Vector2d lo = (point - origin_).array() - radius,
-                        hi = (point - origin_).array() + radius;
-  const double cells = (std::floor(hi.x() / cell_) - std::floor(lo.x() / cell_) + 1) *
-                       (std::floor(hi.y() / cell_) - std::floor(lo.y() / cell_) + 1);
-  if (!std::isfinite(cells) || cells > static_cast<double>(map_.size())) {
-    for (std::uint32_t i = 0; i < map_.size(); ++i) consider(i);
-    return best;
-  }
-  for (long cx = static_cast<long>(std::floor(lo.x() / cell_));
-       cx <= static_cast<long>(std::floor(hi.x() / cell_)); ++cx)
-    for (long cy = static_cast<long>(std::floor(lo.y() / cell_));
-         cy <= static_cast<long>(std::floor(hi.y() / cell_)); ++cy) {
-      const auto it = grid_.find(key(cx, cy));
-      if (it == grid_.end()) continue;
-      for (const auto i : it->second) consider(i);
-    }
+  forEachNear(point, radius, [&](std::size_t i) {
+    const double d = mahalanobis2(point - map_[i].mean, cov + map_[i].cov);
+    if (d <= gate_chi2 && (!best || d < best->second)) best = std::make_pair(i, d);
+  });
   return best;
 }
 
@@ -136,11 +141,15 @@ const std::vector<MapIndex::Pair>& MapIndex::pairsUpTo(double max_distance) cons
   return pairs_;
 }
 
-Hypothesis scorePose(const Pose2& pose, const std::vector<LocalLandmark>& local,
-                     const MapIndex& index, double gate_chi2, bool with_matches) {
+namespace {
+
+/// Each local landmark's nearest map landmark under `pose` within the gate; a map landmark
+/// claimed twice keeps the closer local one. map index -> (local index, squared distance).
+std::unordered_map<std::size_t, std::pair<std::size_t, double>> agreement(
+    const Pose2& pose, const std::vector<LocalLandmark>& local, const MapIndex& index,
+    double gate_chi2) {
   const Eigen::Matrix2d R = rot2(pose.z());
-  // Each local landmark's nearest map landmark; a map landmark claimed twice keeps the closer.
-  std::unordered_map<std::size_t, std::pair<std::size_t, double>> claimed;  // map -> (local, d)
+  std::unordered_map<std::size_t, std::pair<std::size_t, double>> claimed;
   for (std::size_t c = 0; c < local.size(); ++c) {
     const auto n = index.nearest(R * local[c].point + pose.head<2>(),
                                  R * local[c].cov * R.transpose(), gate_chi2);
@@ -148,19 +157,46 @@ Hypothesis scorePose(const Pose2& pose, const std::vector<LocalLandmark>& local,
     const auto it = claimed.find(n->first);
     if (it == claimed.end() || n->second < it->second.second) claimed[n->first] = {c, n->second};
   }
+  return claimed;
+}
+
+}  // namespace
+
+Hypothesis scorePose(const Pose2& pose, const std::vector<LocalLandmark>& local,
+                     const MapIndex& index, const std::vector<SensorView>& views,
+                     const WakeUpOptions& options) {
+  const auto claimed = agreement(pose, local, index, options.gate_chi2);
   Hypothesis h;
   h.pose = pose;
   h.landmarks = claimed.size();
   for (const auto& [m, cd] : claimed) {
     h.chi2 += cd.second;
-    if (with_matches) h.matches.push_back({cd.first, m});
+    h.matches.push_back({cd.first, m});
   }
   std::sort(h.matches.begin(), h.matches.end());
+  // Negative evidence: map landmarks well in view of a gathered step that nothing agrees with.
+  std::set<std::size_t> missed;
+  for (const auto& v : views) {
+    if (!(v.max_range > 0)) continue;
+    const Pose2 sensor = compose(pose, v.sensor);
+    const double reach = kInViewRangeShare * v.max_range;
+    index.forEachNear(sensor.head<2>(), reach, [&](std::size_t i) {
+      if (claimed.count(i) || missed.count(i)) return;
+      const Eigen::Vector2d d = index.map()[i].mean - sensor.head<2>();
+      const double r = d.norm();
+      if (r > reach || r < v.min_range) return;
+      const double bearing = wrapAngle(std::atan2(d.y(), d.x()) - sensor.z());
+      if (std::abs(bearing) <= v.fov / 2 - kInViewAngleMargin) missed.insert(i);
+    });
+  }
+  h.missed = missed.size();
+  h.score = static_cast<double>(h.landmarks) - options.miss_weight * static_cast<double>(h.missed);
   return h;
 }
 
 SearchOutcome searchPose(const std::vector<LocalLandmark>& local, const MapIndex& index,
-                         const WakeUpOptions& options, std::mt19937_64& rng) {
+                         const std::vector<SensorView>& views, const WakeUpOptions& options,
+                         std::mt19937_64& rng) {
   SearchOutcome out;
   const double gate = options.gate_chi2;
   struct LocalPair {
@@ -198,12 +234,13 @@ SearchOutcome searchPose(const std::vector<LocalLandmark>& local, const MapIndex
     total += 2 * (lp.to - lp.from);
   }
 
-  struct Scored {
+  // First pass: the agreement of every hypothesis (cheap: no negative evidence).
+  struct Counted {
     Pose2 pose;
     std::size_t landmarks;
     double chi2;
   };
-  std::vector<Scored> scored;
+  std::vector<Counted> counted;
   const auto tryPair = [&](const LocalPair& lp, const MapIndex::Pair& mp, bool swapped) {
     const double dd = lp.distance - mp.distance;
     if (dd * dd > gate * (lp.var + mp.var)) return;
@@ -213,8 +250,10 @@ SearchOutcome searchPose(const std::vector<LocalLandmark>& local, const MapIndex
     if (swapped) std::swap(pm[0], pm[1]);
     const auto pose = fitRigid(pl, pm, {1.0, 1.0});
     if (!pose) return;
-    const Hypothesis h = scorePose(*pose, local, index, gate, false);
-    scored.push_back({*pose, h.landmarks, h.chi2});
+    double chi2 = 0;
+    const auto claimed = agreement(*pose, local, index, gate);
+    for (const auto& [unused, cd] : claimed) chi2 += cd.second;
+    counted.push_back({*pose, claimed.size(), chi2});
   };
   if (total <= options.max_hypotheses) {
     for (const auto& lp : lpairs)
@@ -236,17 +275,43 @@ SearchOutcome searchPose(const std::vector<LocalLandmark>& local, const MapIndex
       tryPair(lpairs[l], mpairs[lpairs[l].from + offset / 2], offset % 2 == 1);
     }
   }
-  out.hypotheses = scored.size();
-  if (scored.empty()) return out;
-  std::stable_sort(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) {
+  out.hypotheses = counted.size();
+  if (counted.empty()) return out;
+  std::stable_sort(counted.begin(), counted.end(), [](const Counted& a, const Counted& b) {
     return a.landmarks != b.landmarks ? a.landmarks > b.landmarks : a.chi2 < b.chi2;
   });
-  out.best = scorePose(scored[0].pose, local, index, gate, true);
-  for (std::size_t k = 1; k < scored.size(); ++k)
-    if (!samePose(scored[k].pose, scored[0].pose, options)) {
-      out.runner_up = scorePose(scored[k].pose, local, index, gate, false);
-      break;
-    }
+
+  // Second pass: one pose a place, most agreement first, scored in full. A score never exceeds
+  // the agreement, so once the agreement falls ambiguity_margin below the best score, no later
+  // pose can be the best or come close to it.
+  std::vector<Hypothesis> places;
+  double best_score = -1e300;
+  const auto margin = static_cast<double>(options.ambiguity_margin);
+  for (const auto& c : counted) {
+    if (static_cast<double>(c.landmarks) <= best_score - margin) break;
+    bool seen = false;
+    for (const auto& p : places) seen = seen || samePose(p.pose, c.pose, options);
+    if (seen) continue;
+    places.push_back(scorePose(c.pose, local, index, views, options));
+    best_score = std::max(best_score, places.back().score);
+  }
+  const auto better = [](const Hypothesis& a, const Hypothesis& b) {
+    return a.score != b.score ? a.score > b.score : a.chi2 < b.chi2;
+  };
+  std::stable_sort(places.begin(), places.end(), better);
+  out.best = places[0];
+  // The runner-up explains the readings otherwise: it shares at most one pairing with the best.
+  // Two shared pairings fix nearly the same pose, so such a hypothesis is the best one fitted
+  // worse (a neighbouring landmark caught in the gate), not a rival.
+  const std::set<std::pair<std::size_t, std::size_t>> best_matches(out.best->matches.begin(),
+                                                                    out.best->matches.end());
+  for (std::size_t k = 1; k < places.size(); ++k) {
+    std::size_t shared = 0;
+    for (const auto& m : places[k].matches) shared += best_matches.count(m);
+    if (shared >= 2) continue;
+    out.runner_up = places[k];
+    break;
+  }
   return out;
 }
 

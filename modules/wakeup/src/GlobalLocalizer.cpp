@@ -104,13 +104,14 @@ WakeUpResult GlobalLocalizer::bySearch(const std::vector<LocalReading>& readings
   const auto local = mergeReadings(readings, options_.merge_chi2);
   if (local.size() < options_.search_min_landmarks)
     return notFound(WakeUpReason::TooFewLandmarks, local.size());
-  const SearchOutcome s = searchPose(local, index_, options_, rng_);
+  const SearchOutcome s = searchPose(local, index_, window_.views(), options_, rng_);
   const std::size_t best = s.best ? s.best->landmarks : 0;
   const std::size_t second = s.runner_up ? s.runner_up->landmarks : 0;
   WakeUpResult r;
   if (best < options_.search_min_landmarks) {
     r = notFound(WakeUpReason::Inconsistent, best);
-  } else if (second + options_.ambiguity_margin > best) {
+  } else if (s.runner_up && s.runner_up->score + static_cast<double>(options_.ambiguity_margin) >
+                                s.best->score) {
     r.status = WakeUpStatus::Ambiguous;
     r.reason = WakeUpReason::None;
     r.landmarks = best;
@@ -122,6 +123,8 @@ WakeUpResult GlobalLocalizer::bySearch(const std::vector<LocalReading>& readings
   }
   r.hypotheses = s.hypotheses;
   r.runner_up = second;
+  r.score = s.best ? s.best->score : 0;
+  r.runner_up_score = s.runner_up ? s.runner_up->score : 0;
   return r;
 }
 

@@ -21,6 +21,7 @@ const OptionTable<WakeUpOptions>& WakeUpOptions::table() {
       option::integer("ambiguity_margin", &O::ambiguity_margin, 1, 100000, "[landmarks]"),
       option::real("distinct_xy", &O::distinct_xy, 1e-6, 1e6, "[m]"),
       option::real("distinct_yaw_deg", &O::distinct_yaw_deg, 1e-6, 180, "[deg]"),
+      option::real("miss_weight", &O::miss_weight, 0, 100, "[landmarks]"),
       option::real("merge_chi2", &O::merge_chi2, 0, 1e6, "chi-square, 2 dof"),
       option::real("min_pair_distance", &O::min_pair_distance, 0, 1e6, "[m]"),
       option::integer("max_hypotheses", &O::max_hypotheses, 1, 1000000000, "[hypotheses]"),

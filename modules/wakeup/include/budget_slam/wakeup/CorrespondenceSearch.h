@@ -1,5 +1,7 @@
 #pragma once
 #include <Eigen/Core>
+#include <cmath>
+#include <functional>
 #include <optional>
 #include <random>
 #include <unordered_map>
@@ -41,6 +43,10 @@ class MapIndex {
   std::optional<std::pair<std::size_t, double>> nearest(const Eigen::Vector2d& point,
                                                         const Eigen::Matrix2d& cov,
                                                         double gate_chi2) const;
+  /// Calls f(index) for every landmark within `radius` [m] of `point` (and perhaps a few more:
+  /// the caller checks).
+  void forEachNear(const Eigen::Vector2d& point, double radius,
+                   const std::function<void(std::size_t)>& f) const;
 
   struct Pair {
     double distance = 0;  ///< [m]
@@ -62,33 +68,49 @@ class MapIndex {
   std::int64_t key(long cx, long cy) const;
 };
 
-/// One pose the search considered: the pose of the latest robot frame in the map, and the local
-/// landmarks that agree with it.
+/// One pose the search considered: the pose of the latest robot frame in the map, the local
+/// landmarks that agree with it, and the map landmarks it says were in view but no reading shows.
 struct Hypothesis {
   Pose2 pose = Pose2::Zero();
   std::size_t landmarks = 0;  ///< distinct map landmarks agreeing (one local landmark each)
   double chi2 = 0;            ///< sum of the agreeing squared Mahalanobis distances
-  /// (local landmark, map landmark) of each agreement, filled for the best only.
+  std::size_t missed = 0;     ///< map landmarks well in view at a gathered step, agreeing with none
+  /// landmarks - [WakeUp] miss_weight x missed: what the search ranks by.
+  double score = 0;
+  /// (local landmark, map landmark) of each agreement, by local landmark.
   std::vector<std::pair<std::size_t, std::size_t>> matches;
 };
 
 struct SearchOutcome {
-  std::optional<Hypothesis> best;       ///< most landmarks agreeing, then least chi2
-  std::optional<Hypothesis> runner_up;  ///< the best whose pose differs from best's
-  std::size_t hypotheses = 0;           ///< hypotheses scored
+  std::optional<Hypothesis> best;  ///< highest score, then least chi2
+  /// The best rival: a pose beyond [WakeUp] distinct_xy / distinct_yaw_deg from best's that
+  /// shares at most one (local, map) pairing with it.
+  std::optional<Hypothesis> runner_up;
+  std::size_t hypotheses = 0;  ///< hypotheses scored
 };
 
-/// The agreement of every local landmark with the map under `pose` (one map landmark each;
-/// a map landmark claimed twice goes to the closer local one).
+/// A map landmark is well in view of a sensor when its range is within [min_range, 0.9 x
+/// max_range] and its bearing at least 5 deg inside the field of view: there a landmark that
+/// exists is read (the margins keep landmarks at the edge, read or not by chance, out).
+constexpr double kInViewRangeShare = 0.9;
+constexpr double kInViewAngleMargin = 5 * M_PI / 180;
+
+/// The agreement of every local landmark with the map under `pose` (one map landmark each; a map
+/// landmark claimed twice goes to the closer local one), and with `views` (the gathered steps'
+/// sensors, may be empty) the map landmarks well in view of one of them that agree with none.
 Hypothesis scorePose(const Pose2& pose, const std::vector<LocalLandmark>& local,
-                     const MapIndex& index, double gate_chi2, bool with_matches);
+                     const MapIndex& index, const std::vector<SensorView>& views,
+                     const WakeUpOptions& options);
 
 /// Hypotheses over correspondences (docs/ALGORITHMS.md "Waking up on a saved map"): every pair of
 /// local landmarks at least [WakeUp] min_pair_distance apart against every pair of map landmarks
 /// whose distance agrees with theirs (within the gate, both marginals counted), each matched both
-/// ways round; the two-point rigid fit of each is scored by scorePose. When there are more than
-/// max_hypotheses, that many are drawn at random (`rng`).
+/// ways round; the two-point rigid fit of each is counted the landmarks that agree with it. When
+/// there are more than max_hypotheses, that many are drawn at random (`rng`). The poses with the
+/// most agreement, one a place (distinct_xy, distinct_yaw_deg), are then scored in full
+/// (scorePose with `views`), until no further pose could come within ambiguity_margin of the best.
 SearchOutcome searchPose(const std::vector<LocalLandmark>& local, const MapIndex& index,
-                         const WakeUpOptions& options, std::mt19937_64& rng);
+                         const std::vector<SensorView>& views, const WakeUpOptions& options,
+                         std::mt19937_64& rng);
 
 }  // namespace budget_slam::wakeup

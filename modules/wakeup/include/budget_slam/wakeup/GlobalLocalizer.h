@@ -49,6 +49,9 @@ struct WakeUpResult {
   std::size_t landmarks = 0;   ///< distinct map landmarks among them
   std::size_t hypotheses = 0;  ///< search: hypotheses scored
   std::size_t runner_up = 0;   ///< search: landmarks agreeing with the best other pose
+  /// Search: the best pose's and its rival's score (agreeing landmarks - [WakeUp] miss_weight x
+  /// landmarks in view that no reading shows); no rival: 0.
+  double score = 0, runner_up_score = 0;
 };
 
 /// Finds the robot on a saved landmark map from the readings of its first steps, with no start

@@ -20,6 +20,16 @@ struct LocalReading {
   Eigen::Matrix2d point_cov = Eigen::Matrix2d::Zero();   ///< reading noise and odometry [m^2]
 };
 
+/// What the sensor could see at one gathered step: its pose in the robot frame of the latest step
+/// and its limits (the negative evidence of the search: a map landmark well inside them that no
+/// reading explains).
+struct SensorView {
+  StepIndex step = 0;
+  Pose2 sensor = Pose2::Zero();  ///< latest robot frame
+  double min_range = 0, max_range = 0;  ///< [m]; max_range 0: unknown
+  double fov = 0;                       ///< total horizontal field of view [rad]
+};
+
 /// The steps gathered since the robot woke up: their readings and the odometry between them.
 class ReadingWindow {
  public:
@@ -40,6 +50,8 @@ class ReadingWindow {
   /// an earlier step in that frame is the inverse odometry composed backwards, its covariance
   /// propagated to first order (steps' odometry independent).
   std::vector<LocalReading> readings() const;
+  /// The sensor of every gathered step that had a bearing-range scan, in step order.
+  std::vector<SensorView> views() const;
 
  private:
   struct Gathered {
@@ -47,8 +59,13 @@ class ReadingWindow {
     Pose2 odometry = Pose2::Zero();  ///< motion from the previous step, in its frame
     Eigen::Matrix3d odometry_cov = Eigen::Matrix3d::Zero();
     Pose2 sensor = Pose2::Zero();  ///< sensor pose on the robot (x, y, yaw)
+    bool scanned = false;          ///< the step had a bearing-range scan
+    double min_range = 0, max_range = 0, fov = 0;
     std::vector<RangeBearingReading> readings;
   };
+  /// Each step's robot pose in the latest robot frame and its covariance (the inverse odometry
+  /// composed backwards, first-order propagation), in step order.
+  std::vector<std::pair<Pose2, Eigen::Matrix3d>> chain() const;
   ReadingNoise noise_;
   WakeUpOptions options_;
   std::vector<Gathered> steps_;

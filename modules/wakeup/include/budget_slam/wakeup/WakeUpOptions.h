@@ -39,6 +39,10 @@ struct WakeUpOptions : public TabledOptions<WakeUpOptions> {
   /// [m], [deg]. Default: 1, 10
   double distinct_xy = 1.0;
   double distinct_yaw_deg = 10.0;
+  /// Search: what a map landmark well in view at a gathered step that no reading shows costs a
+  /// hypothesis, against 1 for each landmark that agrees (negative evidence; 0: none).
+  /// Default: 0.5
+  double miss_weight = 0.5;
   /// Search: readings of the gathered steps closer than this (squared Mahalanobis distance) are
   /// one landmark seen again. Default: 9.21
   double merge_chi2 = 9.21;
