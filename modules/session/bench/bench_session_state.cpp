@@ -38,6 +38,16 @@ void BM_ReadSessionState(benchmark::State& st) {
 
 }  // namespace
 
-BENCHMARK(BM_FormatSessionState)->Arg(50)->Arg(200)->Arg(1000)->Arg(2000)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ReadSessionState)->Arg(50)->Arg(200)->Arg(1000)->Arg(2000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FormatSessionState)
+    ->Arg(50)
+    ->Arg(200)
+    ->Arg(1000)
+    ->Arg(2000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ReadSessionState)
+    ->Arg(50)
+    ->Arg(200)
+    ->Arg(1000)
+    ->Arg(2000)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

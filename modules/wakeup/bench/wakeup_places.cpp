@@ -63,15 +63,24 @@ Args parse(int argc, char** argv) {
       if (i + 1 >= argc) throw UsageError(f + ": needs a value");
       return argv[++i];
     };
-    if (f == "--map") a.map = value();
-    else if (f == "-i") a.rawlog = value();
-    else if (f == "-c") a.ini = value();
-    else if (f == "--csv") a.csv = value();
-    else if (f == "--reference") a.reference = value();
-    else if (f == "--place-size") a.place_size = std::stod(value());
-    else if (f == "--sectors") a.sectors = std::stoi(value());
-    else if (f == "--found-xy") a.found_xy = std::stod(value());
-    else if (f == "--found-yaw-deg") a.found_yaw_deg = std::stod(value());
+    if (f == "--map")
+      a.map = value();
+    else if (f == "-i")
+      a.rawlog = value();
+    else if (f == "-c")
+      a.ini = value();
+    else if (f == "--csv")
+      a.csv = value();
+    else if (f == "--reference")
+      a.reference = value();
+    else if (f == "--place-size")
+      a.place_size = std::stod(value());
+    else if (f == "--sectors")
+      a.sectors = std::stoi(value());
+    else if (f == "--found-xy")
+      a.found_xy = std::stod(value());
+    else if (f == "--found-yaw-deg")
+      a.found_yaw_deg = std::stod(value());
     else if (f == "--set") {
       const std::string s = value();
       const auto eq = s.find('=');
@@ -137,14 +146,16 @@ int main(int argc, char** argv) {
     noise.std_bearing =
         ini.read_double("RangeBearingKFSLAM", "std_sensor_yaw_deg", 0.5) * M_PI / 180;
 
-    const auto map = report::readLandmarksCsv((fs::path(args.map) / "landmarks.csv").string(), 100000);
+    const auto map =
+        report::readLandmarksCsv((fs::path(args.map) / "landmarks.csv").string(), 100000);
     const auto steps = dataset::readAllSteps(args.rawlog);
     std::function<mrpt::math::TPose2D(StepIndex)> trueAt;
     std::map<double, mrpt::math::TPose2D> by_time;
     dataset::GroundTruth truth;
     metrics::MapAlignment alignment;
     if (!args.reference.empty()) {
-      for (const auto& p : report::readTrajectoryTum(args.reference, 10000000)) by_time[p.t] = p.pose;
+      for (const auto& p : report::readTrajectoryTum(args.reference, 10000000))
+        by_time[p.t] = p.pose;
       trueAt = [&](StepIndex s) {
         const auto it = by_time.lower_bound(steps.at(s).t - 1e-6);
         if (it == by_time.end() || std::abs(it->first - steps[s].t) > 1e-6)
@@ -213,23 +224,27 @@ int main(int argc, char** argv) {
             << wakeup::statusName(r.status) << ',' << wakeup::reasonName(r.reason) << ','
             << r.steps_used << ',' << r.landmarks << ',' << r.inliers << ',' << r.runner_up << ','
             << r.hypotheses << ',' << r.score << ',' << r.runner_up_score << ',';
-        if (r.status == wakeup::WakeUpStatus::Found) csv << exy << ',' << eyaw;
-        else csv << ',';
+        if (r.status == wakeup::WakeUpStatus::Found)
+          csv << exy << ',' << eyaw;
+        else
+          csv << ',';
         csv << ',' << ms << '\n';
       }
     }
     const double n = static_cast<double>(starts.size());
-    std::printf("map %s (%zu landmarks), traversal %s (%zu steps), %zu places\n",
-                args.map.c_str(), map.size(), args.rawlog.c_str(), steps.size(), starts.size());
-    std::printf("found within %zu steps (%g m, %g deg): %zu (%.1f%%); found wrong: %zu (%.1f%%); "
-                "ambiguous: %zu (%.1f%%); not found: %zu (%.1f%%)",
-                options.max_steps, args.found_xy, args.found_yaw_deg, found, 100 * found / n, wrong, 100 * wrong / n, ambiguous,
-                100 * ambiguous / n, not_found, 100 * not_found / n);
+    std::printf("map %s (%zu landmarks), traversal %s (%zu steps), %zu places\n", args.map.c_str(),
+                map.size(), args.rawlog.c_str(), steps.size(), starts.size());
+    std::printf(
+        "found within %zu steps (%g m, %g deg): %zu (%.1f%%); found wrong: %zu (%.1f%%); "
+        "ambiguous: %zu (%.1f%%); not found: %zu (%.1f%%)",
+        options.max_steps, args.found_xy, args.found_yaw_deg, found, 100 * found / n, wrong,
+        100 * wrong / n, ambiguous, 100 * ambiguous / n, not_found, 100 * not_found / n);
     for (const auto& [why, k] : reasons) std::printf(" [%s %zu]", why.c_str(), k);
-    std::printf("\nwhen found: median %.0f steps, median %.2f ms, 95th percentile %.2f ms; "
-                "every place: median %.2f ms, max %.2f ms\n",
-                median(found_steps), median(found_ms), percentile(found_ms, 0.95), median(all_ms),
-                all_ms.empty() ? 0.0 : *std::max_element(all_ms.begin(), all_ms.end()));
+    std::printf(
+        "\nwhen found: median %.0f steps, median %.2f ms, 95th percentile %.2f ms; "
+        "every place: median %.2f ms, max %.2f ms\n",
+        median(found_steps), median(found_ms), percentile(found_ms, 0.95), median(all_ms),
+        all_ms.empty() ? 0.0 : *std::max_element(all_ms.begin(), all_ms.end()));
     return 0;
   } catch (const UsageError& e) {
     std::fprintf(stderr, "bench_wakeup_places: %s\n", e.what());

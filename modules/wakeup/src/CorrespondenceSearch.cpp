@@ -89,7 +89,10 @@ MapIndex::MapIndex(const std::vector<LandmarkView>& map) : map_(map) {
 }
 
 std::int64_t MapIndex::key(long cx, long cy) const {
-  return (static_cast<std::int64_t>(cx) << 32) ^ static_cast<std::int64_t>(cy & 0xffffffffL);
+  // Unsigned: a shift of a negative cell index would be undefined.
+  const auto ux = static_cast<std::uint64_t>(static_cast<std::uint32_t>(cx));
+  const auto uy = static_cast<std::uint64_t>(static_cast<std::uint32_t>(cy));
+  return static_cast<std::int64_t>((ux << 32) | uy);
 }
 
 void MapIndex::forEachNear(const Eigen::Vector2d& point, double radius,
@@ -284,6 +287,12 @@ SearchOutcome searchPose(const std::vector<LocalLandmark>& local, const MapIndex
   // Second pass: one pose a place, most agreement first, scored in full. A score never exceeds
   // the agreement, so once the agreement falls ambiguity_margin below the best score, no later
   // pose can be the best or come close to it.
+  // With too little agreement anywhere the wake-up fails whatever the rest says: the best counted
+  // pose is reported as it is.
+  if (counted[0].landmarks < options.search_min_landmarks) {
+    out.best = scorePose(counted[0].pose, local, index, {}, options);
+    return out;
+  }
   std::vector<Hypothesis> places;
   double best_score = -1e300;
   const auto margin = static_cast<double>(options.ambiguity_margin);
@@ -292,6 +301,11 @@ SearchOutcome searchPose(const std::vector<LocalLandmark>& local, const MapIndex
     bool seen = false;
     for (const auto& p : places) seen = seen || samePose(p.pose, c.pose, options);
     if (seen) continue;
+    if (places.size() == kMaxPlacesScored) {
+      // More places than this could still rival the best: too many to tell apart.
+      out.crowded = true;
+      break;
+    }
     places.push_back(scorePose(c.pose, local, index, views, options));
     best_score = std::max(best_score, places.back().score);
   }
@@ -304,7 +318,7 @@ SearchOutcome searchPose(const std::vector<LocalLandmark>& local, const MapIndex
   // Two shared pairings fix nearly the same pose, so such a hypothesis is the best one fitted
   // worse (a neighbouring landmark caught in the gate), not a rival.
   const std::set<std::pair<std::size_t, std::size_t>> best_matches(out.best->matches.begin(),
-                                                                    out.best->matches.end());
+                                                                   out.best->matches.end());
   for (std::size_t k = 1; k < places.size(); ++k) {
     std::size_t shared = 0;
     for (const auto& m : places[k].matches) shared += best_matches.count(m);

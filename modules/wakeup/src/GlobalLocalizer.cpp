@@ -110,8 +110,9 @@ WakeUpResult GlobalLocalizer::bySearch(const std::vector<LocalReading>& readings
   WakeUpResult r;
   if (best < options_.search_min_landmarks) {
     r = notFound(WakeUpReason::Inconsistent, best);
-  } else if (s.runner_up && s.runner_up->score + static_cast<double>(options_.ambiguity_margin) >
-                                s.best->score) {
+  } else if (s.crowded ||
+             (s.runner_up && s.runner_up->score + static_cast<double>(options_.ambiguity_margin) >
+                                 s.best->score)) {
     r.status = WakeUpStatus::Ambiguous;
     r.reason = WakeUpReason::None;
     r.landmarks = best;

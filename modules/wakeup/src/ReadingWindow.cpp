@@ -54,9 +54,9 @@ std::vector<std::pair<Pose2, Eigen::Matrix3d>> ReadingWindow::chain() const {
 }
 
 std::vector<LocalReading> ReadingWindow::readings() const {
-  const Eigen::Matrix2d R = Eigen::Vector2d(noise_.std_range * noise_.std_range,
-                                            noise_.std_bearing * noise_.std_bearing)
-                                .asDiagonal();
+  const Eigen::Matrix2d R =
+      Eigen::Vector2d(noise_.std_range * noise_.std_range, noise_.std_bearing * noise_.std_bearing)
+          .asDiagonal();
   const auto poses = chain();
   std::vector<LocalReading> out;
   for (std::size_t k = 0; k < steps_.size(); ++k) {

@@ -222,7 +222,7 @@ TEST(WakeUp, APlaceThatIsNotOnTheMapIsNotFound) {
   for (LandmarkId i = 0; i < 60; ++i) other.push_back({100 + i, {u(rng), u(rng)}});
   SensorSetup s = noisySensor(false);
   s.fov = 2 * M_PI;
-  for (int trial = 0; trial < 10; ++trial) {
+  for (int trial = 0; trial < 6; ++trial) {
     const auto path = straightPath(Pose2(u(rng), u(rng), u(rng)), 10, 0.3);
     const auto r =
         wakeUp(mapOf(map_world), stepsAlong(path, other, s, rng, 0.01), WakeUpOptions{}, kNoise);
@@ -246,7 +246,7 @@ TEST(WakeUp, OptionsComeFromOneTable) {
   o.dumpToTextStream(dump);
   EXPECT_NE(dump.str().find("correspondence           = search  // auto | ids | search"),
             std::string::npos);
-  EXPECT_EQ(WakeUpOptions::keys().size(), 16u);
+  EXPECT_EQ(WakeUpOptions::keys().size(), 17u);
   ini.write("WakeUp", "correspondence", "ids-first");
   try {
     o.loadFromConfigFile(ini, "WakeUp");

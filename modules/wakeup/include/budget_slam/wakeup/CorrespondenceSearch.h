@@ -87,7 +87,12 @@ struct SearchOutcome {
   /// shares at most one (local, map) pairing with it.
   std::optional<Hypothesis> runner_up;
   std::size_t hypotheses = 0;  ///< hypotheses scored
+  /// More than kMaxPlacesScored places could rival the best: the wake-up is ambiguous.
+  bool crowded = false;
 };
+
+/// Places scored in full (with negative evidence) at most, an attempt.
+constexpr std::size_t kMaxPlacesScored = 256;
 
 /// A map landmark is well in view of a sensor when its range is within [min_range, 0.9 x
 /// max_range] and its bearing at least 5 deg inside the field of view: there a landmark that
@@ -108,7 +113,9 @@ Hypothesis scorePose(const Pose2& pose, const std::vector<LocalLandmark>& local,
 /// ways round; the two-point rigid fit of each is counted the landmarks that agree with it. When
 /// there are more than max_hypotheses, that many are drawn at random (`rng`). The poses with the
 /// most agreement, one a place (distinct_xy, distinct_yaw_deg), are then scored in full
-/// (scorePose with `views`), until no further pose could come within ambiguity_margin of the best.
+/// (scorePose with `views`), until no further pose could come within ambiguity_margin of the best
+/// (at most kMaxPlacesScored places; beyond, `crowded`). When no pose is agreed by
+/// search_min_landmarks, only the best counted one is returned.
 SearchOutcome searchPose(const std::vector<LocalLandmark>& local, const MapIndex& index,
                          const std::vector<SensorView>& views, const WakeUpOptions& options,
                          std::mt19937_64& rng);

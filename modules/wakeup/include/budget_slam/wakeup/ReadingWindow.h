@@ -25,7 +25,7 @@ struct LocalReading {
 /// reading explains).
 struct SensorView {
   StepIndex step = 0;
-  Pose2 sensor = Pose2::Zero();  ///< latest robot frame
+  Pose2 sensor = Pose2::Zero();         ///< latest robot frame
   double min_range = 0, max_range = 0;  ///< [m]; max_range 0: unknown
   double fov = 0;                       ///< total horizontal field of view [rad]
 };
