@@ -201,7 +201,8 @@ TEST(WakeUp, AMirrorSymmetricLayoutWithoutIdsIsAmbiguousNeverAWrongPose) {
       wakeUp(mapOf(world), stepsAlong(path, world, s, rng, 0.01), WakeUpOptions{}, kNoise);
   ASSERT_EQ(r.status, WakeUpStatus::Found);
   EXPECT_LT(errorOf(r, path).first, 0.1);
-  // Two more landmarks break the symmetry by [WakeUp] ambiguity_margin: found, at the right pose.
+  // Two more landmarks break the symmetry: the twin pose now agrees with fewer landmarks and
+  // misses the two it predicts in view: found, at the right pose.
   s.with_ids = false;
   world.push_back({id++, {1.0, -2.0}});
   world.push_back({id++, {-4.0, 1.5}});
