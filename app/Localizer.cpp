@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
@@ -120,6 +121,12 @@ Localizer::Localizer(const mrpt::config::CConfigFileBase& ini, const Localizatio
                 ? metrics::MappedArea()
                 : metrics::MappedArea(inputs.mapping_path, inputs.places.size(),
                                       inputs.sensor_range)) {
+  report::ReportOptions report_options;
+  report_options.loadFromConfigFile(ini, report::ReportOptions::kSection);
+  figure_formats_ = report_options.figure_formats;
+  traversal_name_ = std::filesystem::path(ini.read_string("MappingApplication", "rawlog_file", ""))
+                        .filename()
+                        .string();
   kf_.loadOptions(ini);  // MRPT's own sections, as for mapping
   kf_.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
   kf_.gate = {options.gate_chi2, options.recover_after_steps, options.recovery_window_steps,
@@ -162,6 +169,7 @@ void Localizer::process(const Step& step) {
     gated = kf_.lastGated();
     recovered = kf_.lastRecovered();
     recoveries_ += recovered;
+    consistent_ += kf_.lastConsistent();
   }
   used_ += used;
   gated_ += gated;
@@ -232,7 +240,9 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
   if (!diverged_at_) map.kept = landmarks;
   for (const auto& p : truth_rows_) map.ground_truth_path.push_back(p.pose);
   map.ground_truth_landmarks = inputs_.truth.landmarks;
-  report::writeMapPng(folder_.file("map.png"), map);
+  if (!traversal_name_.empty()) map.title = traversal_name_ + ": " + map.title;
+  for (const auto format : figure_formats_)
+    report::writeMapFigure(folder_.file(report::figureFile("map", format)), map, format);
 
   nlohmann::json j;
   j["status"] = status;
@@ -271,6 +281,7 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
       {"readings_gated", gated_},
       {"recoveries", recoveries_},
       {"readings_not_in_map", not_in_map_},
+      {"readings_consistent_with_map", consistent_},
       {"diverged_at_step", diverged_at_ ? nlohmann::json(*diverged_at_) : nlohmann::json()},
       {"diverged_why", diverged_why_}};
   j["timings"] = {{"steps_s", total_s_},

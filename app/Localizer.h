@@ -17,6 +17,7 @@
 #include "budget_slam/metrics/MappedArea.h"
 #include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/report/OutputFolder.h"
+#include "budget_slam/report/ReportOptions.h"
 
 namespace budget_slam::app {
 
@@ -80,6 +81,10 @@ class Localizer {
 
   metrics::LocalizationScore score() const { return scorer_.score(); }
   std::size_t stepsDone() const { return steps_done_; }
+  /// Readings so far that agree with the map (ekf::LocalizationKF2D::lastConsistent).
+  std::size_t readingsConsistentWithMap() const { return consistent_; }
+  /// Readings so far paired with a landmark of the map (by sensor ID or association), gated or not.
+  std::size_t readingsPairedWithMap() const { return used_ + gated_; }
 
  private:
   report::OutputFolder folder_;
@@ -88,6 +93,8 @@ class Localizer {
   std::size_t min_landmarks_;
   ekf::LocalizationKF2D kf_;
   std::set<LandmarkId> map_ids_;
+  std::vector<report::FigureFormat> figure_formats_;  ///< [Report] figure_format
+  std::string traversal_name_;                        ///< the rawlog's file name, for the title
   report::CsvWriter steps_csv_;
   metrics::LocalizationScorer scorer_;
   metrics::MappedArea area_;
@@ -95,7 +102,8 @@ class Localizer {
   std::vector<std::size_t> in_view_;  ///< map landmarks observed, one per trajectory pose
   std::optional<StepIndex> diverged_at_;
   std::string diverged_why_;
-  std::size_t steps_done_ = 0, used_ = 0, gated_ = 0, not_in_map_ = 0, recoveries_ = 0;
+  std::size_t steps_done_ = 0, used_ = 0, gated_ = 0, not_in_map_ = 0, recoveries_ = 0,
+              consistent_ = 0;
   double total_s_ = 0;
 };
 

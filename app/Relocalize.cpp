@@ -12,6 +12,7 @@
 
 #include "Interrupt.h"
 #include "Localizer.h"
+#include "ProcessProbes.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
@@ -135,8 +136,7 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
     }
   };
   const std::size_t n = std::max<std::size_t>(
-      1, std::min<std::size_t>(threads ? threads : std::thread::hardware_concurrency(),
-                               results.size()));
+      1, std::min<std::size_t>(threads ? threads : availableCpus(), results.size()));
   std::vector<std::thread> pool;
   for (std::size_t k = 0; k < n; ++k) pool.emplace_back(worker);
   for (auto& th : pool) th.join();

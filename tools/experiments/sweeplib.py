@@ -23,7 +23,7 @@ from reportlib import write_atomic
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
-GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics"}
+GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics", "figure_format"}
 GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config", "relocalize",
               "reference_trajectory"}
 BACKENDS = ("ekf", "graph")
@@ -217,6 +217,7 @@ class Experiment:
         self.budget_simulate = os.path.abspath(budget_simulate or top.get("budget_simulate") and resolve_path(top["budget_simulate"], base_dirs) or default_binary("budget-simulate"))
         self.default_jobs = int(top.get("jobs", "0") or 0)
         self.metrics = parse_metrics(top.get("metrics", ""), f"{path}: [sweep]")
+        self.figure_format = top.get("figure_format", "png")
         group_sections = [s for s in ini.sections() if s.startswith("group ")]
         for s in ini.sections():
             if s != "sweep" and not s.startswith("group "):
@@ -416,6 +417,21 @@ def read_comparison(folder):
         return None
 
 
+def mrpt_ini_value(path, section, key):
+    """The value of `key` in `[section]` of an MRPT-style ini (`key = value  // comment`), or None."""
+    current = None
+    with open(path) as f:
+        for line in f:
+            line = line.split("//", 1)[0].split("#", 1)[0].strip()
+            if line.startswith("[") and line.endswith("]"):
+                current = line[1:-1].strip()
+            elif current == section and "=" in line:
+                k, v = line.split("=", 1)
+                if k.strip() == key:
+                    return v.strip()
+    return None
+
+
 def read_json(path):
     try:
         with open(path) as f:
@@ -537,7 +553,9 @@ SUMMARY_METRICS = [
     ("peak_rss_bytes", ("timings", "peak_rss_bytes")),
     ("steps", ("counts", "steps")),
 ]
-NON_METRIC_COLUMNS = {"run", "reducer", "backend", "status", "cap"}
+NON_METRIC_COLUMNS = {"run", "reducer", "backend", "status", "cap", "seed"}
+# comparison.csv of budget-slam before the reference metrics got their ref_ prefix.
+LEGACY_COLUMNS = {c: "ref_" + c for c in ("ate_m", "ale_m", "are_deg", "ud_pct", "eig_min", "eig_max")}
 RESULT_COLUMNS = ["rawlog", "backend", "reducer", "cap", "seed", "metric", "value"]
 
 
@@ -559,10 +577,12 @@ def job_rows(job):
         metrics = [("status_ok", 1.0 if r["status"] == "ok" else 0.0)]
         if reducer != "none" and job.cap_landmarks != "none":
             metrics.append(("cap_landmarks", float(job.cap_landmarks)))
-        metrics += [(c, as_number(r[c])) for c in r if c not in NON_METRIC_COLUMNS]
+        metrics += [(LEGACY_COLUMNS.get(c, c), as_number(r[c])) for c in r if c not in NON_METRIC_COLUMNS]
         summary = read_json(os.path.join(job.folder, r["run"], "summary.json"))
+        in_table = {m for m, _ in metrics}
         for name, (a, b) in SUMMARY_METRICS:
-            metrics.append((name, as_number(summary.get(a, {}).get(b))))
+            if name not in in_table:  # comparison.csv carries the aligned ATE too: one row
+                metrics.append((name, as_number(summary.get(a, {}).get(b))))
         for m, v in metrics:
             if v is not None:
                 rows.append(dict(key, metric=m, value=fmt_value(v)))

@@ -5,6 +5,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -165,7 +166,7 @@ void LocalizationKF2D::OnGetObservationsAndDataAssociation(
   // ... then only the paired readings that pass the gate go to the update; the rest (unpaired:
   // -1, which MRPT would turn into new landmarks) are left out altogether.
   used_.assign(z.size(), kNoLandmarkId);
-  gated_ = 0;
+  gated_ = consistent_ = 0;
   paired_.clear();
   accepted_ = 0;
   out_z.clear();
@@ -175,20 +176,21 @@ void LocalizationKF2D::OnGetObservationsAndDataAssociation(
     const auto lm = static_cast<std::size_t>(da[i]);
     paired_.push_back({lm, z[i][0], z[i][1]});
     const auto it = std::find(in_lm_indices_in_S.begin(), in_lm_indices_in_S.end(), lm);
-    if (gate.chi2 > 0) {
-      if (it == in_lm_indices_in_S.end()) {  // MRPT predicts it out of view: far off
-        ++gated_;
-        continue;
-      }
+    // d^2 = v' S^-1 v of the reading against the map's landmark; infinite when MRPT predicts the
+    // landmark out of view (far off) or S is not positive definite.
+    double d2 = std::numeric_limits<double>::infinity();
+    if (it != in_lm_indices_in_S.end()) {
       const auto k = static_cast<Eigen::Index>(2 * (it - in_lm_indices_in_S.begin()));
       const Eigen::Matrix2d S = in_S.asEigen().block<2, 2>(k, k);
       const Eigen::Vector2d v(z[i][0] - in_all_predictions[lm][0],
                               mrpt::math::wrapToPi(z[i][1] - in_all_predictions[lm][1]));
       const Eigen::LLT<Eigen::Matrix2d> llt(S);
-      if (llt.info() != Eigen::Success || v.dot(llt.solve(v)) > gate.chi2) {
-        ++gated_;
-        continue;
-      }
+      if (llt.info() == Eigen::Success) d2 = v.dot(llt.solve(v));
+    }
+    if (d2 <= kConsistentChi2) ++consistent_;
+    if (gate.chi2 > 0 && !(d2 <= gate.chi2)) {
+      ++gated_;
+      continue;
     }
     ++accepted_;
     out_z.push_back(z[i]);

@@ -61,6 +61,12 @@ class LocalizationKF2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   std::size_t lastGated() const { return gated_; }
   /// True when the last step ended with a recovery (the pose solved afresh from readings).
   bool lastRecovered() const { return recovered_; }
+  /// Readings of the last step paired with a map landmark where the map says it is: innovation
+  /// d^2 within kConsistentChi2, gate or no gate. None over a whole traversal: the map and the
+  /// traversal share no place (a map of another world whose sensor IDs happen to repeat).
+  std::size_t lastConsistent() const { return consistent_; }
+  /// Chi-square, 2 degrees of freedom, 99.9%.
+  static constexpr double kConsistentChi2 = 13.8155;
 
  protected:
   void OnTransitionModel(const KFArray_ACT& in_u, KFArray_VEH& inout_x,
@@ -93,7 +99,7 @@ class LocalizationKF2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   bool recover();
 
   std::vector<LandmarkId> used_;
-  std::size_t gated_ = 0;
+  std::size_t gated_ = 0, consistent_ = 0;
   std::vector<PairedReading> paired_;  ///< this step's paired readings
   std::size_t accepted_ = 0;           ///< this step's readings that passed the gate
   std::size_t steps_ = 0, rejected_run_ = 0;
