@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang-14 (AddressSanitizer + UBSan) in build-fuzz/ and runs
 # each for a given time on a copy of its committed seed corpus.
-#   tools/fuzz.sh [SECONDS=600] [TARGET...]      targets: fuzz_rawlog fuzz_ini fuzz_map_folder
+#   tools/fuzz.sh [SECONDS=600] [TARGET...]      targets: fuzz_rawlog fuzz_ini fuzz_session
+#                                                fuzz_map_folder
 #                                                fuzz_convert_{isam,g2o,utias,freiburg}
 #                                                (default: all, one after the other)
 # A finding stops the target and leaves crash-*/oom-*/timeout-* in build-fuzz/fuzz/findings/;
@@ -12,8 +13,8 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-600}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(fuzz_rawlog fuzz_ini fuzz_map_folder fuzz_convert_isam
-  fuzz_convert_g2o fuzz_convert_utias fuzz_convert_freiburg)
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_rawlog fuzz_ini fuzz_session fuzz_map_folder
+  fuzz_convert_isam fuzz_convert_g2o fuzz_convert_utias fuzz_convert_freiburg)
 
 build="$root/build-fuzz"
 launcher=()

@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # Builds the tests labelled `sanitize` with AddressSanitizer + UndefinedBehaviorSanitizer
 # (-DBUDGET_SLAM_SANITIZE=ON, in build-sanitize/) and runs them: the hostile-input rawlog
-# reader tests and the replays of the rawlog and converter fuzz corpora. Any sanitizer report
-# fails the run.
+# reader tests, the session state reader's and the wake-up's tests, and the replays of the
+# rawlog, session and converter fuzz corpora. Any sanitizer report fails the run.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$root/build-sanitize"
 # The executables holding the tests labelled `sanitize` (kept to the fast ones: CI time).
-targets=(test_rawlog_reader test_fuzz_corpus_rawlog test_fuzz_corpus_convert_isam
-  test_fuzz_corpus_convert_g2o test_fuzz_corpus_convert_utias test_fuzz_corpus_convert_freiburg)
+targets=(test_rawlog_reader test_fuzz_corpus_rawlog test_session test_fuzz_corpus_session
+  test_wakeup test_fuzz_corpus_convert_isam test_fuzz_corpus_convert_g2o
+  test_fuzz_corpus_convert_utias test_fuzz_corpus_convert_freiburg)
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBUDGET_SLAM_SANITIZE=ON \

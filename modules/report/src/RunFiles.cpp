@@ -5,8 +5,6 @@
 #include <fstream>
 #include <iomanip>
 
-#include <opencv2/core.hpp>
-
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/Text.h"
@@ -78,21 +76,27 @@ void writeSummaryJson(const std::string& path, const nlohmann::json& summary) {
   }
 }
 
-std::string outputFailureLine(const std::exception& e) {
-  if (const auto* cv = dynamic_cast<const cv::Exception*>(&e);
-      cv && cv->code == cv::Error::StsNoMem)
-    return "out of memory (" + exceptionLine(cv->err) + "; an address-space limit, ulimit -v?)";
-  return failureLine(e);
-}
+std::string outputFailureLine(const std::exception& e) { return failureLine(e); }
 
 const std::vector<std::string>& stepsCsvColumns() {
-  static const std::vector<std::string> c = {
-      "step",        "t",         "n_landmarks",
-      "n_new",       "n_dropped", "n_poses",
-      "x",           "y",         "yaw",
-      "var_x",       "var_y",     "var_yaw",
-      "step_ms",     "step_cpu_ms", "rss_bytes",
-      "reloc_landmarks", "reloc_coverage_so_far_pct"};
+  static const std::vector<std::string> c = {"step",
+                                             "t",
+                                             "n_landmarks",
+                                             "n_new",
+                                             "n_dropped",
+                                             "n_poses",
+                                             "x",
+                                             "y",
+                                             "yaw",
+                                             "var_x",
+                                             "var_y",
+                                             "var_yaw",
+                                             "step_ms",
+                                             "step_cpu_ms",
+                                             "rss_bytes",
+                                             "reloc_landmarks",
+                                             "reloc_coverage_so_far_pct",
+                                             "n_refused"};
   return c;
 }
 

@@ -29,9 +29,8 @@ void writeJson(const std::string& path, const nlohmann::json& j);
 /// the rest is missing. Throws Error naming the file when not even that can be written.
 void writeSummaryJson(const std::string& path, const nlohmann::json& summary);
 
-/// The one line for an exception out of writing an output: core's failureLine(), with OpenCV's
-/// "Insufficient memory" (a picture's pixels under an address-space limit) said as "out of
-/// memory (...)" like any other allocation failure.
+/// The one line for an exception out of writing an output: core's failureLine() (an allocation
+/// failure says "out of memory (...)").
 std::string outputFailureLine(const std::exception& e);
 
 /// Columns of steps.csv and evictions.csv (docs/OUTPUTS.md).
