@@ -58,6 +58,52 @@ inline ChildExit waitChild(pid_t pid) {
   return r;
 }
 
+/// Waits (at most `seconds`) until child `pid` is blocked opening a FIFO (Linux: its wait channel
+/// is the FIFO's wait_for_partner), so that a signal sent next finds its handlers in place however
+/// slowly the machine started it. False when that was not seen in time.
+inline bool waitUntilBlockedOnFifo(pid_t pid, double seconds = 60) {
+  const std::string wchan = "/proc/" + std::to_string(pid) + "/wchan";
+  for (double waited = 0; waited < seconds; waited += 0.01) {
+    char buf[64] = {};
+    const int fd = ::open(wchan.c_str(), O_RDONLY);
+    if (fd >= 0) {
+      const ssize_t n = ::read(fd, buf, sizeof buf - 1);
+      ::close(fd);
+      if (n > 0 && std::string(buf, static_cast<std::size_t>(n)) == "wait_for_partner") return true;
+    }
+    ::usleep(10000);
+  }
+  return false;
+}
+
+/// Writes `text` into the FIFO `fifo` once child `pid` opens it, and waits for the child. A child
+/// that ends without opening it (killed by an early signal, or done before it reads) is waited
+/// for all the same: never a writer blocked for ever on a FIFO nobody will read.
+inline ChildExit feedFifoAndWait(pid_t pid, const std::string& fifo, const std::string& text) {
+  for (;;) {
+    const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+    if (fd >= 0) {
+      ::fcntl(fd, F_SETFL, 0);
+      for (std::size_t at = 0; at < text.size();) {
+        const ssize_t n = ::write(fd, text.data() + at, text.size() - at);
+        if (n <= 0) break;
+        at += static_cast<std::size_t>(n);
+      }
+      ::close(fd);
+      return waitChild(pid);
+    }
+    int status = 0;
+    rusage use{};
+    if (::wait4(pid, &status, WNOHANG, &use) == pid) {
+      ChildExit r;
+      r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+      r.max_rss_kib = use.ru_maxrss;
+      return r;
+    }
+    ::usleep(10000);
+  }
+}
+
 inline ChildExit runChild(const std::string& program, const std::vector<std::string>& args,
                           const std::string& err_file, const std::function<void()>& setup = {},
                           int out_fd = -1) {

@@ -217,14 +217,11 @@ TEST(Limits, SignalsDuringStartUpEndTheRunCleanly) {
       startChild(kBin, {"run", "-c", fifo.string(), "-i", kDemo, "-o", out.string(), "--quiet"},
                  (dir / "err").string());
   ASSERT_GT(pid, 0);
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // blocked opening the FIFO
+  EXPECT_TRUE(waitUntilBlockedOnFifo(pid));  // blocked opening its -c file
   ::kill(pid, SIGINT);
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   ::kill(pid, SIGTERM);
-  {
-    std::ofstream(fifo) << slurp(kMrptIni);  // now the configuration comes
-  }
-  const auto r = waitChild(pid);
+  const auto r = feedFifoAndWait(pid, fifo.string(), slurp(kMrptIni));  // now the configuration
   const std::string err = slurp(dir / "err");
   ASSERT_FALSE(r.signaled()) << "killed by signal " << -r.code << ": " << err;
   EXPECT_EQ(r.code, 130);

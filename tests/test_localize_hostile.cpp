@@ -162,12 +162,11 @@ TEST(LocalizeHostile, AFolderThatNeverEndsOrTwoSignalsEndItAtOnce) {
                                 demoMap().string(), "-o", out.string(), "--quiet"},
                                (dir / "err").string(), hostileLimits);
   ASSERT_GT(pid, 0);
-  ::usleep(500000);  // blocked opening the FIFO
+  EXPECT_TRUE(waitUntilBlockedOnFifo(pid));  // blocked opening its -c file
   ::kill(pid, SIGINT);
   ::usleep(50000);
   ::kill(pid, SIGTERM);
-  { std::ofstream(fifo) << slurp(kMrptIni); }
-  const auto e = waitChild(pid);
+  const auto e = feedFifoAndWait(pid, fifo.string(), slurp(kMrptIni));
   const std::string err = slurp(dir / "err");
   ASSERT_FALSE(e.signaled()) << "killed by signal " << -e.code << ": " << err;
   EXPECT_EQ(e.code, 130);
