@@ -34,6 +34,23 @@ cholmod_sparse lowerTriangleView(std::size_t n, std::size_t nonzeros, const int*
   return A;
 }
 
+/// An upper triangle as a CHOLMOD matrix (a view, no copy).
+cholmod_sparse upperView(const SparseCholesky::UpperTriangle& H) {
+  cholmod_sparse A{};
+  A.nrow = A.ncol = static_cast<std::size_t>(H.n);
+  A.nzmax = static_cast<std::size_t>(H.p[H.n]);
+  A.p = const_cast<int*>(H.p);
+  A.i = const_cast<int*>(H.i);
+  A.x = const_cast<double*>(H.x);
+  A.stype = 1;
+  A.itype = CHOLMOD_INT;
+  A.xtype = CHOLMOD_REAL;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  return A;
+}
+
 /// H's lower triangle as a CHOLMOD matrix (a view, no copy; H must be compressed).
 cholmod_sparse viewLower(const SpMat& H) {
   if (!H.isCompressed()) throw std::invalid_argument("SparseCholesky: H is not compressed");
@@ -75,6 +92,21 @@ struct SparseCholesky::Impl {
   mutable std::vector<int> Lp_s, Lnz_s, Li_s, perm, iperm;
   mutable std::vector<double> Lx_s;
   mutable bool have_perm = false;
+  // The queries' column space: external column c is row colmap[c] of the factorized matrix
+  // (identity when empty); colpos[c] is its position in the factor, rebuilt with the permutation.
+  std::vector<int> colmap;
+  mutable std::vector<int> colpos;
+  mutable bool have_colpos = false;
+  double analysis_flops = 0;     ///< CHOLMOD's flop count of the last analysis
+  double analysis_nonzeros = 0;  ///< nnz(L) predicted by the last analysis
+
+  int columns() const { return colmap.empty() ? n : static_cast<int>(colmap.size()); }
+  /// Position in the factor of external column c; throws std::out_of_range outside.
+  int positionOf(int c) const {
+    if (c < 0 || c >= static_cast<int>(colpos.size()))
+      throw std::out_of_range("SparseCholesky: index out of range");
+    return colpos[c];
+  }
 
   /// The etree parent of column k: the first row below the diagonal (-1 at a root).
   int parentOf(int k) const { return Lnz[k] > 1 ? Li[Lp[k] + 1] : -1; }
@@ -99,6 +131,16 @@ struct SparseCholesky::Impl {
       for (int k = 0; k < n; ++k) perm[k] = P ? P[k] : k;
       for (int k = 0; k < n; ++k) iperm[perm[k]] = k;
       have_perm = true;
+      have_colpos = false;
+    }
+    if (!have_colpos) {
+      if (colmap.empty()) {
+        colpos = iperm;
+      } else {
+        colpos.resize(colmap.size());
+        for (std::size_t c = 0; c < colmap.size(); ++c) colpos[c] = iperm.at(colmap[c]);
+      }
+      have_colpos = true;
     }
     have_L = true;
   }
@@ -195,27 +237,29 @@ struct SparseCholesky::Impl {
     have_post = true;
   }
 
-  // The dense tail of the factor: the last t columns of L before the stand-alone ones when they
-  // form a full lower triangle (the root separator, which the fill-reducing ordering leaves for
-  // the end; t = 104 of 21206 on the full Victoria Park graph). Every etree path of a connected
-  // graph ends in it, so the partial inverses spend most of their flops there (about 70% for the
-  // information gain on Victoria Park); it is kept as a dense t x t block so those parts run as
-  // dense blocked kernels (triangular solve and rank-t update) instead of row-by-row sparse
-  // updates.
-  static constexpr int kMinDenseTail = 16;  ///< below this the sparse kernels are as good
+  // The dense tail of the factor: the last t columns of L before the stand-alone ones, when at
+  // least half of their lower triangle is filled (the root separator, which the fill-reducing
+  // ordering leaves for the end as a full triangle, t = 104 of 21206 on the full Victoria Park
+  // graph; in the held factor also the variables added since its last fresh ordering, which go
+  // after it). Every etree path of a connected graph ends in it, so the partial inverses spend
+  // most of their flops there (about 70% for the information gain on Victoria Park); it is kept
+  // as a dense t x t block (zero where L has no entry) so those parts run as dense blocked kernels
+  // (triangular solve and rank-t update) instead of row-by-row sparse updates. Any trailing block
+  // gives the same numbers: its columns' rows all lie inside it.
+  static constexpr int kMinDenseTail = 16;    ///< below this the sparse kernels are as good
+  static constexpr int kMaxDenseTail = 1024;  ///< bounds the dense block (8 MB)
   mutable int tail = 0;
   mutable int active_end = 0;
   mutable Eigen::MatrixXd Ltail;  ///< L_TT (of L L^T), lower triangle, column-major
 
   void findDenseTail() const {
+    // The longest trailing block whose lower triangle is at least half filled.
     int t = 0;
-    const auto full = [&](int k, int len) {  // column k holds exactly rows k .. k + len - 1
-      if (Lnz[k] != len) return false;
-      for (int u = 0; u < len; ++u)
-        if (Li[Lp[k] + u] != k + u) return false;
-      return true;
-    };
-    while (t < active_end && full(active_end - 1 - t, t + 1)) ++t;
+    double filled = 0;
+    for (int u = 1; u <= std::min(active_end, kMaxDenseTail); ++u) {
+      filled += Lnz[active_end - u];
+      if (2.0 * filled >= 0.5 * u * (u + 1.0)) t = u;
+    }
     tail = t >= kMinDenseTail ? t : 0;
     Ltail.setZero(tail, tail);
     const int k0 = active_end - tail;
@@ -261,8 +305,7 @@ struct SparseCholesky::Impl {
     std::vector<int>& nodes = w.nodes;
     nodes.clear();
     for (int col : S) {
-      if (col < 0 || col >= n) throw std::out_of_range("SparseCholesky: index out of range");
-      for (int k = iperm[col]; k != -1 && w.stamp[k] != w.counter; k = parentOf(k)) {
+      for (int k = positionOf(col); k != -1 && w.stamp[k] != w.counter; k = parentOf(k)) {
         w.stamp[k] = w.counter;
         nodes.push_back(k);
       }
@@ -276,9 +319,9 @@ struct SparseCholesky::Impl {
     Eigen::Map<RowMat> X(w.x.data(), nodes.size(), cols);
     for (std::size_t j = 0; j < S.size(); ++j) {
       if (R)
-        X.row(w.local[iperm[S[j]]]) += R->row(j);
+        X.row(w.local[colpos[S[j]]]) += R->row(j);
       else
-        X(w.local[iperm[S[j]]], j) = 1.0;
+        X(w.local[colpos[S[j]]], j) = 1.0;
     }
     // The path's columns of the L L^T factor on local row numbers, for the substitution kernel.
     w.path_start.assign(nodes.size() + 1, 0);
@@ -323,6 +366,9 @@ SparseCholesky SparseCholesky::copy() const {
   o.analysed = m.analysed;
   o.version = m.version;
   o.n = m.n;
+  o.colmap = m.colmap;
+  o.analysis_flops = m.analysis_flops;
+  o.analysis_nonzeros = m.analysis_nonzeros;
   return out;
 }
 
@@ -405,6 +451,8 @@ bool SparseCholesky::factorize(const SpMat& H, std::uint64_t pattern_version,
     m.analysed = true;
     m.version = pattern_version;
     m.have_perm = false;
+    m.analysis_flops = m.c.fl;
+    m.analysis_nonzeros = m.c.lnz;
   }
   m.n = n;
   cholmod_factorize(&A, m.F, &m.c);
@@ -425,36 +473,96 @@ bool SparseCholesky::refactorize(const SpMat& H) {
   return m.ok;
 }
 
-double SparseCholesky::analysedNonZeros() const { return impl_->c.lnz; }
+double SparseCholesky::analysedNonZeros() const { return impl_->analysis_nonzeros; }
+
+double SparseCholesky::analysedFlops() const { return impl_->analysis_flops; }
+
+void SparseCholesky::setColumnMap(std::vector<int> rows) {
+  for (int r : rows)
+    if (r < 0) throw std::invalid_argument("SparseCholesky: negative row in the column map");
+  impl_->colmap = std::move(rows);
+  impl_->have_colpos = false;
+  impl_->have_L = false;
+  impl_->have_post = false;
+}
 
 std::vector<int> SparseCholesky::ordering() const {
   impl_->extractL();
   return impl_->perm;
 }
 
-bool SparseCholesky::factorizeOrdered(const SpMat& H, const std::vector<int>& perm,
-                                      bool simplicial) {
+bool SparseCholesky::factorizeInOrder(const UpperTriangle& H) {
   Impl& m = *impl_;
   m.invalidate();
-  if (perm.size() != static_cast<std::size_t>(H.rows()))
-    throw std::invalid_argument("SparseCholesky: ordering of the wrong size");
-  cholmod_sparse A = viewLower(H);
+  cholmod_sparse A = upperView(H);
   if (m.F) cholmod_free_factor(&m.F, &m.c);
   m.c.nmethods = 1;
-  m.c.method[0].ordering = CHOLMOD_GIVEN;
-  m.c.postorder = 0;  // the ordering exactly as given: new columns go last
-  m.c.supernodal = simplicial ? CHOLMOD_SIMPLICIAL : CHOLMOD_AUTO;
-  m.F = cholmod_analyze_p(&A, const_cast<int*>(perm.data()), nullptr, 0, &m.c);
+  m.c.method[0].ordering = CHOLMOD_NATURAL;
+  m.c.postorder = 0;  // the rows as given
+  m.c.supernodal = CHOLMOD_SIMPLICIAL;
+  m.F = cholmod_analyze(&A, &m.c);
   m.c.nmethods = 0;
   m.c.postorder = 1;
   m.c.supernodal = CHOLMOD_AUTO;
   if (!m.F) throw std::runtime_error("CHOLMOD: analysis failed");
   m.analysed = false;  // factorize() analyses anew
   m.have_perm = false;
-  m.n = static_cast<int>(H.rows());
+  m.analysis_flops = m.c.fl;
+  m.analysis_nonzeros = m.c.lnz;
+  m.n = H.n;
   cholmod_factorize(&A, m.F, &m.c);
   m.ok = m.c.status == CHOLMOD_OK && m.F->minor == m.F->n;
   return m.ok;
+}
+
+bool SparseCholesky::refactorizeInOrder(const UpperTriangle& H) {
+  Impl& m = *impl_;
+  if (!m.F || H.n != m.n || m.F->is_super || m.F->ordering != CHOLMOD_NATURAL)
+    throw std::logic_error("SparseCholesky: refactorizeInOrder without factorizeInOrder");
+  m.invalidate();
+  cholmod_sparse A = upperView(H);
+  cholmod_factorize(&A, m.F, &m.c);
+  m.ok = m.c.status == CHOLMOD_OK && m.F->minor == m.F->n;
+  return m.ok;
+}
+
+std::vector<int> SparseCholesky::orderNodes(int n, const std::vector<int>& p,
+                                            const std::vector<int>& i) {
+  Impl& m = *impl_;
+  if (n <= 0) return {};
+  if (static_cast<int>(p.size()) != n + 1)
+    throw std::invalid_argument("SparseCholesky: node pattern of the wrong size");
+  // Column c's rows r < c, with the diagonal added (CHOLMOD's analysis wants it): a pattern.
+  std::vector<int> cp(static_cast<std::size_t>(n) + 1, 0), ci;
+  ci.reserve(i.size() + static_cast<std::size_t>(n));
+  for (int c = 0; c < n; ++c) {
+    for (int k = p[c]; k < p[c + 1]; ++k) ci.push_back(i[k]);
+    ci.push_back(c);
+    cp[c + 1] = static_cast<int>(ci.size());
+  }
+  cholmod_sparse A{};
+  A.nrow = A.ncol = static_cast<std::size_t>(n);
+  A.nzmax = ci.size();
+  A.p = cp.data();
+  A.i = ci.data();
+  A.stype = 1;
+  A.itype = CHOLMOD_INT;
+  A.xtype = CHOLMOD_PATTERN;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  m.c.nmethods = 1;
+  m.c.method[0].ordering = CHOLMOD_AMD;
+  m.c.postorder = 1;
+  m.c.supernodal = CHOLMOD_SIMPLICIAL;
+  cholmod_factor* F = cholmod_analyze(&A, &m.c);
+  m.c.nmethods = 0;
+  m.c.supernodal = CHOLMOD_AUTO;
+  if (!F) throw std::runtime_error("CHOLMOD: ordering failed");
+  const int* P = static_cast<const int*>(F->Perm);
+  std::vector<int> order(P, P + n);
+  cholmod_free_factor(&F, &m.c);
+  return order;
 }
 
 bool SparseCholesky::ok() const { return impl_->ok; }
@@ -464,13 +572,9 @@ cholmod_factor_struct* SparseCholesky::factor() { return impl_->F; }
 cholmod_common_struct* SparseCholesky::common() { return &impl_->c; }
 void SparseCholesky::modified() { impl_->invalidate(); }
 
-int SparseCholesky::position(int c) const {
+int SparseCholesky::position(int row) const {
   impl_->extractL();
-  return impl_->iperm.at(c);
-}
-int SparseCholesky::columnAt(int k) const {
-  impl_->extractL();
-  return impl_->perm.at(k);
+  return impl_->iperm.at(row);
 }
 
 Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
@@ -561,11 +665,7 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
     const SparseColumn& c = cols[j];
     if (c.n < 1 || c.n > 3) throw std::invalid_argument("SparseCholesky: bad sparse column");
     int s = m.n;
-    for (int t = 0; t < c.n; ++t) {
-      if (c.idx[t] < 0 || c.idx[t] >= m.n)
-        throw std::out_of_range("SparseCholesky: index out of range");
-      s = std::min(s, m.iperm[c.idx[t]]);
-    }
+    for (int t = 0; t < c.n; ++t) s = std::min(s, m.positionOf(c.idx[t]));
     start_node[j] = s;
   }
   // Columns sorted by the postorder of their first node: a subtree's columns are contiguous.
@@ -641,7 +741,8 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
   for (std::size_t a = 0; a < mm; ++a) std::fill(X + a * ld + lo[a], X + a * ld + hi[a], 0.0);
   for (int j = 0; j < r; ++j)
     for (int t = 0; t < cols[j].n; ++t)
-      X[static_cast<std::size_t>(w.local[m.iperm[cols[j].idx[t]]]) * ld + pos[j]] += cols[j].val[t];
+      X[static_cast<std::size_t>(w.local[m.colpos[cols[j].idx[t]]]) * ld + pos[j]] +=
+          cols[j].val[t];
   detail::forwardSubstitutePath(X, ld, nodes.data(), ms, m.Lp, m.Lnz, m.Li, m.Lx, m.ldl,
                                 w.local.data(), lo.data(), hi.data());
   // Y^T Y (lower triangle). The full-width rows just before the tail (ancestors of every column,
