@@ -368,6 +368,9 @@ TEST(IncrementalGraph, LandmarkPriorKeepsAnOrphanedLandmarkWhereItWas) {
     for (const auto& [id, l] : b.graph().landmarks()) with_prior += l.prior.has_value();
   }
   EXPECT_GT(with_prior, 0u);
-  for (const auto& [id, l] : b.graph().landmarks())
-    if (l.prior && l.obs.empty()) EXPECT_LT((l.x - l.prior->mean).norm(), 1e-12) << id;
+  for (const auto& [id, l] : b.graph().landmarks()) {
+    if (l.prior && l.obs.empty()) {
+      EXPECT_LT((l.x - l.prior->mean).norm(), 1e-12) << id;
+    }
+  }
 }

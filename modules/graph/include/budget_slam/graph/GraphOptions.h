@@ -28,12 +28,13 @@ struct GraphSlamOptions : public TabledOptions<GraphSlamOptions> {
   int relinearize_every = 10;      ///< [poses]; 0: only at finish()
   int incremental_iterations = 2;  ///< Gauss-Newton iterations of one incremental update
   double relinearize_chi2 = 16.0;  ///< [dimensionless, per 2-D reading]; 0: never early
-  /// Per-variable relinearization (iSAM2's threshold): in an incremental update a variable takes
-  /// its Gauss-Newton step, and its factors are relinearized, only when the step moves it by more
-  /// than this (max |dx| over its parameters) [m, rad]. A smaller step is left untaken, so the
-  /// estimate stays the linearization point of the held factor. 0: every variable the step moves
-  /// (full Gauss-Newton). docs/GRAPH.md "Held factor".
-  double relinearize_threshold = 0;
+  /// Per-variable relinearization (iSAM2's threshold): in an incremental update a variable's
+  /// factors are relinearized only when its estimate has moved by more than this from their
+  /// linearization point (max |dx| over its parameters) [m, rad]; the estimate itself takes
+  /// every Gauss-Newton step (the minimizer of the held linear model). 0: every variable that
+  /// moved (full Gauss-Newton). finish() relinearizes everything that moved.
+  /// docs/GRAPH.md "Held factor".
+  double relinearize_threshold = 0.1;
   /// The held factor keeps its fill-reducing ordering (new variables eliminated last) until
   /// nnz(L) per row exceeds this factor times its value right after the last fresh ordering
   /// [dimensionless]; then it is rebuilt with a fresh one. At most 1: a fresh ordering and a
