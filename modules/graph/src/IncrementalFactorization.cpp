@@ -78,6 +78,7 @@ struct IncrementalFactorization::State {
   std::vector<int> owner;
   int next_row = 0;     ///< first spare row
   int dying_count = 0;  ///< variables marked dying (syncStructure)
+  int dead_rows = 0;    ///< rows of removed variables since the last fresh ordering
   /// H's upper triangle in compressed columns, rows in elimination order (the factor is
   /// P H P^T with P = I): kept equal to the sum of the factors' A^T A.
   std::vector<int> Hp, Hi;
@@ -92,6 +93,7 @@ struct IncrementalFactorization::State {
   std::uint64_t map_variables = 0;  ///< FactorGraph::variablesVersion() of the column map
   double fresh_fill = 0;            ///< nnz(L) per used row right after the last fresh ordering
   double fresh_flops = 0;      ///< factorization flops per used row after the last fresh ordering
+  double fresh_depth = 0;      ///< meanDepth() after the last fresh ordering
   double refresh_flops = 0;    ///< flops of the last numeric factorization
   bool stale_pattern = false;  ///< L holds entries a factorization of H would not have
   IncrementalStats stats;
@@ -368,14 +370,37 @@ struct IncrementalFactorization::State {
     for (std::size_t k = 0; k < L.n; ++k) s += nz[k];
     return s;
   }
-  SparseCholesky::UpperTriangle upper() const {
+  /// H as CHOLMOD reads it. Rows of removed variables keep their entries in Hp/Hi (zeros: the
+  /// factors' positions stay valid) until the next fresh ordering; a factorization or a pattern
+  /// cut reads a copy without them, so they leave no fill behind.
+  SparseCholesky::UpperTriangle upper() {
     SparseCholesky::UpperTriangle H;
     H.n = capacity();
-    H.p = Hp.data();
-    H.i = Hi.data();
-    H.x = Hx.data();
+    if (dead_rows == 0) {
+      H.p = Hp.data();
+      H.i = Hi.data();
+      H.x = Hx.data();
+      return H;
+    }
+    Fp.assign(static_cast<std::size_t>(H.n) + 1, 0);
+    Fi.clear();
+    Fx.clear();
+    for (int c = 0; c < H.n; ++c) {
+      for (int k = Hp[c]; k < Hp[c + 1]; ++k) {
+        const int r = Hi[k];
+        if (r != c && (owner[r] < 0 || owner[c] < 0)) continue;
+        Fi.push_back(r);
+        Fx.push_back(Hx[k]);
+      }
+      Fp[c + 1] = static_cast<int>(Fi.size());
+    }
+    H.p = Fp.data();
+    H.i = Fi.data();
+    H.x = Fx.data();
     return H;
   }
+  std::vector<int> Fp, Fi;
+  std::vector<double> Fx;
 
   /// A fresh fill-reducing ordering: AMD on the variable graph, postordered; the variables'
   /// rows renumbered in that order, spare rows after; H rebuilt and factorized (the factors keep
@@ -424,6 +449,7 @@ struct IncrementalFactorization::State {
       for (int t = 0; t < r.dim; ++t) owner[r.row + t] = alive[k];
       est.segment(r.row, r.dim) = estimate[k].head(r.dim);
     }
+    dead_rows = 0;
     buildPattern();
     chol.setColumnMap({});
     map_valid = false;
@@ -435,6 +461,7 @@ struct IncrementalFactorization::State {
     refresh_flops = chol.analysedFlops();
     fresh_fill = nonZerosOfL() / std::max(1, next_row);
     fresh_flops = refresh_flops / std::max(1, next_row);
+    fresh_depth = meanDepth();
     computePathCosts();
     ++stats.rebuilds;
     ++stats.fresh_orderings;
@@ -457,12 +484,13 @@ struct IncrementalFactorization::State {
   /// factorization's (the queries walk them). No flops.
   void prune() {
     if (!stale_pattern) return;
+    const SparseCholesky::UpperTriangle H = upper();
     cholmod_sparse A{};
-    A.nrow = A.ncol = static_cast<std::size_t>(capacity());
-    A.nzmax = Hi.size();
-    A.p = Hp.data();
-    A.i = Hi.data();
-    A.x = Hx.data();
+    A.nrow = A.ncol = static_cast<std::size_t>(H.n);
+    A.nzmax = static_cast<std::size_t>(H.p[H.n]);
+    A.p = const_cast<int*>(H.p);
+    A.i = const_cast<int*>(H.i);
+    A.x = const_cast<double*>(H.x);
     A.stype = 1;
     A.itype = CHOLMOD_INT;
     A.xtype = CHOLMOD_REAL;
@@ -489,6 +517,23 @@ struct IncrementalFactorization::State {
     path_cost.assign(static_cast<std::size_t>(n), 0.0);
     for (int k = n - 1; k >= 0; --k)  // a parent comes after its children
       path_cost[k] = Lnz[k] + (Lnz[k] > 1 ? path_cost[Li[Lp[k] + 1]] : 0.0);
+  }
+  /// Mean depth of the rows of live variables in L's elimination tree: the length of the paths
+  /// every partial inverse walks (the variables placed last since the last fresh ordering lie
+  /// on all of them).
+  double meanDepth() {
+    const cholmod_factor& L = F();
+    const int* Lp = static_cast<const int*>(L.p);
+    const int* Lnz = static_cast<const int*>(L.nz);
+    const int* Li = static_cast<const int*>(L.i);
+    const int n = static_cast<int>(L.n);
+    std::vector<int> depth(static_cast<std::size_t>(n), 1);
+    double sum = 0, count = 0;
+    for (int k = n - 1; k >= 0; --k) {
+      if (Lnz[k] > 1) depth[k] = 1 + depth[Li[Lp[k] + 1]];
+      if (owner[k] >= 0) sum += depth[k], ++count;
+    }
+    return count > 0 ? sum / count : 0.0;
   }
   /// The cost-model bound on in-place work: that of a numeric refactorization, in entries.
   double refreshCap() const {
@@ -617,10 +662,17 @@ struct IncrementalFactorization::State {
   /// A fresh ordering once the fill has grown past the bound (new variables go last, which
   /// fills more than AMD would).
   void checkFill() {
-    if (next_row <= 0) return;
-    if (nonZerosOfL() / next_row > reorder_fill_ratio * fresh_fill ||
-        refresh_flops / next_row > reorder_fill_ratio * fresh_flops)
-      reorder();
+    if (degraded(reorder_fill_ratio)) reorder();
+  }
+  /// The fill per row (nnz(L), or the flops of the last factorization) past `ratio` times the one
+  /// right after the last fresh ordering.
+  /// Also when a tenth of the rows belong to removed variables (their places in the kept order
+  /// no longer fit the graph: mass pose marginalization, a bounded graph's window).
+  bool degraded(double ratio) {
+    const double rows = next_row - dead_rows;
+    if (rows <= 0) return false;
+    return (nonZerosOfL() - dead_rows) / rows > ratio * fresh_fill ||
+           refresh_flops / rows > ratio * fresh_flops || dead_rows > 0.1 * next_row;
   }
 
   /// Relinearizes every factor on the variables `moved` (their `lin` already set) in H, then
@@ -650,11 +702,17 @@ struct IncrementalFactorization::State {
       }
     const bool in_place = reorder_fill_ratio > 1 && work <= refreshCap();
     if (!in_place && ks.size() == factor_count) {
-      // Every factor (a full Gauss-Newton step): the factor anew, with a fresh ordering, which
-      // costs little more than the numeric factorization and undoes the fill of new variables
-      // placed last.
+      // Every factor (a full Gauss-Newton step): H assembled anew in one pass (no drift from
+      // taking out and adding in), refactorized in the kept order, or with a fresh ordering once
+      // the variables placed last since the last one have filled it past the queries' bound.
       for (int k : ks) factors[k].lin = linearizeHeld(factors[k]);
-      reorder();
+      if (reorder_fill_ratio <= 1 || degraded(IncrementalFactorization::kQueryFillRatio)) {
+        reorder();
+      } else {
+        assemble();
+        refresh();
+        checkFill();
+      }
       return;
     }
     for (int k : ks) {
@@ -727,7 +785,8 @@ struct IncrementalFactorization::State {
       }
     }
     seq = graph.changeCount();
-    dying_count = 0;              // every dying variable is gone now
+    dying_count = 0;  // every dying variable is gone now
+    dead_rows += static_cast<int>(deleted_rows.size());
     for (int r : deleted_rows) {  // the rows leave H: identity
       owner[r] = -1;
       Hx[Hp[r + 1] - 1] = 1.0;
@@ -868,6 +927,7 @@ IncrementalFactorization::IncrementalFactorization(const IncrementalFactorizatio
   s.Hp = t.Hp;
   s.Hi = t.Hi;
   s.Hx = t.Hx;
+  s.dead_rows = t.dead_rows;
   s.g = t.g;
   s.est = t.est;
   s.chi2 = t.chi2;
@@ -878,6 +938,7 @@ IncrementalFactorization::IncrementalFactorization(const IncrementalFactorizatio
   s.values_version = t.values_version;
   s.fresh_fill = t.fresh_fill;
   s.fresh_flops = t.fresh_flops;
+  s.fresh_depth = t.fresh_depth;
   s.refresh_flops = t.refresh_flops;
   s.stale_pattern = t.stale_pattern;
   s.path_cost = t.path_cost;
@@ -901,8 +962,7 @@ const SparseCholesky& IncrementalFactorization::factor(const FactorGraph& graph,
     // Every variable the last step moved takes the estimate as its linearization point.
     s.relinearizeMoved(0.0);
     s.prune();
-    if (s.next_row > 0 && s.nonZerosOfL() / s.next_row > kQueryFillRatio * s.fresh_fill)
-      s.reorder();
+    if (s.degraded(kQueryFillRatio) || s.meanDepth() > kQueryFillRatio * s.fresh_depth) s.reorder();
   }
   if (!s.map_valid || s.map_variables != graph.variablesVersion()) {
     // The graph's columns (poses by step, then landmarks by id) to the rows of H.

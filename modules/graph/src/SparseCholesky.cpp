@@ -237,29 +237,33 @@ struct SparseCholesky::Impl {
     have_post = true;
   }
 
-  // The dense tail of the factor: the last t columns of L before the stand-alone ones, the
-  // longest block whose lower triangle is at least 90% filled (the root separator, which the
-  // fill-reducing ordering leaves for the end as a full triangle, t = 104 of 21206 on the full
-  // Victoria Park graph; in the held factor also the variables added since its last fresh
-  // ordering, which go after it and fill it in). Dense kernels cost t^2 per right-hand side:
-  // a sparser block is left to the sparse ones. Every etree path of a connected graph ends in it,
-  // so the partial inverses spend most of their flops there (about 70% for the information gain on
-  // Victoria Park); it is kept as a dense t x t block (zero where L has no entry) so those parts
-  // run as dense blocked kernels (triangular solve and rank-t update) instead of row-by-row sparse
-  // updates. Any trailing block gives the same numbers: its columns' rows all lie inside it.
+  // The dense tail of the factor: the last t columns of L before the stand-alone ones, kept as a
+  // dense t x t block (zero where L has no entry) so that the partial inverses run there as dense
+  // blocked kernels (triangular solve and rank-t update) instead of row-by-row sparse updates.
+  // Every etree path of a connected graph ends in it: the root separator, which the fill-reducing
+  // ordering leaves for the end as a full triangle (t = 104 of 21206 on the full Victoria Park
+  // graph, about 70% of the information gain's flops), and in the held factor the variables added
+  // after it since its last fresh ordering. The block is the one that saves the most: the sparse
+  // kernels' work on its entries, sum nnz, less the dense kernels' on the full triangle, which
+  // run about kDenseSpeedup times faster per entry. Any trailing block gives the same numbers:
+  // its columns' rows all lie inside it.
   static constexpr int kMinDenseTail = 16;   ///< below this the sparse kernels are as good
   static constexpr int kMaxDenseTail = 512;  ///< bounds the dense block (2 MB)
-  static constexpr double kDenseTailFill = 0.9;
+  static constexpr double kDenseSpeedup = 4;
   mutable int tail = 0;
   mutable int active_end = 0;
   mutable Eigen::MatrixXd Ltail;  ///< L_TT (of L L^T), lower triangle, column-major
 
   void findDenseTail() const {
     int t = 0;
-    double filled = 0;
+    double filled = 0, best = 0;
     for (int u = 1; u <= std::min(active_end, kMaxDenseTail); ++u) {
       filled += Lnz[active_end - u];
-      if (2.0 * filled >= kDenseTailFill * u * (u + 1.0)) t = u;
+      const double saved = filled - 0.5 * u * (u + 1.0) / kDenseSpeedup;
+      if (saved > best) {
+        best = saved;
+        t = u;
+      }
     }
     tail = t >= kMinDenseTail ? t : 0;
     Ltail.setZero(tail, tail);
