@@ -127,14 +127,26 @@ void BM_FullSlam(benchmark::State& state) {
   if (state.range(2) > 0) options.reorder_fill_ratio = static_cast<double>(state.range(2)) / 10.0;
   for (auto _ : state) {
     GraphBackend b(options, noise);
-    std::vector<double> update_ms;  // CPU time of each step that ran an incremental update
+    std::vector<double> update_ms;   // CPU time of each step that ran an incremental update
+    std::vector<char> refactorized;  // ... and whether it refactorized the whole factor
     for (const Step& s : steps) {
-      const std::size_t before = b.updateCount();
+      const std::size_t before = b.updateCount(), rebuilds = b.heldFactorStats().rebuilds;
       const double t0 = threadCpuMs();
       b.process(s);
       benchmark::DoNotOptimize(b.robotPose());
-      if (b.updateCount() != before) update_ms.push_back(threadCpuMs() - t0);
+      if (b.updateCount() != before) {
+        update_ms.push_back(threadCpuMs() - t0);
+        refactorized.push_back(b.heldFactorStats().rebuilds != rebuilds);
+      }
     }
+    const std::size_t tail = std::max<std::size_t>(1, refactorized.size() / 10);
+    state.counters["last10_refactorized_pct"] =
+        100.0 * static_cast<double>(std::count(refactorized.end() - tail, refactorized.end(), 1)) /
+        static_cast<double>(tail);
+    state.counters["first10_refactorized_pct"] =
+        100.0 *
+        static_cast<double>(std::count(refactorized.begin(), refactorized.begin() + tail, 1)) /
+        static_cast<double>(tail);
     const double t0 = threadCpuMs();
     b.finish();
     state.counters["finish_ms"] = threadCpuMs() - t0;

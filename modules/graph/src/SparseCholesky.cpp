@@ -466,18 +466,6 @@ bool SparseCholesky::factorize(const SpMat& H, std::uint64_t pattern_version,
   return m.ok;
 }
 
-bool SparseCholesky::refactorize(const SpMat& H) {
-  Impl& m = *impl_;
-  if (!m.F || H.rows() != m.n)
-    throw std::logic_error("SparseCholesky: refactorize without analysis");
-  m.invalidate();
-  cholmod_sparse A = viewLower(H);
-  cholmod_factorize(&A, m.F, &m.c);
-  m.ok = m.c.status == CHOLMOD_OK && m.F->minor == m.F->n;
-  if (!m.ok) m.analysed = false;
-  return m.ok;
-}
-
 double SparseCholesky::analysedNonZeros() const { return impl_->analysis_nonzeros; }
 
 double SparseCholesky::analysedFlops() const { return impl_->analysis_flops; }

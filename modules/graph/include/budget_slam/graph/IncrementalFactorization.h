@@ -13,13 +13,13 @@ namespace budget_slam::graph {
 /// Gauss-Newton iterations on the held factor (IncrementalFactorization::iterate).
 struct IncrementalStep {
   int max_iterations = 2;
-  /// A variable takes its step only when the step moves it by more than this (max |dx| over its
-  /// parameters, m and rad alike); only the factors on variables that moved are relinearized.
-  /// 0: every variable the step moves.
+  /// A variable's factors are relinearized, at the start of an iteration, once its estimate has
+  /// left their linearization point by more than this (max |dx| over its parameters, m and rad
+  /// alike). 0: every variable that moved (full Gauss-Newton, with its divergence check).
   double relinearize_threshold = 0;
-  /// Converged when max |dx| falls below this (the step is then not taken).
+  /// Converged when the estimate moves by less than this (max |dx|).
   double step_tolerance = 1e-10;
-  /// ...or when chi2 drops by less than this fraction (0: off).
+  /// ...or, with threshold 0, when chi2 drops by less than this fraction (0: off).
   double relative_chi2_tolerance = 0;
   /// Poll budget_slam::Cancellation before every iteration (a full solve takes seconds).
   bool stop_on_request = false;
@@ -27,28 +27,28 @@ struct IncrementalStep {
 
 /// What the held factor did so far (reports and benchmarks).
 struct IncrementalStats {
-  std::size_t rebuilds = 0;         ///< every factor relinearized and H factorized anew
+  std::size_t rebuilds = 0;         ///< numeric refactorizations of L (fresh orderings included)
   std::size_t fresh_orderings = 0;  ///< rebuilds with a fresh fill-reducing ordering
-  std::size_t modifications = 0;    ///< in-place changes of the factor (each a batch of them)
+  std::size_t modifications = 0;    ///< changes folded into L in place (each a batch of them)
   std::size_t folded_factors = 0;   ///< factors added, removed or relinearized in place
-  std::size_t moved_variables = 0;  ///< variables that took a step in iterate()
+  std::size_t moved_variables = 0;  ///< variables relinearized in iterate() (past the threshold)
 };
 
-/// The Cholesky factor P H P^T = L D L^T of the graph's information matrix, held between updates
-/// and changed where the graph changes (docs/GRAPH.md "Held factor"): new factors and variables
-/// are folded in by rank updates (CHOLMOD's updown on the update permuted into the factor's
-/// ordering), removed ones by row deletions and downdates, and a Gauss-Newton step moves only
-/// the variables whose step exceeds the relinearization threshold, whose factors are then
-/// relinearized by a downdate of their old rows and an update with the new ones. When that
-/// would cost more than building the factor afresh (many factors at once, a full solve), every
-/// factor is relinearized and H factorized again, with a fresh fill-reducing ordering when the
-/// fill has grown past `reorder_fill_ratio` times the last fresh one or the spare rows for new
-/// variables ran out.
+/// The Cholesky factor L D L^T of the graph's information matrix H, held between updates and
+/// changed where the graph changes (docs/GRAPH.md "Held factor"). H is held in elimination order
+/// (every variable's rows are its positions), so CHOLMOD needs no permutation: new factors and
+/// variables are folded in by rank updates (CHOLMOD's updown), removed ones by row deletions and
+/// downdates, and a Gauss-Newton step relinearizes only the variables whose estimate has moved
+/// past the relinearization threshold (a downdate of their factors' old rows, an update with the
+/// new ones). When a change would cost more in place than a numeric refactorization (a cost model
+/// on the elimination-tree paths it touches), L is refactorized from the held H in the kept
+/// order; when the fill has grown past `reorder_fill_ratio` times that of the last fresh ordering,
+/// or the spare rows for new variables ran out, it is rebuilt with a fresh fill-reducing ordering.
 ///
-/// Every variable's factors are linearized at its current value: the estimate is the
-/// linearization point (a step below the threshold is not taken), so H here is H at the graph's
-/// estimate, the matrix every covariance and information-gain query reads, and equals a fresh
-/// factorization of it up to rounding (tests).
+/// The estimate is the linearization point plus the minimizer of the held linear model (iSAM2):
+/// every variable takes every step; each keeps its linearization point until its estimate moves
+/// past the threshold. So the factor is H at the linearization point; factor(graph, true) brings
+/// it to the estimate first.
 ///
 /// It follows one FactorGraph through its change journal (FactorGraph::changesSince); a copy
 /// follows a copy of that graph after adopt().
@@ -81,10 +81,11 @@ class IncrementalFactorization {
   /// kQueryFillRatio times the last fresh one's (the paths' length grows with it).
   const SparseCholesky& factor(const FactorGraph& graph, bool at_estimate = false);
   static constexpr double kQueryFillRatio = 1.15;
-  /// Gauss-Newton on the held factor from `graph`'s estimate: per iteration the step
-  /// dx = -H^-1 g, taken by the variables it moves by more than the threshold, whose factors are
-  /// relinearized. Stops at max |dx| < step_tolerance, when no variable moves, at
-  /// max_iterations, or when a step raises chi2 beyond rounding (the step is undone).
+  /// Gauss-Newton on the held factor from `graph`'s estimate: per iteration the variables past
+  /// the threshold are relinearized, then estimate = linearization point + the minimizer of the
+  /// linear model, written into `graph`. Stops when the estimate moves by less than
+  /// step_tolerance, at max_iterations, or (threshold 0) when a step raised chi2 beyond rounding
+  /// (the step is undone).
   SolveReport iterate(FactorGraph& graph, const IncrementalStep& step);
   /// The minimizer of the linearized cost relative to the linearization point, dx = -H^-1 g,
   /// in `graph`'s column layout (sync first): the held factor's solution, which a batch solve

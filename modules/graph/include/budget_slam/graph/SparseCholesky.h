@@ -73,9 +73,6 @@ class SparseCholesky {
   /// its strict upper triangle (column c's rows r < c, sorted): AMD, postordered so every
   /// elimination subtree is contiguous. order[k] = the node eliminated k-th. No factorization.
   std::vector<int> orderNodes(int n, const std::vector<int>& p, const std::vector<int>& i);
-  /// Numeric factorization of H with the previous call's symbolic analysis (H must have the
-  /// same pattern). Returns false when H is not positive definite.
-  bool refactorize(const Eigen::SparseMatrix<double>& H);
   /// Non-zeros of L predicted by the last symbolic analysis (CHOLMOD's lnz; no extraction).
   double analysedNonZeros() const;
   /// Floating-point operations of the numeric factorization the last analysis predicts (CHOLMOD's
