@@ -2,42 +2,41 @@
 
 namespace budget_slam::graph {
 
-GraphFactor GraphFactor::posePrior(FactorId id, StepIndex pose, const PriorFactor& f) {
+namespace {
+GraphFactor make(GraphFactor::Kind kind, FactorId id, StepIndex pose, StepIndex from,
+                 LandmarkId landmark) {
   GraphFactor g;
-  g.kind = Kind::PosePrior;
+  g.kind = kind;
   g.id = id;
   g.pose = pose;
+  g.from = from;
+  g.landmark = landmark;
+  return g;
+}
+}  // namespace
+
+GraphFactor GraphFactor::posePrior(FactorId id, StepIndex pose, const PriorFactor& f) {
+  GraphFactor g = make(Kind::PosePrior, id, pose, 0, 0);
   g.f = f;
   return g;
 }
 
 GraphFactor GraphFactor::odometry(FactorId id, StepIndex from, StepIndex to,
                                   const BetweenFactor& f) {
-  GraphFactor g;
-  g.kind = Kind::Odometry;
-  g.id = id;
-  g.from = from;
-  g.pose = to;
+  GraphFactor g = make(Kind::Odometry, id, to, from, 0);
   g.f = f;
   return g;
 }
 
 GraphFactor GraphFactor::rangeBearing(FactorId id, StepIndex pose, LandmarkId landmark,
                                       const RangeBearingFactor& f) {
-  GraphFactor g;
-  g.kind = Kind::RangeBearing;
-  g.id = id;
-  g.pose = pose;
-  g.landmark = landmark;
+  GraphFactor g = make(Kind::RangeBearing, id, pose, 0, landmark);
   g.f = f;
   return g;
 }
 
 GraphFactor GraphFactor::landmarkPrior(FactorId id, LandmarkId landmark, const LandmarkPrior& f) {
-  GraphFactor g;
-  g.kind = Kind::LandmarkPrior;
-  g.id = id;
-  g.landmark = landmark;
+  GraphFactor g = make(Kind::LandmarkPrior, id, 0, 0, landmark);
   g.f = f;
   return g;
 }

@@ -362,12 +362,21 @@ struct IncrementalFactorization::State {
   }
 
   // -- the factor --
-  const cholmod_factor& F() { return *chol.factor(); }
+  /// L's columns and elimination tree as CHOLMOD holds them (simplicial, rows ascending).
+  struct Tree {
+    const int *p, *nz, *i;
+    int n;
+    int parent(int k) const { return nz[k] > 1 ? i[p[k] + 1] : -1; }
+  };
+  Tree tree() {
+    const cholmod_factor& L = *chol.factor();
+    return {static_cast<const int*>(L.p), static_cast<const int*>(L.nz),
+            static_cast<const int*>(L.i), static_cast<int>(L.n)};
+  }
   double nonZerosOfL() {
-    const cholmod_factor& L = F();
-    const int* nz = static_cast<const int*>(L.nz);
+    const Tree t = tree();
     double s = 0;
-    for (std::size_t k = 0; k < L.n; ++k) s += nz[k];
+    for (int k = 0; k < t.n; ++k) s += t.nz[k];
     return s;
   }
   /// H as CHOLMOD reads it. Rows of removed variables keep their entries in Hp/Hi (zeros: the
@@ -473,7 +482,7 @@ struct IncrementalFactorization::State {
       built = false;
       throw std::runtime_error("graph: information matrix is not positive definite");
     }
-    refresh_flops = chol.common()->rowfacfl;
+    refresh_flops = chol.lastFactorizationFlops();
     stale_pattern = false;
     computePathCosts();
     ++stats.rebuilds;
@@ -484,23 +493,8 @@ struct IncrementalFactorization::State {
   /// factorization's (the queries walk them). No flops.
   void prune() {
     if (!stale_pattern) return;
-    const SparseCholesky::UpperTriangle H = upper();
-    cholmod_sparse A{};
-    A.nrow = A.ncol = static_cast<std::size_t>(H.n);
-    A.nzmax = static_cast<std::size_t>(H.p[H.n]);
-    A.p = const_cast<int*>(H.p);
-    A.i = const_cast<int*>(H.i);
-    A.x = const_cast<double*>(H.x);
-    A.stype = 1;
-    A.itype = CHOLMOD_INT;
-    A.xtype = CHOLMOD_REAL;
-    A.dtype = CHOLMOD_DOUBLE;
-    A.sorted = 1;
-    A.packed = 1;
-    cholmod_common* c = chol.common();
-    const int ok = cholmod_resymbol(&A, nullptr, 0, /*pack=*/0, chol.factor(), c);
-    chol.modified();
-    if (!ok || c->status != CHOLMOD_OK) refresh();
+    const bool ok = chol.pruneToPattern(upper());
+    if (!ok) refresh();
     stale_pattern = false;
     computePathCosts();
   }
@@ -509,28 +503,23 @@ struct IncrementalFactorization::State {
   /// factorization (cost model estimates before the exact walk of pathEntries).
   std::vector<double> path_cost;
   void computePathCosts() {
-    const cholmod_factor& L = F();
-    const int* Lp = static_cast<const int*>(L.p);
-    const int* Lnz = static_cast<const int*>(L.nz);
-    const int* Li = static_cast<const int*>(L.i);
-    const int n = static_cast<int>(L.n);
-    path_cost.assign(static_cast<std::size_t>(n), 0.0);
-    for (int k = n - 1; k >= 0; --k)  // a parent comes after its children
-      path_cost[k] = Lnz[k] + (Lnz[k] > 1 ? path_cost[Li[Lp[k] + 1]] : 0.0);
+    const Tree t = tree();
+    path_cost.assign(static_cast<std::size_t>(t.n), 0.0);
+    for (int k = t.n - 1; k >= 0; --k) {  // a parent comes after its children
+      const int up = t.parent(k);
+      path_cost[k] = t.nz[k] + (up >= 0 ? path_cost[up] : 0.0);
+    }
   }
   /// Mean depth of the rows of live variables in L's elimination tree: the length of the paths
   /// every partial inverse walks (the variables placed last since the last fresh ordering lie
   /// on all of them).
   double meanDepth() {
-    const cholmod_factor& L = F();
-    const int* Lp = static_cast<const int*>(L.p);
-    const int* Lnz = static_cast<const int*>(L.nz);
-    const int* Li = static_cast<const int*>(L.i);
-    const int n = static_cast<int>(L.n);
-    std::vector<int> depth(static_cast<std::size_t>(n), 1);
+    const Tree t = tree();
+    std::vector<int> depth(static_cast<std::size_t>(t.n), 1);
     double sum = 0, count = 0;
-    for (int k = n - 1; k >= 0; --k) {
-      if (Lnz[k] > 1) depth[k] = 1 + depth[Li[Lp[k] + 1]];
+    for (int k = t.n - 1; k >= 0; --k) {
+      const int up = t.parent(k);
+      if (up >= 0) depth[k] = 1 + depth[up];
       if (owner[k] >= 0) sum += depth[k], ++count;
     }
     return count > 0 ? sum / count : 0.0;
@@ -545,15 +534,9 @@ struct IncrementalFactorization::State {
   /// Entries of L on the etree path from position k to the root (the work of a rank-1 change
   /// that starts there), stopping once above `cap`.
   double pathEntries(int k, double cap) {
-    const cholmod_factor& L = F();
-    const int* Lp = static_cast<const int*>(L.p);
-    const int* Lnz = static_cast<const int*>(L.nz);
-    const int* Li = static_cast<const int*>(L.i);
+    const Tree t = tree();
     double s = 0;
-    while (k >= 0 && s <= cap) {
-      s += Lnz[k];
-      k = Lnz[k] > 1 ? Li[Lp[k] + 1] : -1;
-    }
+    for (; k >= 0 && s <= cap; k = t.parent(k)) s += t.nz[k];
     return s;
   }
 
@@ -591,27 +574,6 @@ struct IncrementalFactorization::State {
     return work;
   }
 
-  bool updown(bool update, std::vector<int>& cp, std::vector<int>& ci, std::vector<double>& cx) {
-    const int ncol = static_cast<int>(cp.size()) - 1;
-    if (ncol <= 0 || ci.empty()) return true;
-    cholmod_sparse C{};
-    C.nrow = static_cast<std::size_t>(capacity());
-    C.ncol = static_cast<std::size_t>(ncol);
-    C.nzmax = ci.size();
-    C.p = cp.data();
-    C.i = ci.data();
-    C.x = cx.data();
-    C.stype = 0;
-    C.itype = CHOLMOD_INT;
-    C.xtype = CHOLMOD_REAL;
-    C.dtype = CHOLMOD_DOUBLE;
-    C.sorted = 1;
-    C.packed = 1;
-    cholmod_common* c = chol.common();
-    const int ok = cholmod_updown(update ? 1 : 0, &C, chol.factor(), c);
-    return ok && c->status == CHOLMOD_OK;
-  }
-
   /// Brings L to H after a change already made to H (ups added, downs taken out, rows deleted,
   /// new variables' rows given): CHOLMOD's update (ups), row deletions, downdate (downs and the
   /// identity of the new rows), or a numeric refactorization when the cost model says that is
@@ -638,15 +600,12 @@ struct IncrementalFactorization::State {
         down_x.push_back(1.0);
         down_p.push_back(static_cast<int>(down_i.size()));
       }
-      ok = updown(true, up_p, up_i, up_x);
-      cholmod_common* c = chol.common();
+      ok = chol.updateInPlace(true, up_p, up_i, up_x);
       for (int r : deleted_rows) {
         if (!ok) break;
-        ok = cholmod_rowdel(static_cast<std::size_t>(r), nullptr, chol.factor(), c) &&
-             c->status == CHOLMOD_OK;
+        ok = chol.deleteRowInPlace(r);
       }
-      if (ok) ok = updown(false, down_p, down_i, down_x);
-      chol.modified();
+      if (ok) ok = chol.updateInPlace(false, down_p, down_i, down_x);
       // Downdates and row deletions keep L's pattern (entries become zeros): taken out before
       // the next query that walks many paths (prune()).
       if (!downs.empty() || !deleted_rows.empty()) stale_pattern = true;

@@ -14,18 +14,20 @@ namespace budget_slam::graph {
 namespace {
 using SpMat = Eigen::SparseMatrix<double>;
 
-/// A CHOLMOD view (no copy) of a square compressed-column matrix of which only the lower triangle
-/// is read: `p`, `i` as CHOLMOD's column pointers and row indices, `x` the values (null for a
-/// pattern, CHOLMOD_PATTERN).
-cholmod_sparse lowerTriangleView(std::size_t n, std::size_t nonzeros, const int* p, const int* i,
-                                 const double* x) {
+/// A CHOLMOD view (no copy) of a compressed-column matrix, nrow x ncol: `p`, `i` as CHOLMOD's
+/// column pointers and row indices (rows ascending), `x` the values (null for a pattern,
+/// CHOLMOD_PATTERN); `stype` -1 / 1: symmetric with only the lower / upper triangle read, 0:
+/// unsymmetric.
+cholmod_sparse compressedView(std::size_t nrow, std::size_t ncol, std::size_t nonzeros,
+                              const int* p, const int* i, const double* x, int stype) {
   cholmod_sparse A{};
-  A.nrow = A.ncol = n;
+  A.nrow = nrow;
+  A.ncol = ncol;
   A.nzmax = nonzeros;
   A.p = const_cast<int*>(p);
   A.i = const_cast<int*>(i);
   A.x = const_cast<double*>(x);
-  A.stype = -1;
+  A.stype = stype;
   A.itype = CHOLMOD_INT;
   A.xtype = x ? CHOLMOD_REAL : CHOLMOD_PATTERN;
   A.dtype = CHOLMOD_DOUBLE;
@@ -34,21 +36,15 @@ cholmod_sparse lowerTriangleView(std::size_t n, std::size_t nonzeros, const int*
   return A;
 }
 
+cholmod_sparse lowerTriangleView(std::size_t n, std::size_t nonzeros, const int* p, const int* i,
+                                 const double* x) {
+  return compressedView(n, n, nonzeros, p, i, x, -1);
+}
+
 /// An upper triangle as a CHOLMOD matrix (a view, no copy).
 cholmod_sparse upperView(const SparseCholesky::UpperTriangle& H) {
-  cholmod_sparse A{};
-  A.nrow = A.ncol = static_cast<std::size_t>(H.n);
-  A.nzmax = static_cast<std::size_t>(H.p[H.n]);
-  A.p = const_cast<int*>(H.p);
-  A.i = const_cast<int*>(H.i);
-  A.x = const_cast<double*>(H.x);
-  A.stype = 1;
-  A.itype = CHOLMOD_INT;
-  A.xtype = CHOLMOD_REAL;
-  A.dtype = CHOLMOD_DOUBLE;
-  A.sorted = 1;
-  A.packed = 1;
-  return A;
+  const std::size_t n = static_cast<std::size_t>(H.n);
+  return compressedView(n, n, static_cast<std::size_t>(H.p[H.n]), H.p, H.i, H.x, 1);
 }
 
 /// H's lower triangle as a CHOLMOD matrix (a view, no copy; H must be compressed).
@@ -533,17 +529,8 @@ std::vector<int> SparseCholesky::orderNodes(int n, const std::vector<int>& p,
     ci.push_back(c);
     cp[c + 1] = static_cast<int>(ci.size());
   }
-  cholmod_sparse A{};
-  A.nrow = A.ncol = static_cast<std::size_t>(n);
-  A.nzmax = ci.size();
-  A.p = cp.data();
-  A.i = ci.data();
-  A.stype = 1;
-  A.itype = CHOLMOD_INT;
-  A.xtype = CHOLMOD_PATTERN;
-  A.dtype = CHOLMOD_DOUBLE;
-  A.sorted = 1;
-  A.packed = 1;
+  cholmod_sparse A = compressedView(static_cast<std::size_t>(n), static_cast<std::size_t>(n),
+                                    ci.size(), cp.data(), ci.data(), nullptr, 1);
   m.c.nmethods = 1;
   m.c.method[0].ordering = CHOLMOD_AMD;
   m.c.postorder = 1;
@@ -560,6 +547,41 @@ std::vector<int> SparseCholesky::orderNodes(int n, const std::vector<int>& p,
 
 bool SparseCholesky::ok() const { return impl_->ok; }
 int SparseCholesky::size() const { return impl_->n; }
+
+bool SparseCholesky::updateInPlace(bool update, const std::vector<int>& p,
+                                   const std::vector<int>& i, const std::vector<double>& x) {
+  Impl& m = *impl_;
+  if (!m.F || m.F->is_super) throw std::logic_error("SparseCholesky: no simplicial factor");
+  const std::size_t ncol = p.empty() ? 0 : p.size() - 1;
+  if (ncol == 0 || i.empty()) return true;
+  cholmod_sparse C = compressedView(static_cast<std::size_t>(m.n), ncol, i.size(), p.data(),
+                                    i.data(), x.data(), 0);
+  m.invalidate();
+  const int ok = cholmod_updown(update ? 1 : 0, &C, m.F, &m.c);
+  m.ok = ok && m.c.status == CHOLMOD_OK;
+  return m.ok;
+}
+
+bool SparseCholesky::deleteRowInPlace(int k) {
+  Impl& m = *impl_;
+  if (!m.F || m.F->is_super) throw std::logic_error("SparseCholesky: no simplicial factor");
+  if (k < 0 || k >= m.n) throw std::out_of_range("SparseCholesky: row out of range");
+  m.invalidate();
+  const int ok = cholmod_rowdel(static_cast<std::size_t>(k), nullptr, m.F, &m.c);
+  m.ok = ok && m.c.status == CHOLMOD_OK;
+  return m.ok;
+}
+
+bool SparseCholesky::pruneToPattern(const UpperTriangle& H) {
+  Impl& m = *impl_;
+  if (!m.F || m.F->is_super) throw std::logic_error("SparseCholesky: no simplicial factor");
+  cholmod_sparse A = upperView(H);
+  m.invalidate();
+  const int ok = cholmod_resymbol(&A, nullptr, 0, /*pack=*/0, m.F, &m.c);
+  return ok && m.c.status == CHOLMOD_OK;
+}
+
+double SparseCholesky::lastFactorizationFlops() const { return impl_->c.rowfacfl; }
 
 cholmod_factor_struct* SparseCholesky::factor() { return impl_->F; }
 cholmod_common_struct* SparseCholesky::common() { return &impl_->c; }

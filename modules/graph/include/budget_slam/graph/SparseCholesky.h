@@ -119,9 +119,20 @@ class SparseCholesky {
   std::vector<Eigen::MatrixXd> inverseDiagonalBlocks(
       const std::vector<std::vector<int>>& groups) const;
 
-  // -- in-place modification (IncrementalFactorization) --
-  /// CHOLMOD's factor and workspace. Valid after factorizeInOrder(); whoever modifies the factor
-  /// calls modified() before the next query.
+  // -- in-place modification of a factorizeInOrder() factor (IncrementalFactorization) --
+  /// L D L^T +- C C^T (CHOLMOD's updown) for C given by columns: column j's rows
+  /// i[p[j] .. p[j+1]), ascending, in the factor's order (it applies no permutation), values x.
+  /// False when a downdate loses definiteness (the factor is then to be refactorized).
+  bool updateInPlace(bool update, const std::vector<int>& p, const std::vector<int>& i,
+                     const std::vector<double>& x);
+  /// Row and column k become those of the identity (CHOLMOD's rowdel). False on failure.
+  bool deleteRowInPlace(int k);
+  /// L's pattern cut to that of a factorization of H (CHOLMOD's resymbol): the entries that
+  /// downdates and row deletions leave as zeros go. No flops. False on failure.
+  bool pruneToPattern(const UpperTriangle& H);
+  /// Flops of the last numeric factorization (CHOLMOD's rowfacfl).
+  double lastFactorizationFlops() const;
+  /// CHOLMOD's factor, read-only use (its elimination tree for cost estimates).
   cholmod_factor_struct* factor();
   cholmod_common_struct* common();
   /// The factor's numbers (not its ordering) changed: the query caches are stale.
