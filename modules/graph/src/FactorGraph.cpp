@@ -141,7 +141,7 @@ void FactorGraph::addPose(StepIndex step, double t, const Pose2& x, const Betwee
   n.odo_id = next_factor_id_++;
   n.index = newVariableIndex();
   auto it = poses_.emplace_hint(poses_.end(), step, n);
-  appendToLayout(&it->second, nullptr);
+  appendToLayout(&it->second);
   changed();
   recordVariable(GraphChange::Kind::AddVariable, VariableKey::pose(step), n.index);
   recordAddition(odometryFactor(std::prev(it), it));
@@ -153,12 +153,8 @@ void FactorGraph::addLandmark(LandmarkId id, const Eigen::Vector2d& x) {
   LandmarkNode n;
   n.x = x;
   n.index = newVariableIndex();
-  const bool last = landmarks_.empty() || landmarks_.rbegin()->first < id;
   auto it = landmarks_.emplace(id, n).first;
-  if (last)
-    appendToLayout(nullptr, &it->second);
-  else
-    variablesChanged();
+  insertIntoLayout(&it->second, static_cast<std::size_t>(std::distance(landmarks_.begin(), it)));
   changed();
   recordVariable(GraphChange::Kind::AddVariable, VariableKey::landmark(id), n.index);
 }
@@ -184,9 +180,9 @@ void FactorGraph::removeLandmark(LandmarkId id) {
   }
   if (l->second.prior) recordRemoval(l->second.prior_id);
   const VariableIndex index = l->second.index;
+  removeFromLayout(&l->second);
   landmarks_.erase(l);
   freeVariableIndex(index);
-  variablesChanged();
   changed();
   recordVariable(GraphChange::Kind::RemoveVariable, VariableKey::landmark(id), index);
 }
@@ -266,6 +262,23 @@ std::size_t FactorGraph::factorCount() const {
   return n;
 }
 
+void FactorGraph::removeFromLayout(const LandmarkNode* landmark) {
+  Layout& L = layout_;
+  const bool current = L.version == variables_version_;
+  variablesChanged();
+  if (!current) return;  // rebuilt in full at its next use
+  const auto it = std::find(L.landmarks.begin(), L.landmarks.end(), landmark);
+  if (it == L.landmarks.end()) return;  // not in the layout: rebuilt at its next use
+  const std::size_t k = L.poses.size() + static_cast<std::size_t>(it - L.landmarks.begin());
+  for (auto q = std::next(it); q != L.landmarks.end(); ++q) (*q)->col -= 2;
+  L.landmarks.erase(it);
+  L.starts.erase(L.starts.begin() + static_cast<std::ptrdiff_t>(k));
+  for (std::size_t j = k; j < L.starts.size(); ++j) L.starts[j] -= 2;
+  L.indices.erase(L.indices.begin() + static_cast<std::ptrdiff_t>(k));
+  L.dim -= 2;
+  L.version = variables_version_;
+}
+
 VariableIndex FactorGraph::newVariableIndex() {
   if (free_indices_.empty()) return next_variable_index_++;
   const VariableIndex v = free_indices_.back();
@@ -275,32 +288,43 @@ VariableIndex FactorGraph::newVariableIndex() {
 
 void FactorGraph::freeVariableIndex(VariableIndex v) { free_indices_.push_back(v); }
 
-void FactorGraph::appendToLayout(PoseNode* pose, LandmarkNode* landmark) {
+void FactorGraph::appendToLayout(PoseNode* pose) {
   Layout& L = layout_;
   const bool current = L.version == variables_version_;
   variablesChanged();
   if (!current) return;  // rebuilt in full at its next use
-  // A pose after the last one or a landmark after the last id: the columns of the variables
-  // before it stay, so the layout grows in place (a pose shifts the landmarks' columns by 3).
-  if (pose) {
-    const std::size_t k = L.poses.size();  // its place among the variables: after the poses
-    pose->col = static_cast<int>(3 * k);
-    L.poses.push_back(pose);
-    for (LandmarkNode* l : L.landmarks) l->col += 3;
-    L.starts.insert(L.starts.begin() + static_cast<std::ptrdiff_t>(k), pose->col);
-    for (std::size_t j = k + 1; j < L.starts.size(); ++j) L.starts[j] += 3;
-    L.indices.insert(L.indices.begin() + static_cast<std::ptrdiff_t>(k), pose->index);
-    const StepIndex step = poses_.rbegin()->first;
-    L.by_step.resize(step - L.first_step + 1, nullptr);
-    L.by_step.back() = pose;
-    L.dim += 3;
-  } else {
-    landmark->col = L.dim;
-    L.landmarks.push_back(landmark);
-    L.starts.push_back(L.dim + 2);
-    L.indices.push_back(landmark->index);
-    L.dim += 2;
-  }
+  // A pose after the last one: the columns of the poses before it stay, so the layout grows in
+  // place (the landmarks' columns move up by 3).
+  const std::size_t k = L.poses.size();  // its place among the variables: after the poses
+  pose->col = static_cast<int>(3 * k);
+  L.poses.push_back(pose);
+  for (LandmarkNode* l : L.landmarks) l->col += 3;
+  L.starts.insert(L.starts.begin() + static_cast<std::ptrdiff_t>(k), pose->col);
+  for (std::size_t j = k + 1; j < L.starts.size(); ++j) L.starts[j] += 3;
+  L.indices.insert(L.indices.begin() + static_cast<std::ptrdiff_t>(k), pose->index);
+  const StepIndex step = poses_.rbegin()->first;
+  L.by_step.resize(step - L.first_step + 1, nullptr);
+  L.by_step.back() = pose;
+  L.dim += 3;
+  L.version = variables_version_;
+}
+
+void FactorGraph::insertIntoLayout(LandmarkNode* landmark, std::size_t position) {
+  Layout& L = layout_;
+  const bool current = L.version == variables_version_;
+  variablesChanged();
+  if (!current || position > L.landmarks.size()) return;  // rebuilt in full at its next use
+  // The landmarks are in id order after the poses: the new one takes the columns of the one it
+  // comes before, and those after it move up by 2.
+  const auto at = L.landmarks.begin() + static_cast<std::ptrdiff_t>(position);
+  landmark->col = at == L.landmarks.end() ? L.dim : (*at)->col;
+  for (auto q = at; q != L.landmarks.end(); ++q) (*q)->col += 2;
+  L.landmarks.insert(at, landmark);
+  const std::size_t k = L.poses.size() + position;
+  L.starts.insert(L.starts.begin() + static_cast<std::ptrdiff_t>(k), landmark->col);
+  for (std::size_t j = k + 1; j < L.starts.size(); ++j) L.starts[j] += 2;
+  L.indices.insert(L.indices.begin() + static_cast<std::ptrdiff_t>(k), landmark->index);
+  L.dim += 2;
   L.version = variables_version_;
 }
 

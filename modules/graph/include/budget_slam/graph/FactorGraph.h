@@ -200,9 +200,17 @@ class FactorGraph {
   void changed();
   /// The set of variables (and so the column layout) changed.
   void variablesChanged() { ++variables_version_; }
-  /// A pose just appended after the last one, or a landmark after the last id: the layout grows
-  /// in place when it is current (O(landmarks), not a rebuild). Marks the variables changed.
-  void appendToLayout(PoseNode* pose, LandmarkNode* landmark);
+  /// A pose just appended after the last one: the layout grows in place when it is current
+  /// (O(variables) in contiguous arrays, not a walk of the maps). Marks the variables changed.
+  void appendToLayout(PoseNode* pose);
+  /// A landmark just added, `position` landmarks before it in id order: the layout grows in place
+  /// when it is current, as for a pose. Marks the variables changed.
+  void insertIntoLayout(LandmarkNode* landmark, std::size_t position);
+  /// A landmark about to be erased: when the layout is current it shrinks in place (the
+  /// landmarks after it move 2 columns down; O(variables) in contiguous arrays, no walk of the
+  /// maps), so a capped map's evictions do not rebuild the layout of a long trajectory. Marks the
+  /// variables changed.
+  void removeFromLayout(const LandmarkNode* landmark);
   VariableIndex newVariableIndex();
   void freeVariableIndex(VariableIndex v);
   void valuesChanged() {
