@@ -12,14 +12,15 @@
 #include <sstream>
 
 #include "BuiltinBackends.h"
+#include "CommandLineFlags.h"
 #include "Interrupt.h"
-#include "ProgressBar.h"
 #include "RunConfig.h"
 #include "RunDriver.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniText.h"
+#include "budget_slam/core/Progress.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
@@ -146,7 +147,23 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   cli_.command = command;
   const bool compare = cli_.command == "compare";
 
-  CapturedUsage usage;  // outlives cmd, which only borrows it
+  CapturedUsage usage(  // outlives cmd, which only borrows it
+      compare
+          ? "   budget-slam compare -c config.ini -o CMP --cap 50\n"
+            "      every reducer and the unreduced reference on config.ini's rawlog:\n"
+            "      CMP/comparison.md, comparison.csv, comparison.png, a folder a run\n"
+            "   budget-slam compare -c config.ini -i rawlogs/kf-slam_demo.rawlog --reducers "
+            "random,mi --cap 20 --seeds 1:5 -o CMP5\n"
+            "      each reducer with seeds 1 to 5, and the mean and std over the seeds\n"
+            "   budget-slam compare -c config.ini -i rawlogs/rooms.rawlog --cap 50 --relocalize "
+            "rawlogs/rooms_revisit.rawlog -o CMPR\n"
+            "      every final map also localizes another traversal of the same place\n"
+          : "   budget-slam run -c config.ini -o OUT\n"
+            "      config.ini's rawlog, reducer and cap\n"
+            "   budget-slam run -c config.ini -i rawlogs/kf-slam_demo.rawlog -o OUT2 --reducer "
+            "mi --cap 20 --set LandmarkBudget.seed=3\n"
+            "   budget-slam run -c config.ini -i rawlogs/victoria_park.rawlog --backend graph "
+            "--max-steps 1000 -o OUT3\n");
   TCLAP::CmdLine cmd(compare ? "Runs every reducer and the unreduced reference on one rawlog and "
                                "compares them"
                              : "Runs landmark SLAM on a rawlog under a landmark budget",
@@ -163,10 +180,25 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
                                       "output folder; overrides "
                                       "[MappingApplication] logOutput_dir",
                                       false, "", "dir", cmd);
-  TCLAP::ValueArg<std::string> reducer("", "reducer", "reducer; overrides [LandmarkBudget] reducer",
-                                       false, "", "name", cmd);
-  TCLAP::ValueArg<std::string> reducers("", "reducers", "comma-separated reducers to compare",
-                                        false, "", "a,b,c");
+  TCLAP::ValueArg<std::string> reducer(
+      "", "reducer",
+      "reducer, one of " + reducers::builtinReducers().joinedNames(", ") +
+          " (budget-slam --help says what each does); overrides [LandmarkBudget] reducer",
+      false, "", "name");
+  TCLAP::ValueArg<std::string> reducers(
+      "", "reducers",
+      "comma-separated reducers to compare (default: every one but none: " +
+          reducers::builtinReducers().joinedNames(", ") + ")",
+      false, "", "a,b,c");
+  TCLAP::ValueArg<std::string> seeds(
+      "", "seeds",
+      "runs every reducer once a [LandmarkBudget] seed: A:B (A to B), or A,B,C; the table gives "
+      "each run and the mean and std over the seeds",
+      false, "", "A:B");
+  TCLAP::ValueArg<std::string> max_steps(
+      "", "max-steps",
+      "stop after N steps of the rawlog (0: all); overrides [MappingApplication] max_steps", false,
+      "", "N", cmd);
   TCLAP::ValueArg<unsigned> threads(
       "", "threads", "runs at once (default: one a core, at most one a run)", false, 0, "N");
   TCLAP::ValueArg<std::string> relocalize(
@@ -181,8 +213,10 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
       "", "offline-optimum",
       "adds the best place coverage any cap-sized map could give with hindsight (GLPK)");
   if (compare)
-    cmd.add(reducers), cmd.add(threads), cmd.add(relocalize), cmd.add(reference_trajectory),
-        cmd.add(offline_optimum);
+    cmd.add(reducers), cmd.add(seeds), cmd.add(threads), cmd.add(relocalize),
+        cmd.add(reference_trajectory), cmd.add(offline_optimum);
+  else
+    cmd.add(reducer);
   TCLAP::ValueArg<std::string> cap("", "cap",
                                    "landmark cap, or none for no cap (reducer none, mi in "
                                    "objective or incremental mode); overrides [LandmarkBudget] "
@@ -204,6 +238,17 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   try {
     cmd.parse(argv);
   } catch (const TCLAP::ArgException& e) {
+    // The flag of the other command: say which one this command takes.
+    const std::string id = e.argId();
+    if (compare && id.find("--reducer") != std::string::npos &&
+        id.find("--reducers") == std::string::npos)
+      throw UsageError(
+          "--reducer: compare runs the reducers of --reducers a,b,c (default: every one); see "
+          "budget-slam compare --help");
+    if (!compare && id.find("--reducers") != std::string::npos)
+      throw UsageError(
+          "--reducers: run takes one --reducer NAME (budget-slam compare runs several); see "
+          "budget-slam run --help");
     throw UsageError(describe(e) + "; see budget-slam " + cli_.command + " --help");
   } catch (const TCLAP::ExitException&) {
     help_ = usage.text;  // --help or --version
@@ -225,6 +270,10 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   cli_.force = force.getValue();
   // Flag values are part of the command line: a bad one exits 2 before anything is written.
   try {
+    refuseEmptyValues({&config, &rawlog, &outdir, &reducer, &reducers, &seeds, &max_steps, &cap,
+                       &backend, &relocalize, &reference_trajectory});
+    if (max_steps.isSet()) cli_.max_steps = parseMaxSteps(max_steps.getValue());
+    if (seeds.isSet()) cli_.seeds = parseSeeds(seeds.getValue());
     checkFlagValues(cli_);
   } catch (const ConfigError& e) {
     throw UsageError(e.what() + std::string("; see budget-slam ") + cli_.command + " --help");
@@ -234,7 +283,9 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
 
 void BudgetSlamApp::loadConfigFile() {
   config_text_.reset();
+  config_defaulted_ = false;
   if (!cli_.config.empty() || params.getContent().empty()) {
+    config_defaulted_ = cli_.config.empty();
     const std::string path = cli_.config.empty() ? "config.ini" : cli_.config;
     // Missing, a folder or over 1 MiB: the file cannot be read, a command-line error (exit 2).
     config_text_ = readIniFile(path, "config file '" + path + "'");
@@ -249,6 +300,16 @@ void BudgetSlamApp::loadConfig() {
   config_text_.reset();
 }
 
+ProgressSettings BudgetSlamApp::progressSettings(const report::ReportOptions& report) const {
+  ProgressSettings s;
+  if (!cli_.quiet)
+    s.style = err == &std::cerr && stderrIsTerminal() ? ProgressSettings::Style::Bar
+                                                      : ProgressSettings::Style::Lines;
+  s.line_every_s = report.progress_every_s;
+  s.callback = on_progress;
+  return s;
+}
+
 int BudgetSlamApp::run() {
   if (!out) out = &std::cout;
   if (!err) err = &std::cerr;
@@ -256,6 +317,9 @@ int BudgetSlamApp::run() {
     *out << help_ << std::flush;
     return kExitOk;
   }
+  // Without -c the settings come from the current folder's config.ini: never silently.
+  if (config_defaulted_ && !cli_.quiet)
+    *err << "budget-slam: note: no -c given: using ./config.ini" << std::endl;
   InterruptGuard guard;
   InterruptGuard::clear();
   if (cli_.command == "localize") return runLocalize();
@@ -316,6 +380,7 @@ int BudgetSlamApp::runRun() {
     return fail(why, "failed");
   }
 
+  for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
   given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", config_label_}};
   try {
     folder.emplace(rc.outdir, cli_.force);
@@ -342,12 +407,12 @@ int BudgetSlamApp::runRun() {
     dataset::RawlogReader reader(rc.rawlog);
     // A signal ends the reading within one read of the file, even inside a large object.
     reader.setStopCheck([] { return InterruptGuard::requested(); });
-    ProgressBar bar(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
     const std::size_t limit = rc.mapping.max_steps;
+    ProgressReporter progress(*err, "run", progressSettings(rc.report));
     while (limit == 0 || steps_read < limit) {
       auto step = reader.next();
       if (!step && reader.stopped()) {
-        bar.done();
+        progress.finish(false);
         return fail(std::string("interrupted by ") + InterruptGuard::what() +
                         " while reading step " + std::to_string(reader.stepsRead()),
                     "interrupted");
@@ -355,16 +420,17 @@ int BudgetSlamApp::runRun() {
       if (!step) break;
       steps_read = reader.stepsRead();
       driver->process(*step);
-      bar.update(reader.progress(), "step " + std::to_string(step->index) + ", " +
-                                        std::to_string(driver->backend().landmarkCount()) +
-                                        " landmarks");
+      // With --max-steps the share of the steps to do, else of the rawlog's bytes read.
+      progress.update(limit ? double(steps_read) / double(limit) : reader.progress(), steps_read,
+                      limit,
+                      std::to_string(driver->backend().landmarkCount()) + " landmarks in the map");
       if (on_step) on_step(step->index);
       if (InterruptGuard::requested()) {
-        bar.done();
+        progress.finish(false);
         return fail(interrupted(""), "interrupted");
       }
     }
-    bar.done();
+    progress.finish(true);
     if (reader.bearingRangeSteps() == 0)
       throw InputError("rawlog '" + rc.rawlog + "' holds no CObservationBearingRange (it holds: " +
                        joined(reader.observationClasses()) + ")");
@@ -388,17 +454,20 @@ int BudgetSlamApp::runRun() {
            << ", reducer " << rc.budget.reducer;
       if (driver->budget().capped()) *out << ", cap " << *rc.budget.max_landmarks;
       *out << ": " << driver->backend().landmarkCount() << " landmarks kept, "
-           << driver->evictions() << " dropped\n"
+           << driver->evictions() << " dropped";
+      if (driver->refused()) *out << ", " << driver->refused() << " newcomers refused";
+      *out << "\n"
            << "final pose x=" << fixed(pose.x, 3) << " m y=" << fixed(pose.y, 3)
            << " m yaw=" << fixed(pose.phi * 180 / M_PI, 2) << " deg";
       if (result.ground_truth) {
         const auto val = [](double v, int d) {
           return std::isfinite(v) ? fixed(v, d) : std::string("n/a");
         };
-        *out << "; vs ground truth: trajectory RMSE "
-             << val(result.ground_truth->trajectory_rmse, 3) << " m, landmark RMSE "
-             << val(result.ground_truth->landmark_rmse, 3) << " m, mean NEES "
-             << val(result.nees.mean, 2);
+        const auto& gt = *result.ground_truth;
+        *out << "\nvs ground truth: ATE " << val(gt.trajectory_rmse_aligned, 3) << " m aligned ("
+             << val(gt.trajectory_rmse, 3) << " m in the start frame), RPE " << val(gt.rpe.rmse, 3)
+             << " m per 10 m, landmark RMSE " << val(gt.landmark_rmse_aligned, 3)
+             << " m aligned, mean NEES " << val(result.nees.mean, 2);
       }
       *out << "\noutputs in " << folder->path() << "/ (" << fixed(driver->totalStepSeconds(), 2)
            << " s of SLAM)\n";

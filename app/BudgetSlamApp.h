@@ -1,6 +1,7 @@
 #pragma once
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <ostream>
@@ -9,7 +10,9 @@
 
 #include "MappingOptions.h"
 #include "budget_slam/core/Ids.h"
+#include "budget_slam/core/Progress.h"
 #include "budget_slam/reducers/BudgetOptions.h"
+#include "budget_slam/report/ReportOptions.h"
 
 namespace budget_slam::app {
 
@@ -18,16 +21,18 @@ struct CommandLine {
   std::string command;  ///< run | compare | localize
   std::string config;   ///< -c; "" = keep params as set by the caller, or ./config.ini
   std::string rawlog, outdir, reducer, backend;
-  std::optional<std::string> cap;     ///< --cap as given: a number >= 1, or none
-  std::vector<std::string> sets;      ///< --set Section.key=value
-  std::vector<std::string> reducers;  ///< compare: --reducers a,b,c
-  unsigned threads = 0;               ///< compare: --threads, 0 = one a core
-  bool offline_optimum = false;       ///< compare: --offline-optimum
+  std::optional<std::string> cap;        ///< --cap as given: a number >= 1, or none
+  std::vector<std::string> sets;         ///< --set Section.key=value
+  std::vector<std::string> reducers;     ///< compare: --reducers a,b,c
+  unsigned threads = 0;                  ///< compare: --threads, 0 = one a core
+  bool offline_optimum = false;          ///< compare: --offline-optimum
+  std::optional<std::size_t> max_steps;  ///< --max-steps (0 = all)
+  std::vector<std::uint64_t> seeds;      ///< compare: --seeds, empty = the ini's seed
   bool quiet = false, force = false;
-  std::string map_dir;                   ///< localize: --map RUN_DIR
-  std::string start_pose;                ///< localize: --start-pose x,y,yaw_deg ("" = derive)
-  std::string reference_trajectory;      ///< localize, compare: --reference-trajectory
-  std::vector<std::string> relocalize;   ///< compare: --relocalize a.rawlog,b.rawlog
+  std::string map_dir;                  ///< localize: --map RUN_DIR
+  std::string start_pose;               ///< localize: --start-pose x,y,yaw_deg ("" = derive)
+  std::string reference_trajectory;     ///< localize, compare: --reference-trajectory
+  std::vector<std::string> relocalize;  ///< compare: --relocalize a.rawlog,b.rawlog
 };
 
 /// The budget-slam application: a thin main() calls initialize() and run(); tests drive it with an
@@ -56,6 +61,9 @@ class BudgetSlamApp {
   /// graph's final solve, the outputs); tests use it to press Ctrl-C there. compare calls it once
   /// a run, from its worker threads.
   std::function<void()> on_end_phase;
+  /// Progress of run, compare and localize (Python's progress=), whatever stderr shows; called
+  /// from the calling thread, at most 5 times a second and once at the end; must not throw.
+  ProgressCallback on_progress;
   const CommandLine& commandLine() const { return cli_; }
 
  private:
@@ -71,9 +79,14 @@ class BudgetSlamApp {
   /// 1 MiB is a command-line error.
   void loadConfigFile();
 
+  /// Where progress goes: a bar on a terminal, lines every [Report] progress_every_s elsewhere,
+  /// nothing with --quiet; and on_progress.
+  ProgressSettings progressSettings(const report::ReportOptions& report) const;
+
   CommandLine cli_;
   std::string config_label_ = "config";
   std::optional<std::string> config_text_;  ///< the -c file, until loadConfig()
+  bool config_defaulted_ = false;           ///< no -c: ./config.ini was read
   std::string help_;                        ///< usage or version text to print instead of running
 };
 

@@ -2,6 +2,7 @@
 // parallel threads, then every run measured against the reference and the ground truth
 // (docs/ARCHITECTURE.md "Data flow", docs/OUTPUTS.md).
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <thread>
@@ -10,13 +11,14 @@
 #include "CompareRuns.h"
 #include "Interrupt.h"
 #include "OfflineOptimum.h"
-#include "ProgressBar.h"
+#include "ProcessProbes.h"
 #include "Relocalize.h"
 #include "RunConfig.h"
 #include "RunDriver.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniText.h"
+#include "budget_slam/core/Progress.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
@@ -37,9 +39,16 @@ using Runs = std::vector<std::unique_ptr<CompareRun>>;
 
 nlohmann::json toJson(const metrics::ReferenceMetrics& m) {
   const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
-  return {{"poses", m.poses},          {"landmarks", m.landmarks},  {"ate_m", num(m.ate)},
-          {"ale_m", num(m.ale)},       {"are_deg", num(m.are_deg)}, {"ud_pct", num(m.ud_percent)},
-          {"eig_min", num(m.eig_min)}, {"eig_max", num(m.eig_max)}, {"eig_rows", m.eig_rows}};
+  return {{"poses", m.poses},
+          {"landmarks", m.landmarks},
+          {"ate_m", num(m.ate)},
+          {"ale_m", num(m.ale)},
+          {"are_deg", num(m.are_deg)},
+          {"ud_pct", num(m.ud_percent)},
+          {"ud_std_factor", num(m.ud_std_factor)},
+          {"eig_min", num(m.eig_min)},
+          {"eig_max", num(m.eig_max)},
+          {"eig_rows", m.eig_rows}};
 }
 
 /// What summary.json holds of a number: a non-finite value is null there, missing in the table.
@@ -70,7 +79,7 @@ struct CompareOutcome {
 /// The rawlog's steps, read once for every driver (at most `limit`, 0 = all); nullopt when a
 /// stop request came while reading. Throws InputError when no step has a bearing-range reading.
 std::optional<std::vector<Step>> readSteps(const std::string& rawlog, std::size_t limit,
-                                           ProgressBar& reading) {
+                                           ProgressReporter& reading) {
   std::vector<Step> steps;
   dataset::RawlogReader reader(rawlog);
   reader.setStopCheck([] { return InterruptGuard::requested(); });
@@ -78,37 +87,50 @@ std::optional<std::vector<Step>> readSteps(const std::string& rawlog, std::size_
     auto s = reader.next();
     if (s) {
       steps.push_back(std::move(*s));
-      reading.update(reader.progress(), "reading step " + std::to_string(steps.size()));
+      reading.update(limit ? double(steps.size()) / double(limit) : reader.progress(), steps.size(),
+                     limit, "");
     } else if (!reader.stopped()) {
       break;
     }
     if (InterruptGuard::requested()) {
-      reading.done();
+      reading.finish(false);
       return std::nullopt;
     }
   }
-  reading.done();
+  reading.finish(true);
   if (reader.bearingRangeSteps() == 0)
     throw InputError("rawlog '" + rawlog + "' holds no CObservationBearingRange");
   return steps;
 }
 
-/// The reference run (reducer none) and one run a reducer of `names`, each with its folder under
-/// `top` and its config_used.ini.
+/// The reference run (reducer none) and one run a reducer of `names` (with `seeds`: one a reducer
+/// and seed, named <reducer>/seed<S>), each with its folder under `top` and its config_used.ini.
+/// The reference drops nothing, so no seed changes it: it runs once.
 Runs makeRuns(const RunConfig& rc, const std::vector<std::string>& names,
-              const report::OutputFolder& top, bool force,
+              const std::vector<std::uint64_t>& seeds, const report::OutputFolder& top, bool force,
               const std::shared_ptr<dataset::GroundTruth>& truth) {
   Runs runs;
-  std::vector<std::string> all = {kReference};
-  all.insert(all.end(), names.begin(), names.end());
-  for (const auto& name : all) {
+  struct Planned {
+    std::string name, reducer;
+    std::optional<std::uint64_t> seed;
+  };
+  std::vector<Planned> all = {{kReference, "none", std::nullopt}};
+  for (const auto& n : names) {
+    if (seeds.empty()) all.push_back({n, n, std::nullopt});
+    for (const auto s : seeds) all.push_back({n + "/seed" + std::to_string(s), n, s});
+  }
+  for (const auto& [name, reducer, seed] : all) {
     auto run = std::make_unique<CompareRun>();
     run->name = name;
     mrpt::config::CConfigFileMemory ini;
     copyIni(rc.ini, ini);  // no second ${...} expansion
     reducers::BudgetOptions budget = rc.budget;
-    budget.reducer = name == kReference ? "none" : name;
+    budget.reducer = reducer;
     ini.write(reducers::BudgetOptions::kSection, "reducer", budget.reducer);
+    if (seed) {
+      budget.seed = *seed;
+      ini.write(reducers::BudgetOptions::kSection, "seed", std::to_string(*seed));
+    }
     report::OutputFolder folder(top.file(name), force);
     report::writeFileAtomically(folder.file("config_used.ini"), ini.getContent());
     run->driver = std::make_unique<RunDriver>(ini, rc.mapping.backend, budget, folder, truth);
@@ -157,18 +179,26 @@ report::ComparisonRow comparisonRow(const CompareRun& r, const metrics::Referenc
   row.backend = p.backend().name();
   row.status = r.status;
   row.cap = p.budget().capped() ? static_cast<long long>(*p.budget().options().max_landmarks) : -1;
+  row.seed = static_cast<long long>(p.budget().options().seed);
   row.landmarks = p.backend().landmarkCount();
   row.poses = p.backend().poseCount();
   if (ref_landmarks)
     row.landmarks_reduction_pct = 100.0 * (1.0 - double(row.landmarks) / double(ref_landmarks));
   if (ref_poses) row.poses_reduction_pct = 100.0 * (1.0 - double(row.poses) / double(ref_poses));
   row.evictions = p.evictions();
-  row.ate_m = m.ate, row.ale_m = m.ale, row.are_deg = m.are_deg, row.ud_pct = m.ud_percent;
-  row.eig_min = m.eig_min, row.eig_max = m.eig_max;
+  row.refused = p.refused();
+  row.ref_ate_m = m.ate, row.ref_ale_m = m.ale, row.ref_are_deg = m.are_deg;
+  row.ref_ud_pct = m.ud_percent, row.ref_ud_std_factor = m.ud_std_factor;
+  row.ref_eig_min = m.eig_min, row.ref_eig_max = m.eig_max;
   if (r.result && r.result->ground_truth) {
-    row.gt_trajectory_rmse_m = finiteOrNaN(r.result->ground_truth->trajectory_rmse);
-    row.gt_trajectory_max_m = finiteOrNaN(r.result->ground_truth->trajectory_max);
-    row.gt_landmark_rmse_m = finiteOrNaN(r.result->ground_truth->landmark_rmse);
+    // The numbers of the run's summary.json (metrics::groundTruthErrors), not a second computation.
+    const metrics::GroundTruthErrors& gt = *r.result->ground_truth;
+    row.gt_trajectory_rmse_aligned_m = finiteOrNaN(gt.trajectory_rmse_aligned);
+    row.gt_trajectory_rpe_10m_m = finiteOrNaN(gt.rpe.rmse);
+    row.gt_trajectory_rmse_m = finiteOrNaN(gt.trajectory_rmse);
+    row.gt_trajectory_max_m = finiteOrNaN(gt.trajectory_max);
+    row.gt_landmark_rmse_m = finiteOrNaN(gt.landmark_rmse);
+    row.gt_landmark_rmse_aligned_m = finiteOrNaN(gt.landmark_rmse_aligned);
     row.nees_mean = finiteOrNaN(r.result->nees.mean);
   }
   row.time_s = p.totalStepSeconds();
@@ -187,11 +217,21 @@ std::vector<RelocalizationResult> relocalizeMaps(const Runs& runs,
                                                  const CommandLine& cli,
                                                  std::vector<report::ComparisonRow>& rows,
                                                  CompareOutcome& outcome) {
+  // One mapped area for every map (the reference run's path, when it ended ok), so that every
+  // map is scored on the same steps.
+  std::vector<mrpt::math::TPose2D> reference_path;
+  if (runs.front()->status == "ok")
+    for (const auto& p : runs.front()->driver->backend().trajectory())
+      reference_path.push_back(p.pose);
   std::vector<MapOfRun> maps;
   for (const auto& r : runs)
-    if (r->status == "ok")
+    if (r->status == "ok") {
+      std::vector<mrpt::math::TPose2D> own;
+      if (reference_path.empty())
+        for (const auto& p : r->driver->backend().trajectory()) own.push_back(p.pose);
       maps.push_back({r->name, r->driver->folder().path(), r->driver->backend().landmarks(),
-                      r->driver->mapAlignment()});
+                      r->driver->mapAlignment(), reference_path.empty() ? own : reference_path});
+    }
   auto relocalized =
       relocalizeAll(maps, traversals, reference, cli.reference_trajectory, cli.threads, cli.force);
   addRelocalizationColumns(rows, relocalized, kReference);
@@ -232,14 +272,19 @@ std::vector<report::Series> errorSeries(const Runs& runs, const dataset::GroundT
   return out;
 }
 
-/// comparison.png: the landmark count over the steps, and the robot position error against
-/// ground truth (else the difference to the reference run).
-void writeComparisonChart(const std::string& path, const Runs& runs, const std::vector<Step>& steps,
-                          const dataset::GroundTruth* truth) {
+/// comparison.<png|pdf|svg>: the landmark count over the steps (the cap marked), and the robot
+/// position error against ground truth (else the difference to the reference run); the
+/// reference dashed black.
+void writeComparisonChart(const report::OutputFolder& top, const std::string& title,
+                          const Runs& runs, const std::vector<Step>& steps,
+                          const dataset::GroundTruth* truth, const RunConfig& rc) {
   std::vector<report::ChartPanel> panels;
-  report::ChartPanel count{"landmarks in the map", "step", "landmarks", {}, false};
+  report::ChartPanel count{"landmarks in the map", "step", "landmarks", {}, false, {}, true};
+  if (rc.budget.max_landmarks)
+    count.marks.push_back(
+        {double(*rc.budget.max_landmarks), "cap " + std::to_string(*rc.budget.max_landmarks)});
   for (const auto& r : runs) {
-    report::Series s{r->name, {}, {}};
+    report::Series s{r->name, {}, {}, r->name == kReference};
     const auto& counts = r->driver->landmarkCounts();
     for (std::size_t k = 0; k < counts.size(); ++k)
       s.x.push_back(double(steps[k].index)), s.y.push_back(double(counts[k]));
@@ -250,8 +295,14 @@ void writeComparisonChart(const std::string& path, const Runs& runs, const std::
   const auto gt = has_path ? metrics::toEstimateFrame(*truth) : dataset::GroundTruth();
   panels.push_back({has_path ? "robot position error against ground truth (online estimate)"
                              : "robot position difference to the reference run (online estimate)",
-                    "step", "m", errorSeries(runs, has_path ? &gt : nullptr, steps.size()), false});
-  report::writeChartPng(path, panels);
+                    "step",
+                    "m",
+                    errorSeries(runs, has_path ? &gt : nullptr, steps.size()),
+                    false,
+                    {}});
+  for (auto& s : panels.back().series) s.reference = s.name == kReference;
+  for (const auto format : rc.report.figure_formats)
+    report::writeChart(top.file(report::figureFile("comparison", format)), title, panels, format);
 }
 
 /// --offline-optimum: offline_optimum.csv, and its table appended to comparison.md; returns the
@@ -306,6 +357,7 @@ int BudgetSlamApp::runCompare() {
       }
     return fail(e.what());
   }
+  for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
   metrics::MetricsOptions metric_options;
   try {
     metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);
@@ -317,7 +369,6 @@ int BudgetSlamApp::runCompare() {
     *err << "budget-slam: note: " << top->path() << " held an earlier run; its files were moved to "
          << top->earlierRun() << "/" << std::endl;
 
-  const bool show_progress = !cli_.quiet && err == &std::cerr && stderrIsTerminal();
   Runs runs;
   std::shared_ptr<dataset::GroundTruth> truth;
   std::vector<Step> steps;
@@ -330,7 +381,7 @@ int BudgetSlamApp::runCompare() {
     report::writeFileAtomically(top->file("config_used.ini"), rc.ini.getContent());
     truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
-    ProgressBar reading(*err, show_progress);
+    ProgressReporter reading(*err, "reading the rawlog", progressSettings(rc.report));
     auto read = readSteps(rc.rawlog, rc.mapping.max_steps, reading);
     if (!read) {
       *err << "budget-slam: interrupted by " << InterruptGuard::what()
@@ -340,7 +391,7 @@ int BudgetSlamApp::runCompare() {
       return 130;
     }
     steps = std::move(*read);
-    runs = makeRuns(rc, names, *top, cli_.force, truth);
+    runs = makeRuns(rc, names, cli_.seeds, *top, cli_.force, truth);
   } catch (const Error& e) {
     return fail(e.what());
   } catch (const std::exception& e) {
@@ -348,11 +399,11 @@ int BudgetSlamApp::runCompare() {
   }
 
   // One thread a core, each taking whole runs; every run's outputs are written whatever its end.
-  const std::size_t wanted = cli_.threads ? cli_.threads : std::thread::hardware_concurrency();
+  const std::size_t wanted = cli_.threads ? cli_.threads : availableCpus();
   const std::size_t threads = std::max<std::size_t>(1, std::min<std::size_t>(wanted, runs.size()));
   {
-    ProgressBar bar(*err, show_progress);
-    runInThreads(runs, steps, threads, on_end_phase, bar);
+    ProgressReporter progress(*err, "compare", progressSettings(rc.report));
+    runInThreads(runs, steps, threads, on_end_phase, progress);
   }
 
   // Metrics against the reference, then every run's files.
@@ -390,13 +441,25 @@ int BudgetSlamApp::runCompare() {
   try {
     report::writeComparisonCsv(top->file("comparison.csv"), rows);
     if (!traversals.empty()) writeRelocalizationCsv(top->file("relocalization.csv"), relocalized);
+    std::string seed_text = "seed " + std::to_string(rc.budget.seed);
+    if (!cli_.seeds.empty()) {
+      const bool range = cli_.seeds.back() - cli_.seeds.front() + 1 == cli_.seeds.size();
+      seed_text = cli_.seeds.size() == 1 ? "seed " + std::to_string(cli_.seeds.front())
+                  : range                ? "seeds " + std::to_string(cli_.seeds.front()) + " to " +
+                                std::to_string(cli_.seeds.back())
+                          : std::to_string(cli_.seeds.size()) + " seeds";
+    }
     const std::string title = "budget-slam compare: " + rc.rawlog + ", backend " +
                               rc.mapping.backend + ", cap " +
                               reducers::BudgetOptions::capText(rc.budget.max_landmarks) + ", " +
-                              std::to_string(steps.size()) + " steps";
+                              std::to_string(steps.size()) + " steps, " + seed_text;
     std::string md = report::writeComparisonMarkdown(top->file("comparison.md"), title, rows);
     if (cli_.offline_optimum) md += writeOfflineOptimumFiles(*top, rc, runs, steps);
-    writeComparisonChart(top->file("comparison.png"), runs, steps, truth.get());
+    // The figure names the rawlog by its file name: a paper's caption has no room for a path.
+    std::string figure_title = title.substr(std::string("budget-slam ").size());
+    figure_title.replace(figure_title.find(rc.rawlog), rc.rawlog.size(),
+                         std::filesystem::path(rc.rawlog).filename().string());
+    writeComparisonChart(*top, figure_title, runs, steps, truth.get(), rc);
     const int code = outcome.exit_code;
     nlohmann::json summary = {
         {"status", code == 0 ? "ok" : (code == 130 ? "interrupted" : "failed")},
@@ -404,7 +467,8 @@ int BudgetSlamApp::runCompare() {
         {"rawlog", rc.rawlog},
         {"sidecar_ini", rc.sidecar},
         {"config", config_label_},
-        {"runs", names.size() + 1},
+        {"runs", runs.size()},
+        {"seeds", cli_.seeds},
         {"steps", steps.size()},
         {"threads", threads}};
     if (!top->earlierRun().empty()) summary["earlier_run_moved_to"] = top->earlierRun();

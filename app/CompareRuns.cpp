@@ -47,7 +47,7 @@ std::string interruptedLine(const CompareRun& r, const char* where) {
 
 void runInThreads(std::vector<std::unique_ptr<CompareRun>>& runs, const std::vector<Step>& steps,
                   std::size_t threads, const std::function<void()>& on_end_phase,
-                  ProgressBar& bar) {
+                  ProgressReporter& progress) {
   std::atomic<std::size_t> next{0};
   const auto worker = [&] {
     for (std::size_t i; (i = next++) < runs.size();) runOne(*runs[i], steps, on_end_phase);
@@ -60,13 +60,16 @@ void runInThreads(std::vector<std::unique_ptr<CompareRun>>& runs, const std::vec
       done += r->steps_done;
       finished += r->steps_done == steps.size() || r->status != "ok";
     }
-    bar.update(static_cast<double>(done) / std::max<std::size_t>(1, runs.size() * steps.size()),
-               std::to_string(finished) + "/" + std::to_string(runs.size()) + " runs");
+    const std::size_t total = runs.size() * steps.size();
+    progress.update(static_cast<double>(done) / std::max<std::size_t>(1, total), done, total,
+                    std::to_string(finished) + "/" + std::to_string(runs.size()) + " runs done");
     if (next >= runs.size() && finished == runs.size()) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   for (auto& t : pool) t.join();
-  bar.done();
+  bool all_ok = true;
+  for (const auto& r : runs) all_ok &= r->status == "ok";
+  progress.finish(all_ok);
 }
 
 }  // namespace budget_slam::app

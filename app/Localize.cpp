@@ -7,13 +7,14 @@
 #include <sstream>
 
 #include "BudgetSlamApp.h"
+#include "CommandLineFlags.h"
 #include "Interrupt.h"
 #include "Localizer.h"
 #include "MapFolder.h"
-#include "ProgressBar.h"
 #include "RunConfig.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/Progress.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/report/FileWrite.h"
@@ -58,7 +59,10 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
   cli_ = CommandLine();
   help_.clear();
   cli_.command = "localize";
-  CapturedUsage usage;  // outlives cmd, which only borrows it
+  CapturedUsage usage(  // outlives cmd, which only borrows it
+      "   budget-slam run -c config.ini -i rawlogs/rooms.rawlog -o ROOMS\n"
+      "   budget-slam localize -c config.ini --map ROOMS -i rawlogs/rooms_revisit.rawlog -o LOC\n"
+      "      rooms' final map localizing another traversal of the same rooms\n");
   TCLAP::CmdLine cmd(
       "Localizes a traversal in the final map of an earlier run (its landmarks.csv) with MRPT's "
       "EKF, no landmark added, and measures the error, the share of steps lost and the map's "
@@ -86,6 +90,10 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
       "trajectory.tum (in the map's frame) to measure the error against when the traversal has "
       "no ground truth",
       false, "", "file.tum", cmd);
+  TCLAP::ValueArg<std::string> max_steps(
+      "", "max-steps",
+      "localize the first N steps of the traversal (0: all); overrides [Localization] max_steps",
+      false, "", "N", cmd);
   TCLAP::MultiArg<std::string> sets("", "set", "overrides any ini key", false, "Section.key=value",
                                     cmd);
   TCLAP::SwitchArg quiet("", "quiet", "no progress bar and no summary on stdout", cmd);
@@ -111,11 +119,13 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
   // a bad start pose is part of the command line: exit 2 before anything is written
-  if (!cli_.start_pose.empty()) try {
-      parseStartPose(cli_.start_pose);
-    } catch (const ConfigError& e) {
-      throw UsageError(e.what() + std::string("; see budget-slam localize --help"));
-    }
+  try {
+    refuseEmptyValues({&config, &map, &rawlog, &outdir, &start, &reference, &max_steps});
+    if (max_steps.isSet()) cli_.max_steps = parseMaxSteps(max_steps.getValue());
+    if (!cli_.start_pose.empty()) parseStartPose(cli_.start_pose);
+  } catch (const ConfigError& e) {
+    throw UsageError(e.what() + std::string("; see budget-slam localize --help"));
+  }
   loadConfigFile();
 }
 
@@ -140,6 +150,7 @@ int BudgetSlamApp::runLocalize() {
   try {
     loadConfig();
     rc = loadRunConfig(params, cli_, config_label_);
+    for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
     folder.emplace(rc.outdir, cli_.force);
   } catch (const Error& e) {
     if (!cli_.outdir.empty() && !folder) try {
@@ -163,16 +174,18 @@ int BudgetSlamApp::runLocalize() {
     // The traversal is read whole first: the ground-truth row of a step depends on the count.
     std::vector<Step> steps;
     dataset::RawlogReader reader(rc.rawlog);
-    ProgressBar bar(*err, !cli_.quiet && err == &std::cerr && stderrIsTerminal());
+    ProgressReporter reading(*err, "reading the rawlog", progressSettings(rc.report));
     while (auto s = reader.next()) {
       steps.push_back(std::move(*s));
+      reading.update(reader.progress(), steps.size(), 0, "");
       if (InterruptGuard::requested()) {
-        bar.done();
+        reading.finish(false);
         return fail(
             std::string("interrupted by ") + InterruptGuard::what() + " while reading the rawlog",
             "interrupted");
       }
     }
+    reading.finish(true);
     if (reader.bearingRangeSteps() == 0)
       throw InputError("rawlog '" + rc.rawlog + "' holds no CObservationBearingRange");
     const std::size_t in_rawlog = steps.size();
@@ -185,26 +198,38 @@ int BudgetSlamApp::runLocalize() {
       throw InputError(cli_.map_dir +
                        "/summary.json: no ground_truth.map_alignment (the map was made without "
                        "ground truth); give --start-pose or --reference-trajectory");
-    const auto inputs =
-        resolveLocalization(steps, in_rawlog, truth, map.alignment, given,
-                            cli_.reference_trajectory.empty() ? nullptr : &reference,
-                            cli_.reference_trajectory, rc.localization);
+    auto inputs = resolveLocalization(steps, in_rawlog, truth, map.alignment, given,
+                                      cli_.reference_trajectory.empty() ? nullptr : &reference,
+                                      cli_.reference_trajectory, rc.localization);
+    // A path of one pose is a run without history (keep_history = false): no area to score in.
+    if (map.path.size() >= 2) inputs.mapping_path = map.path;
     localizer =
         std::make_unique<Localizer>(rc.ini, rc.localization, metric_options.reloc_min_landmarks,
                                     *folder, map.landmarks, inputs);
+    ProgressReporter progress(*err, "localize", progressSettings(rc.report));
     for (const auto& s : steps) {
       localizer->process(s);
-      bar.update(static_cast<double>(localizer->stepsDone()) / steps.size(),
-                 "step " + std::to_string(s.index));
+      progress.update(static_cast<double>(localizer->stepsDone()) / steps.size(),
+                      localizer->stepsDone(), steps.size(), "");
       if (on_step) on_step(s.index);
       if (InterruptGuard::requested()) {
-        bar.done();
+        progress.finish(false);
         return fail(std::string("interrupted by ") + InterruptGuard::what() + " after step " +
                         std::to_string(s.index),
                     "interrupted");
       }
     }
-    bar.done();
+    progress.finish(true);
+    // A map of another place (whose sensor IDs may happen to repeat): readings pair with its
+    // landmarks but do not agree with where it has them. Every step is then dead reckoning.
+    const std::size_t paired = localizer->readingsPairedWithMap(),
+                      agree = localizer->readingsConsistentWithMap();
+    if (2 * agree < paired || paired == 0)
+      *err << "budget-slam: warning: " << agree << " of the " << paired << " readings of "
+           << rc.rawlog << " that pair with a landmark of the map in " << cli_.map_dir
+           << " agree with it (innovation within the 99.9% bound): the map and the traversal "
+              "share no place"
+           << std::endl;
     const auto summary = localizer->finish("ok", "",
                                            {{"rawlog", rc.rawlog},
                                             {"sidecar_ini", rc.sidecar},

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
@@ -35,7 +36,7 @@ const std::vector<std::string>& localizationStepsColumns() {
   static const std::vector<std::string> c = {
       "step",  "t",     "x",       "y",        "yaw",   "var_x", "var_y",
       "var_yaw", "map_landmarks_seen", "readings_used", "readings_gated", "error_m", "lost",
-      "step_ms"};
+      "step_ms", "recovered", "scored", "tracked"};
   return c;
 }
 
@@ -99,6 +100,10 @@ LocalizationInputs resolveLocalization(const std::vector<Step>& steps, std::size
   }
   const double sxy = options.start_std_xy, syaw = options.start_std_yaw_deg * kDeg;
   in.start.cov = Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal();
+  const auto scan = std::find_if(steps.begin(), steps.end(), [](const Step& s) { return s.scan; });
+  in.sensor_range = scan != steps.end() ? scan->scan->max_range : 0;
+  in.places = PlaceGrid::fromSensor(options.place_size, options.heading_sectors, in.sensor_range,
+                                    scan != steps.end() ? scan->scan->fov_yaw : 0);
   return in;
 }
 
@@ -110,10 +115,22 @@ Localizer::Localizer(const mrpt::config::CConfigFileBase& ini, const Localizatio
       inputs_(inputs),
       min_landmarks_(min_landmarks),
       steps_csv_(folder_.file("steps.csv"), localizationStepsColumns()),
-      scorer_(options.lost_threshold, min_landmarks) {
+      scorer_(options.lost_threshold, min_landmarks, options.success_xy,
+              options.success_yaw_deg * kDeg),
+      area_(inputs.mapping_path.empty()
+                ? metrics::MappedArea()
+                : metrics::MappedArea(inputs.mapping_path, inputs.places.size(),
+                                      inputs.sensor_range)) {
+  report::ReportOptions report_options;
+  report_options.loadFromConfigFile(ini, report::ReportOptions::kSection);
+  figure_formats_ = report_options.figure_formats;
+  traversal_name_ = std::filesystem::path(ini.read_string("MappingApplication", "rawlog_file", ""))
+                        .filename()
+                        .string();
   kf_.loadOptions(ini);  // MRPT's own sections, as for mapping
   kf_.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
-  kf_.gate_chi2 = options.gate_chi2;
+  kf_.gate = {options.gate_chi2, options.recover_after_steps, options.recovery_window_steps,
+              options.recovery_min_landmarks};
   kf_.initialize(inputs.start, map);
   for (const auto& l : map) map_ids_.insert(l.id);
 }
@@ -122,6 +139,7 @@ void Localizer::process(const Step& step) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t k = steps_done_++;
   std::size_t seen = 0, used = 0, gated = 0;
+  bool recovered = false;
   if (!diverged_at_) {
     try {
       kf_.processStep(step);
@@ -149,20 +167,30 @@ void Localizer::process(const Step& step) {
       }
     seen = in_view.size();
     gated = kf_.lastGated();
+    recovered = kf_.lastRecovered();
+    recoveries_ += recovered;
+    consistent_ += kf_.lastConsistent();
   }
   used_ += used;
   gated_ += gated;
 
   const auto& truth = k < inputs_.truth.poses.size() ? inputs_.truth.poses[k] : std::nullopt;
   const PoseEstimate pose = diverged_at_ ? PoseEstimate() : kf_.robotPose();
-  double error = std::numeric_limits<double>::quiet_NaN(), nees = error;
+  metrics::StepError e;
+  e.map_landmarks = seen;
   if (truth) {
-    error = diverged_at_ ? std::numeric_limits<double>::infinity()
-                         : std::hypot(pose.mean.x - truth->x, pose.mean.y - truth->y);
-    if (!diverged_at_ && inputs_.truth.kind == "ground_truth") nees = metrics::poseNees(pose, *truth);
+    const double inf = std::numeric_limits<double>::infinity();
+    e.error_m = diverged_at_ ? inf : std::hypot(pose.mean.x - truth->x, pose.mean.y - truth->y);
+    e.yaw_error =
+        diverged_at_ ? inf : std::abs(std::remainder(pose.mean.phi - truth->phi, 2 * M_PI));
+    if (!diverged_at_ && inputs_.truth.kind == "ground_truth")
+      e.nees = metrics::poseNees(pose, *truth);
+    e.in_mapped_area = area_.contains(truth->x, truth->y);
+    e.place = inputs_.places.placeOf(*truth);
     truth_rows_.push_back({step.index, step.t, *truth});
   }
-  const bool lost = scorer_.add(error, seen, nees);
+  const double error = e.error_m;
+  const bool lost = scorer_.add(e);
   if (!diverged_at_) {
     trajectory_.push_back({step.index, step.t, pose.mean});
     in_view_.push_back(seen);
@@ -183,7 +211,10 @@ void Localizer::process(const Step& step) {
       .cell(gated)
       .cell(error)
       .cell(truth ? (lost ? 1 : 0) : -1)
-      .cell(1e3 * dt);
+      .cell(1e3 * dt)
+      .cell(recovered ? 1 : 0)
+      .cell(truth ? (e.in_mapped_area ? 1 : 0) : -1)
+      .cell(truth && e.in_mapped_area ? (scorer_.tracked(e.error_m, e.yaw_error) ? 1 : 0) : -1);
   steps_csv_.endRow();
 }
 
@@ -209,7 +240,9 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
   if (!diverged_at_) map.kept = landmarks;
   for (const auto& p : truth_rows_) map.ground_truth_path.push_back(p.pose);
   map.ground_truth_landmarks = inputs_.truth.landmarks;
-  report::writeMapPng(folder_.file("map.png"), map);
+  if (!traversal_name_.empty()) map.title = traversal_name_ + ": " + map.title;
+  for (const auto format : figure_formats_)
+    report::writeMapFigure(folder_.file(report::figureFile("map", format)), map, format);
 
   nlohmann::json j;
   j["status"] = status;
@@ -223,18 +256,32 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
       {"lost_threshold_m", options_.lost_threshold},
       {"error_against", inputs_.truth.kind.empty() ? nlohmann::json() : nlohmann::json(inputs_.truth.kind)},
       {"error_file", inputs_.truth.file},
+      {"success_xy_m", options_.success_xy},
+      {"success_yaw_deg", options_.success_yaw_deg},
+      {"place_size_m", inputs_.places.size()},
+      {"heading_sectors", inputs_.places.sectors()},
+      {"mapped_area", area_.everywhere()
+                          ? "everywhere (no mapping path)"
+                          : "cells of " + std::to_string(area_.cell()) + " m within " +
+                                std::to_string(inputs_.sensor_range) + " m of the mapping path"},
       {"rmse_m", number(s.rmse_m)},
       {"max_m", number(s.max_m)},
       {"lost_pct", number(s.lost_pct)},
       {"steps_compared", s.compared},
+      {"steps_scored", s.scored},
+      {"scored_pct", number(s.scored_pct)},
       {"steps_lost", s.lost},
+      {"success_per_place_pct", number(s.success_pct)},
+      {"places", s.places},
       {"coverage_pct", number(s.coverage_pct)},
       {"mean_landmarks", number(s.mean_landmarks)},
       {"nees_mean", number(s.nees_mean)},
       {"nees_samples", s.nees_samples},
       {"readings_used", used_},
       {"readings_gated", gated_},
+      {"recoveries", recoveries_},
       {"readings_not_in_map", not_in_map_},
+      {"readings_consistent_with_map", consistent_},
       {"diverged_at_step", diverged_at_ ? nlohmann::json(*diverged_at_) : nlohmann::json()},
       {"diverged_why", diverged_why_}};
   j["timings"] = {{"steps_s", total_s_},

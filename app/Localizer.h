@@ -8,13 +8,16 @@
 #include <vector>
 
 #include "LocalizationOptions.h"
+#include "budget_slam/core/PlaceGrid.h"
 #include "budget_slam/core/Step.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/ekf/LocalizationKF2D.h"
 #include "budget_slam/metrics/LocalizationScore.h"
 #include "budget_slam/metrics/MapAlignment.h"
+#include "budget_slam/metrics/MappedArea.h"
 #include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/report/OutputFolder.h"
+#include "budget_slam/report/ReportOptions.h"
 
 namespace budget_slam::app {
 
@@ -32,6 +35,13 @@ struct LocalizationInputs {
   PoseEstimate start;
   std::string start_source;  ///< "--start-pose", "ground truth", "reference trajectory"
   LocalizationTruth truth;
+  /// The places of the success per place and of the mapped area: from [Localization] place_size
+  /// and heading_sectors and the traversal's sensor (its first scan).
+  PlaceGrid places{1.0, 1};
+  double sensor_range = 0;  ///< the traversal's sensor's maximum range [m], 0 when unknown
+  /// The path of the run that made the map, in the map's frame: steps whose truth lies away from
+  /// it are not scored (metrics::MappedArea). Empty: every step is scored.
+  std::vector<mrpt::math::TPose2D> mapping_path;
 };
 
 /// Resolves the start pose and the truth (docs/OUTPUTS.md, "budget-slam localize"):
@@ -39,7 +49,8 @@ struct LocalizationInputs {
 ///    `alignment`; without ground truth (or without an alignment), the `reference` trajectory
 ///    (poses matched by timestamp); else none;
 ///  - start: `given` when set, else the truth's pose before the first step (ground truth: the
-///    path's start row; reference: its last pose before the first step's time).
+///    path's start row; reference: its last pose before the first step's time);
+///  - places: from `options` and the first scan of `steps` (mapping_path is left to the caller).
 /// Throws InputError when there is no start pose, naming what to give.
 /// `steps_in_rawlog` maps ground-truth rows (the traversal may be localized only in part).
 LocalizationInputs resolveLocalization(const std::vector<Step>& steps, std::size_t steps_in_rawlog,
@@ -70,6 +81,10 @@ class Localizer {
 
   metrics::LocalizationScore score() const { return scorer_.score(); }
   std::size_t stepsDone() const { return steps_done_; }
+  /// Readings so far that agree with the map (ekf::LocalizationKF2D::lastConsistent).
+  std::size_t readingsConsistentWithMap() const { return consistent_; }
+  /// Readings so far paired with a landmark of the map (by sensor ID or association), gated or not.
+  std::size_t readingsPairedWithMap() const { return used_ + gated_; }
 
  private:
   report::OutputFolder folder_;
@@ -78,13 +93,17 @@ class Localizer {
   std::size_t min_landmarks_;
   ekf::LocalizationKF2D kf_;
   std::set<LandmarkId> map_ids_;
+  std::vector<report::FigureFormat> figure_formats_;  ///< [Report] figure_format
+  std::string traversal_name_;                        ///< the rawlog's file name, for the title
   report::CsvWriter steps_csv_;
   metrics::LocalizationScorer scorer_;
+  metrics::MappedArea area_;
   std::vector<TrajectoryPoint> trajectory_, truth_rows_;
   std::vector<std::size_t> in_view_;  ///< map landmarks observed, one per trajectory pose
   std::optional<StepIndex> diverged_at_;
   std::string diverged_why_;
-  std::size_t steps_done_ = 0, used_ = 0, gated_ = 0, not_in_map_ = 0;
+  std::size_t steps_done_ = 0, used_ = 0, gated_ = 0, not_in_map_ = 0, recoveries_ = 0,
+              consistent_ = 0;
   double total_s_ = 0;
 };
 

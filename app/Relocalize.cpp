@@ -12,6 +12,7 @@
 
 #include "Interrupt.h"
 #include "Localizer.h"
+#include "ProcessProbes.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
@@ -104,9 +105,10 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
                            "'");
         metrics::MetricsOptions mo;
         mo.loadFromConfigFile(t.rc.ini, metrics::MetricsOptions::kSection);
-        const auto inputs =
+        auto inputs =
             resolveLocalization(t.steps, t.steps_in_rawlog, t.truth, m.alignment, std::nullopt,
                                 reference, reference_file, t.rc.localization);
+        inputs.mapping_path = m.mapping_path;
         report::OutputFolder folder(
             (std::filesystem::path(m.folder) / "relocalize" / t.name).string(), force);
         std::ofstream(folder.file("config_used.ini")) << t.rc.ini.getContent();
@@ -134,8 +136,7 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
     }
   };
   const std::size_t n = std::max<std::size_t>(
-      1, std::min<std::size_t>(threads ? threads : std::thread::hardware_concurrency(),
-                               results.size()));
+      1, std::min<std::size_t>(threads ? threads : availableCpus(), results.size()));
   std::vector<std::thread> pool;
   for (std::size_t k = 0; k < n; ++k) pool.emplace_back(worker);
   for (auto& th : pool) th.join();
@@ -145,7 +146,7 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
 void writeRelocalizationCsv(const std::string& path,
                             const std::vector<RelocalizationResult>& results) {
   report::CsvWriter csv(path, {"run", "traversal", "status", "rmse_m", "max_m", "lost_pct",
-                               "coverage_pct", "nees_mean"});
+                               "coverage_pct", "nees_mean", "success_pct", "scored_pct"});
   for (const auto& r : results) {
     csv.cell(r.run)
         .cell(r.traversal)
@@ -154,7 +155,9 @@ void writeRelocalizationCsv(const std::string& path,
         .cell(r.score.max_m)
         .cell(r.score.lost_pct)
         .cell(r.score.coverage_pct)
-        .cell(r.score.nees_mean);
+        .cell(r.score.nees_mean)
+        .cell(r.score.success_pct)
+        .cell(r.score.scored_pct);
     csv.endRow();
   }
 }
@@ -176,6 +179,8 @@ void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
     row.reloc_max_m = mean(row.run, &S::max_m);
     row.reloc_lost_pct = mean(row.run, &S::lost_pct);
     row.reloc_traversal_coverage_pct = mean(row.run, &S::coverage_pct);
+    row.reloc_success_pct = mean(row.run, &S::success_pct);
+    row.reloc_scored_pct = mean(row.run, &S::scored_pct);
   }
   const report::ComparisonRow* ref = nullptr;
   for (const auto& row : rows)

@@ -31,6 +31,8 @@ struct MapOfRun {
   std::string folder;  ///< the run's output folder
   std::vector<LandmarkView> landmarks;
   std::optional<metrics::MapAlignment> alignment;
+  /// The mapping path in the map's frame: where relocalization is scored (metrics::MappedArea).
+  std::vector<mrpt::math::TPose2D> mapping_path;
 };
 
 /// One localization of one traversal in one run's map.
@@ -49,7 +51,8 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
                                                 const std::string& reference_file, unsigned threads,
                                                 bool force);
 
-/// relocalization.csv: run, traversal, status, rmse_m, max_m, lost_pct, coverage_pct, nees_mean.
+/// relocalization.csv: run, traversal, status, rmse_m, max_m, lost_pct, coverage_pct, nees_mean,
+/// success_pct, scored_pct.
 void writeRelocalizationCsv(const std::string& path,
                             const std::vector<RelocalizationResult>& results);
 

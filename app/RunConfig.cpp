@@ -34,6 +34,7 @@ IniSchema knownKeys() {
   schema.addSection(reducers::BudgetOptions::kSection, reducers::BudgetOptions::keys());
   schema.addSection(metrics::MetricsOptions::kSection, metrics::MetricsOptions::keys());
   schema.addSection(LocalizationOptions::kSection, LocalizationOptions::keys());
+  schema.addSection(report::ReportOptions::kSection, report::ReportOptions::keys());
   for (const auto* e : reducers::builtinReducers().entries())
     if (!e->section.empty()) schema.addSection(e->section, e->keys);
   // An MRPT ini shared with MRPT's other applications (simul-landmarks...) keeps their sections.
@@ -64,6 +65,54 @@ void checkValues(const mrpt::config::CConfigFileBase& ini, std::uint64_t seed) {
   metrics::MetricsOptions().loadFromConfigFile(ini, metrics::MetricsOptions::kSection);
   reducers::CoverageOptions().loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
   for (const auto* e : reducers::builtinReducers().entries()) e->factory(ini, seed);
+}
+
+/// Two ini values that say the same: the same text, or the same number ("0.10" and "0.1").
+bool sameValue(const std::string& a, const std::string& b) {
+  if (a == b) return true;
+  char *end_a = nullptr, *end_b = nullptr;
+  const double x = std::strtod(a.c_str(), &end_a), y = std::strtod(b.c_str(), &end_b);
+  return !a.empty() && !b.empty() && *end_a == '\0' && *end_b == '\0' && x == y;
+}
+
+/// A warning a key the sidecar sets over another value of the user's ini (docs/OUTPUTS.md,
+/// "Sidecar ini"): the sidecar wins, as documented, but never silently. A key a --set gives
+/// (`sets`, Section.key=value) is the user's again: no warning.
+std::vector<std::string> sidecarOverrides(const mrpt::config::CConfigFileBase& user,
+                                          const mrpt::config::CConfigFileBase& side,
+                                          const std::string& user_label, const std::string& sidecar,
+                                          const std::vector<std::string>& sets) {
+  const auto set_by_flag = [&](const std::string& section, const std::string& key) {
+    for (const auto& s : sets)
+      if (s.rfind(section + "." + key + "=", 0) == 0) return true;
+    return false;
+  };
+  std::vector<std::string> warnings;
+  std::vector<std::string> sections;
+  side.getAllSections(sections);
+  for (const auto& section : sections) {
+    std::vector<std::string> keys;
+    side.getAllKeys(section, keys);
+    for (const auto& key : keys) {
+      if (!user.keyExists(section, key) || set_by_flag(section, key)) continue;
+      const std::string mine = user.read_string(section, key, "", false);
+      const std::string theirs = side.read_string(section, key, "", false);
+      if (sameValue(mine, theirs)) continue;
+      warnings.push_back(sidecar + " (the rawlog's sidecar) sets [" + section + "] " + key + " = " +
+                         printable(theirs) + " over " + user_label + "'s " + printable(mine) +
+                         "; --set " + section + "." + key + "=" + printable(mine) + " keeps yours");
+    }
+  }
+  return warnings;
+}
+
+/// One layer of the configuration checked alone (its sections, keys and values), so that a bad
+/// value names the file that holds it, even when a later layer replaces it.
+void checkLayer(const mrpt::config::CConfigFileBase& layer, const IniSchema& schema) {
+  schema.validate(layer);
+  reducers::BudgetOptions budget;
+  budget.loadFromConfigFile(layer, reducers::BudgetOptions::kSection);
+  checkValues(layer, budget.seed);
 }
 
 std::string resolveRawlog(const std::string& from_ini, const std::string& config_path) {
@@ -115,14 +164,23 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
     if (rc.rawlog.empty())
       throw ConfigError("no rawlog: give -i or [MappingApplication] rawlog_file");
 
+    const IniSchema schema = knownKeys();
     const fs::path sidecar = fs::path(rc.rawlog).replace_extension(".ini");
     if (fs::path(rc.rawlog).extension() == ".rawlog" && fs::exists(sidecar)) {
       rc.sidecar = sidecar.string();
       mrpt::config::CConfigFileMemory side;
       loadIniText(side, readIniFile(rc.sidecar, rc.sidecar), rc.sidecar);
+      // Each file's values checked in that file: the sidecar replaces some of the user's, and a
+      // bad one on either side must name its own file.
+      checkLayer(rc.ini, schema);
+      try {
+        checkLayer(side, schema);
+      } catch (const ConfigError& e) {
+        throw ConfigError(rc.sidecar + ": " + e.what());
+      }
+      rc.warnings = sidecarOverrides(rc.ini, side, config_label, rc.sidecar, cli.sets);
       copyIni(side, rc.ini);
     }
-    const IniSchema schema = knownKeys();
     for (const auto& s : cli.sets) applySet(rc.ini, s, schema);
     if (!cli.reducer.empty())
       rc.ini.write(reducers::BudgetOptions::kSection, "reducer", cli.reducer);
@@ -135,12 +193,17 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
       rc.ini.write(MappingOptions::kSection, "backend", cli.backend);
     }
     if (!cli.rawlog.empty()) rc.ini.write(MappingOptions::kSection, "rawlog_file", cli.rawlog);
+    if (cli.max_steps)
+      rc.ini.write(
+          cli.command == "localize" ? LocalizationOptions::kSection : MappingOptions::kSection,
+          "max_steps", std::to_string(*cli.max_steps));
 
     schema.validate(rc.ini);
     rc.mapping.loadFromConfigFile(rc.ini, MappingOptions::kSection);
     rc.budget.loadFromConfigFile(rc.ini, reducers::BudgetOptions::kSection);
     checkValues(rc.ini, rc.budget.seed);
     rc.localization.loadFromConfigFile(rc.ini, LocalizationOptions::kSection);
+    rc.report.loadFromConfigFile(rc.ini, report::ReportOptions::kSection);
     reducers::builtinReducers().entry(rc.budget.reducer);  // unknown name: error now
     for (const auto& s : rc.budget.shadow_reducers) reducers::builtinReducers().entry(s);
   } catch (const ConfigError& e) {

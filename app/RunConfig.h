@@ -2,11 +2,13 @@
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <string>
+#include <vector>
 
 #include "BudgetSlamApp.h"
 #include "LocalizationOptions.h"
 #include "MappingOptions.h"
 #include "budget_slam/reducers/BudgetOptions.h"
+#include "budget_slam/report/ReportOptions.h"
 
 namespace budget_slam::app {
 
@@ -18,9 +20,13 @@ struct RunConfig {
   MappingOptions mapping;
   reducers::BudgetOptions budget;
   LocalizationOptions localization;  ///< [Localization] (localize, compare --relocalize)
-  std::string rawlog;   ///< resolved path of the input rawlog
-  std::string sidecar;  ///< sidecar ini applied, "" if none
+  report::ReportOptions report;      ///< [Report]: figure formats, progress lines
+  std::string rawlog;                ///< resolved path of the input rawlog
+  std::string sidecar;               ///< sidecar ini applied, "" if none
   std::string outdir;
+  /// What the merge replaced that the user wrote (a sidecar's key over the ini's): one line each,
+  /// for stderr as "budget-slam: warning: <line>".
+  std::vector<std::string> warnings;
 };
 
 /// Throws ConfigError whose message names the file, flag or key at fault.

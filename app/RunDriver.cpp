@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <unordered_set>
 
@@ -82,6 +83,10 @@ RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const std::string
   mapping.loadFromConfigFile(ini, MappingOptions::kSection);
   save_3d_scene_ = mapping.save_3d_scene;
   scene_every_steps_ = mapping.scene_every_steps;
+  rawlog_name_ = std::filesystem::path(mapping.rawlog_file).filename().string();
+  report::ReportOptions report_options;
+  report_options.loadFromConfigFile(ini, report::ReportOptions::kSection);
+  figure_formats_ = report_options.figure_formats;
   if (budget.dump_states)
     manager_->setBeforeDropEvent(
         [this](const Backend& b, StepIndex step) { outputs_.writeState(b, step); });
@@ -106,7 +111,7 @@ void RunDriver::process(const Step& raw) {
   if (diverged(backend_->robotPose()))
     throw Error("step " + std::to_string(raw.index) + ": the " + backend_->name() +
                 " estimate diverged (the robot pose or its covariance is not finite)");
-  const auto drops = manager_->enforce(*backend_, filtered);
+  const auto drops = manager_->enforce(*backend_, filtered, raw);
   heap_release_.afterStep();  // timed with the step: its cost is the run's
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = threadCpuSeconds() - cpu0;
@@ -123,7 +128,7 @@ void RunDriver::process(const Step& raw) {
   row.t = raw.t;
   row.landmarks = n;
   row.added = added;
-  row.dropped = drops.size();
+  for (const auto& e : drops) ++(e.reason == "refused" ? row.refused : row.dropped);
   row.poses = backend_->poseCount();
   row.pose = pose;
   row.step_ms = 1e3 * dt;
@@ -197,10 +202,12 @@ report::MapContent RunDriver::mapContent(const std::vector<TrajectoryPoint>& tra
                                          const std::vector<LandmarkView>& landmarks,
                                          const FinalCoverage* coverage) const {
   const auto& budget = manager_->options();
-  std::string title = backend_->name() + ", reducer " + budget.reducer +
+  std::string title = (rawlog_name_.empty() ? "" : rawlog_name_ + ": ") + backend_->name() +
+                      ", reducer " + budget.reducer +
                       (manager_->capped() ? ", cap " + std::to_string(*budget.max_landmarks) : "") +
                       ": " + std::to_string(landmarks.size()) + " landmarks kept, " +
-                      std::to_string(evictions_) + " dropped";
+                      std::to_string(evictions_) + " dropped" +
+                      (refused_ ? ", " + std::to_string(refused_) + " refused" : std::string());
   return runMapContent(std::move(title), trajectory, landmarks, coverage_, dropped_, coverage,
                        truth_.get());
 }
@@ -253,6 +260,7 @@ RunResult RunDriver::finish(const std::string& status, const std::string& error,
   const FinalCoverage coverage = final_coverage_ ? *final_coverage_ : finalCoverage();
   files.map = [&] { return mapContent(trajectory, landmarks, &coverage); };
   files.scene = save_3d_scene_;
+  files.figure_formats = figure_formats_;
   if (save_3d_scene_) files.robot = backend_->robotPose().mean;
   files.truth = truth_.get();
   files.steps_in_rawlog = steps_in_rawlog;

@@ -20,6 +20,7 @@
 #include "budget_slam/reducers/CoverageOptions.h"
 #include "budget_slam/report/OutputFolder.h"
 #include "budget_slam/report/Pictures.h"
+#include "budget_slam/report/ReportOptions.h"
 #include "budget_slam/report/RunOutputs.h"
 
 namespace budget_slam::app {
@@ -115,6 +116,8 @@ class RunDriver {
   std::optional<metrics::NeesAccumulator> nees_;  ///< when the ground truth has a path
   std::vector<std::size_t> counts_;
   std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
+  std::string rawlog_name_;               ///< the rawlog's file name, in map.png's title
+  std::vector<report::FigureFormat> figure_formats_;  ///< [Report] figure_format
   metrics::RelocalizationTracker reloc_;
   /// Gives the heap's free pages back every kReleaseHeapEverySteps steps (core/HeapRelease.h:
   /// the filter's reallocated state leaves holes in the heap that free() keeps resident).

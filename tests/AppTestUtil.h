@@ -1,8 +1,12 @@
 #pragma once
+#include <sys/wait.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -60,6 +64,56 @@ inline std::vector<std::vector<std::string>> readCsv(const std::filesystem::path
   std::getline(in, line);  // header
   while (std::getline(in, line)) rows.push_back(csvCells(line));
   return rows;
+}
+
+/// A CSV file read with its header, its cells found by column name.
+struct CsvTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  /// The column's index; -1 when the header has no such column.
+  int column(const std::string& name) const {
+    for (std::size_t c = 0; c < header.size(); ++c)
+      if (header[c] == name) return static_cast<int>(c);
+    return -1;
+  }
+  /// Row `row`'s cell of column `name` (throws std::out_of_range when either is missing).
+  const std::string& at(std::size_t row, const std::string& name) const {
+    const int c = column(name);
+    if (c < 0) throw std::out_of_range("no column " + name);
+    return rows.at(row).at(static_cast<std::size_t>(c));
+  }
+};
+
+inline CsvTable readCsvTable(const std::filesystem::path& p) {
+  CsvTable t;
+  std::istringstream in(slurp(p));
+  std::string line;
+  if (std::getline(in, line)) t.header = csvCells(line);
+  while (std::getline(in, line)) t.rows.push_back(csvCells(line));
+  return t;
+}
+
+/// Result of an executable run as a subprocess.
+struct Process {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+/// Runs build/bin/<command line> in `cwd` (a shell line starting with the executable's name and
+/// its closing quote, e.g. "budget-slam' run -c x": arguments are quoted by the caller), stdout
+/// and stderr captured (so stderr is not a terminal).
+inline Process runBinary(const std::string& command_line, const std::filesystem::path& cwd) {
+  const auto out = cwd / "stdout.txt", err = cwd / "stderr.txt";
+  const std::string sh = "cd '" + cwd.string() + "' && '" + BUDGET_SLAM_BINARY_DIR + "/bin/" +
+                         command_line + " > '" + out.string() + "' 2> '" + err.string() + "'";
+  const int status = std::system(sh.c_str());
+  Process p;
+  p.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  p.out = slurp(out);
+  p.err = slurp(err);
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
+  return p;
 }
 
 /// Result of one in-process run of the application.

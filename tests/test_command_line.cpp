@@ -14,24 +14,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Process {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-/// Runs build/bin/<command line> in `cwd` (a shell line: arguments are quoted by the caller).
 Process run(const std::string& command_line, const fs::path& cwd) {
-  const auto out = cwd / "stdout.txt", err = cwd / "stderr.txt";
-  const std::string sh = "cd '" + cwd.string() + "' && '" + BUDGET_SLAM_BINARY_DIR + "/bin/" +
-                         command_line + " > '" + out.string() + "' 2> '" + err.string() + "'";
-  const int status = std::system(sh.c_str());
-  Process p;
-  p.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  p.out = slurp(out);
-  p.err = slurp(err);
-  fs::remove(out);
-  fs::remove(err);
-  return p;
+  return runBinary(command_line, cwd);
 }
 
 std::size_t count(const std::string& text, const std::string& what) {
@@ -115,7 +99,8 @@ TEST(CommandLine, ABadCommandLineIsOneLineNamingTheFlagAndExitTwo) {
        "--help"},
       {"budget-simulate' --scenario mars -o out.rawlog",
        "budget-simulate: Value 'mars' does not meet constraint: "
-       "paper-synthetic|rooms|park|lifelong (Argument: -s (--scenario)); see budget-simulate "
+       "paper-synthetic|rooms|park|lifelong|corridors|clusters (Argument: -s (--scenario)); see "
+       "budget-simulate "
        "--help"},
   };
   for (const auto& [c, message] : cases) {

@@ -102,7 +102,7 @@ TEST(Failures, LostDefinitenessNamesTheStep) {
   // A failed run says what it was given, as an ok one does.
   EXPECT_EQ(s["config"], kMrptIni);
   EXPECT_EQ(s["rawlog"], kDemo);
-  EXPECT_EQ(s["sidecar_ini"], "");
+  EXPECT_EQ(s["sidecar_ini"], kRoot + "/rawlogs/kf-slam_demo.ini");
 }
 
 TEST(Failures, ADivergedRunWritesNoNonFiniteLandmark) {

@@ -135,7 +135,7 @@ TEST(MapScene, ObjectsMatchTheRunFiles) {
     EXPECT_NEAR(cov(0, 1), std::stod(r[4]), 1e-12 + 1e-9 * std::abs(std::stod(r[4])));
     EXPECT_NEAR(cov(1, 1), std::stod(r[5]), 1e-12 + 1e-9 * std::abs(std::stod(r[5])));
     EXPECT_FLOAT_EQ(e->getQuantiles(), 2.0f);
-    const auto rgb = report::paletteRgb(clusters.label[i]);
+    const auto rgb = report::clusterRgb(clusters.label[i]);
     EXPECT_EQ(e->getColorR_u8(), rgb[0]);
     EXPECT_EQ(e->getColorG_u8(), rgb[1]);
     EXPECT_EQ(e->getColorB_u8(), rgb[2]);
@@ -144,6 +144,7 @@ TEST(MapScene, ObjectsMatchTheRunFiles) {
   // Dropped landmarks: a cross (two segments) a row of evictions.csv.
   // Refused newcomers (admission = compete) never held a place: no cross, not counted as dropped.
   auto evictions = readCsv(dir / "evictions.csv");
+  const std::size_t refused = evictions.size();
   evictions.erase(
       std::remove_if(evictions.begin(), evictions.end(),
                      [](const auto& row) { return row.size() > 6 && row[6] == "refused"; }),
@@ -164,8 +165,21 @@ TEST(MapScene, ObjectsMatchTheRunFiles) {
 
   auto title = object<CText>(scene, names::kTitle);
   ASSERT_TRUE(title);
-  EXPECT_EQ(title->getString(), "ekf, reducer coverage, cap 20: 20 landmarks kept, " +
-                                    std::to_string(evictions.size()) + " dropped");
+  // The rawlog, then the counts of steps.csv: dropped (n_dropped) and refused (n_refused).
+  const std::size_t n_refused = refused - evictions.size();
+  EXPECT_EQ(title->getString(),
+            "kf-slam_demo.rawlog: ekf, reducer coverage, cap 20: 20 landmarks "
+            "kept, " +
+                std::to_string(evictions.size()) + " dropped" +
+                (n_refused ? ", " + std::to_string(n_refused) + " refused" : std::string()));
+  std::size_t sum_dropped = 0, sum_refused = 0;
+  const auto steps = readCsvTable(dir / "steps.csv");
+  for (std::size_t k = 0; k < steps.rows.size(); ++k) {
+    sum_dropped += std::stoul(steps.at(k, "n_dropped"));
+    sum_refused += std::stoul(steps.at(k, "n_refused"));
+  }
+  EXPECT_EQ(sum_dropped, evictions.size());
+  EXPECT_EQ(sum_refused, n_refused);
   EXPECT_TRUE(object<CRenderizable>(scene, names::kGrid));
 }
 

@@ -220,20 +220,36 @@ TEST(Relocalization, EmptyMapReportsTheShareLost) {
   EXPECT_EQ(l["steps_compared"], 318);
 }
 
-// A start 6 m and 150 deg off: the first steps are lost; with the innovation gate the readings
-// are never trusted again and every step is lost. Never a crash.
-TEST(Relocalization, WrongStartPoseIsLostNotACrash) {
-  const auto s = localize("reloc_localize_wrong_start", roomsMap(), {"--start-pose", "5,-2,150"});
+// A start 6 m and 150 deg off. Without the innovation gate MRPT's filter is dragged by the
+// first readings and loses steps; with the gate and no recovery the readings are never trusted
+// again and every step is lost; with the default recovery the pose is solved afresh from the
+// rejected readings within a few steps. Never a crash.
+TEST(Relocalization, WrongStartPoseIsRecoveredNotACrash) {
+  const auto s = localize("reloc_localize_wrong_start", roomsMap(),
+                          {"--start-pose", "5,-2,150", "--set", "Localization.gate_chi2=0"});
   EXPECT_EQ(s["status"], "ok");
   EXPECT_EQ(s["start_pose"]["source"], "--start-pose");
   EXPECT_GT(s["localization"]["steps_lost"].get<int>(), 0);
   const auto out = fs::temp_directory_path() / "budget_slam_tests" / "reloc_localize_wrong_start";
   EXPECT_EQ(column(out / "steps.csv", "lost")[0], "1");
-  const auto gated = localize("reloc_localize_wrong_start_gate", roomsMap(),
-                              {"--start-pose", "5,-2,150", "--set", "Localization.gate_chi2=13.8"});
+  const auto gated =
+      localize("reloc_localize_wrong_start_gate", roomsMap(),
+               {"--start-pose", "5,-2,150", "--set", "Localization.recover_after_steps=0"});
   EXPECT_EQ(gated["status"], "ok");
   EXPECT_EQ(gated["localization"]["lost_pct"].get<double>(), 100.0);
   EXPECT_GT(gated["localization"]["readings_gated"].get<int>(), 1000);
+  EXPECT_EQ(gated["localization"]["recoveries"], 0);
+  const auto recovered =
+      localize("reloc_localize_wrong_start_recovered", roomsMap(), {"--start-pose", "5,-2,150"});
+  EXPECT_EQ(recovered["status"], "ok");
+  EXPECT_GE(recovered["localization"]["recoveries"].get<int>(), 1);
+  EXPECT_LT(recovered["localization"]["lost_pct"].get<double>(), 5.0);
+  const auto rec =
+      fs::temp_directory_path() / "budget_slam_tests" / "reloc_localize_wrong_start_recovered";
+  const auto flags = column(rec / "steps.csv", "recovered");
+  const auto first = std::find(flags.begin(), flags.end(), "1") - flags.begin();
+  EXPECT_LT(first, 20) << "recovered at step " << first;
+  EXPECT_EQ(column(rec / "steps.csv", "lost")[first + 1], "0");
 }
 
 TEST(Relocalization, MapFolderWithoutLandmarksIsOneLineError) {

@@ -149,24 +149,33 @@ TEST(CompareKfDemo, WritesTableWithReferenceAndEveryReducer) {
   const auto r = runApp({"compare", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--cap", "30",
                          "--reducers", "info-content,random,oldest", "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto rows = readCsv(dir / "comparison.csv");
-  ASSERT_EQ(rows.size(), 1 + reducers.size());
-  EXPECT_EQ(rows[0][0], "reference");
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    ASSERT_EQ(rows[i].size(), 29u);  // 21 + 8 relocalization columns
-    if (i > 0) EXPECT_EQ(rows[i][0], reducers[i - 1]);
-    EXPECT_EQ(rows[i][3], "ok");
-    // columns 23-28 are for compare --relocalize only
-    for (std::size_t c = 5; c < 23; ++c)
-      EXPECT_FALSE(rows[i][c].empty() || rows[i][c] == "nan") << rows[i][0] << " column " << c;
-    EXPECT_TRUE(fs::exists(dir / rows[i][0] / "summary.json"));
-    EXPECT_TRUE(fs::exists(dir / rows[i][0] / "map.png"));
+  const auto t = readCsvTable(dir / "comparison.csv");
+  ASSERT_EQ(t.rows.size(), 1 + reducers.size());
+  EXPECT_EQ(t.at(0, "run"), "reference");
+  // Every column is filled but those of compare --relocalize; the error against ground truth leads.
+  EXPECT_EQ(t.header[6], "gt_trajectory_rmse_aligned_m");
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    ASSERT_EQ(t.rows[i].size(), t.header.size());
+    if (i > 0) {
+      EXPECT_EQ(t.at(i, "run"), reducers[i - 1]);
+    }
+    EXPECT_EQ(t.at(i, "status"), "ok");
+    for (std::size_t c = 0; c < t.header.size(); ++c) {
+      if ((t.header[c] != "cap" && t.header[c].rfind("reloc_", 0) != 0) ||
+          t.header[c] == "reloc_coverage_pct" || t.header[c] == "reloc_mean_landmarks") {
+        EXPECT_FALSE(t.rows[i][c].empty() || t.rows[i][c] == "nan")
+            << t.rows[i][0] << " column " << t.header[c];
+      }
+    }
+    EXPECT_TRUE(fs::exists(dir / t.rows[i][0] / "summary.json"));
+    EXPECT_TRUE(fs::exists(dir / t.rows[i][0] / "map.png"));
   }
   // The reference against itself is exact; a capped run keeps 30 of the 70 landmarks.
-  EXPECT_EQ(std::stod(rows[0][10]), 0.0);
-  EXPECT_EQ(rows[1][5], "30");
-  EXPECT_NEAR(std::stod(rows[1][6]), 100.0 * (1 - 30.0 / 70.0), 1e-9);
-  EXPECT_GT(std::stod(rows[1][10]), 0.0);
+  EXPECT_EQ(std::stod(t.at(0, "ref_ate_m")), 0.0);
+  EXPECT_EQ(t.at(0, "cap"), "");
+  EXPECT_EQ(t.at(1, "landmarks"), "30");
+  EXPECT_NEAR(std::stod(t.at(1, "landmarks_reduction_pct")), 100.0 * (1 - 30.0 / 70.0), 1e-9);
+  EXPECT_GT(std::stod(t.at(1, "ref_ate_m")), 0.0);
   EXPECT_TRUE(fs::exists(dir / "comparison.md"));
   EXPECT_TRUE(fs::exists(dir / "comparison.png"));
 
@@ -189,14 +198,20 @@ TEST(CompareKfDemo, SixReducersEveryMetricFilled) {
       runApp({"compare", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--reducers",
               "mi,coverage,coverage-mi,info-content,random,oldest", "--cap", "30", "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto rows = readCsv(dir / "comparison.csv");
-  ASSERT_EQ(rows.size(), 7u);
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    EXPECT_EQ(rows[i][0], i == 0 ? "reference" : reducers[i - 1]);
-    // columns 23-28 are for compare --relocalize only
-    for (std::size_t c = 5; c < 23; ++c)
-      EXPECT_FALSE(rows[i][c].empty() || rows[i][c] == "nan") << rows[i][0] << " column " << c;
-    if (i > 0) EXPECT_EQ(rows[i][5], "30");
+  const auto t = readCsvTable(dir / "comparison.csv");
+  ASSERT_EQ(t.rows.size(), 7u);
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    EXPECT_EQ(t.at(i, "run"), i == 0 ? "reference" : reducers[i - 1]);
+    for (const char* column :
+         {"gt_trajectory_rmse_aligned_m", "gt_trajectory_rpe_10m_m", "landmarks", "evictions",
+          "refused", "ref_ate_m", "ref_ale_m", "ref_are_deg", "ref_ud_pct", "ref_ud_std_factor",
+          "ref_eig_min", "ref_eig_max", "gt_trajectory_rmse_m", "gt_landmark_rmse_aligned_m",
+          "nees_mean", "time_s", "reloc_coverage_pct"})
+      EXPECT_FALSE(t.at(i, column).empty() || t.at(i, column) == "nan")
+          << t.at(i, "run") << " column " << column;
+    if (i > 0) {
+      EXPECT_EQ(t.at(i, "landmarks"), "30");
+    }
   }
 }
 

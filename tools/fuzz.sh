@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang-14 (AddressSanitizer + UBSan) in build-fuzz/ and runs
 # each for a given time on a copy of its committed seed corpus.
-#   tools/fuzz.sh [SECONDS=600] [TARGET...]      targets: fuzz_rawlog fuzz_ini (default: both)
+#   tools/fuzz.sh [SECONDS=600] [TARGET...]      targets: fuzz_rawlog fuzz_ini fuzz_session
+#                                                (default: all three)
 # A finding stops the target and leaves crash-*/oom-*/timeout-* in build-fuzz/fuzz/findings/;
 # the grown corpus stays in build-fuzz/fuzz/corpus/<target>/ (the committed seeds are untouched).
 # Each allocation above 1 GiB, or a process above 1 GiB resident, counts as a finding.
@@ -10,7 +11,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-600}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(fuzz_rawlog fuzz_ini)
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_rawlog fuzz_ini fuzz_session)
 
 build="$root/build-fuzz"
 launcher=()

@@ -26,12 +26,16 @@ data=data/datasets
 "$bin/budget-simulate" --scenario rooms --seed 1 -o "$out/rooms.rawlog"
 "$bin/budget-simulate" --scenario paper-synthetic --seed 1 -o "$out/paper_synthetic.rawlog"
 "$bin/budget-simulate" --scenario park --seed 1 -o "$out/park.rawlog"
+"$bin/budget-simulate" --scenario corridors --seed 1 -o "$out/corridors.rawlog"
+"$bin/budget-simulate" --scenario clusters --seed 1 -o "$out/clusters.rawlog"
 
 # Second traversals to relocalize on (budget-slam localize, compare --relocalize): the same worlds
 # along other routes with other noise; MRCLAM robots 2-5 in robot 1's world frame; Victoria Park
 # from step 3500 on (map with max_steps = 3500 on victoria_park.rawlog).
 "$bin/budget-simulate" --scenario rooms --seed 1 --route revisit -o "$out/rooms_revisit.rawlog"
 "$bin/budget-simulate" --scenario park --seed 1 --route revisit -o "$out/park_revisit.rawlog"
+"$bin/budget-simulate" --scenario corridors --seed 1 --route revisit -o "$out/corridors_revisit.rawlog"
+"$bin/budget-simulate" --scenario clusters --seed 1 --route revisit -o "$out/clusters_revisit.rawlog"
 for robot in 2 3 4 5; do
   "$bin/budget-convert" --format utias "$data/utias_mrclam/MRCLAM_Dataset7" --robot "$robot" \
     --frame-robot 1 -o "$out/mrclam7_robot$robot.rawlog"

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Builds the tests labelled `sanitize` with AddressSanitizer + UndefinedBehaviorSanitizer
 # (-DBUDGET_SLAM_SANITIZE=ON, in build-sanitize/) and runs them: the hostile-input rawlog
-# reader tests and the fuzz corpus replay. Any sanitizer report fails the run.
+# reader tests, the session state reader's and the wake-up's tests, and the fuzz corpus replays.
+# Any sanitizer report fails the run.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$root/build-sanitize"
 # The executables holding the tests labelled `sanitize` (kept to the fast ones: CI time).
-targets=(test_rawlog_reader test_fuzz_corpus)
+targets=(test_rawlog_reader test_fuzz_corpus test_session test_fuzz_session_corpus test_wakeup)
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBUDGET_SLAM_SANITIZE=ON \

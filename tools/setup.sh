@@ -6,7 +6,6 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libmrpt-dev mrpt-apps            # MRPT 2.5: libraries, kf-slam, rawlog-edit, simul-landmarks
   libeigen3-dev libsuitesparse-dev # linear algebra, CHOLMOD
-  libopencv-dev                    # map pictures
   libtclap-dev nlohmann-json3-dev  # command line, JSON output
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib  # experiment scripts and plots
@@ -16,11 +15,16 @@ PACKAGES=(
   python3-dev pybind11-dev         # the budget_slam Python module
   clang-14 libclang-rt-14-dev      # libFuzzer targets and sanitizer runtimes (tools/fuzz.sh)
   libglpk-dev                      # offline coverage optimum (integer program)
+  libcairo2-dev fonts-dejavu-core  # figures as PNG, PDF and SVG
+  poppler-utils                    # the figures test renders each PDF (pdftoppm, pdftotext)
 )
 
+# One dpkg-query for every package (not one a package: this runs before every demo and test).
+installed="$(dpkg-query -W -f='${Package} ${Status}\n' "${PACKAGES[@]}" 2>/dev/null |
+             awk '$4 == "installed" {print $1}' || true)"
 missing=()
 for p in "${PACKAGES[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+  if ! grep -qx -- "$p" <<< "$installed"; then
     missing+=("$p")
   fi
 done

@@ -7,7 +7,7 @@ registered reducer's scores on a Gaussian state (docs/PYTHON.md).
                         reducer="mi", cap=20)
     r["summary"]["counts"]["landmarks_final"], r["steps"]["x"], r["landmarks"]["id"]
     c = budget_slam.compare("config.ini", "rawlogs/kf-slam_demo.rawlog", reducers=["mi", "coverage"])
-    c["comparison"]["ate_m"], c["runs"]["mi"]["trajectory"]
+    c["comparison"]["gt_trajectory_rmse_aligned_m"], c["runs"]["mi"]["trajectory"]
     s = budget_slam.load_state("OUT/states/step_120.txt")
     budget_slam.reducer_scores("mi", s["mean"], s["cov"], s["ids"])["scores"]
 
@@ -19,9 +19,11 @@ cleanly and raises KeyboardInterrupt.
 import csv
 import json
 import math
+import numbers
 import os
 import shutil
 import tempfile
+import warnings
 
 import numpy as np
 
@@ -31,7 +33,10 @@ __all__ = ["run", "compare", "reducer_scores", "reducer_names", "load_state", "r
            "ConfigError"]
 
 _PREFIX = "budget-slam: "
-_TEXT_COLUMNS = {"reducer", "reason", "shadow_choices", "run", "backend", "status"}
+# Columns of budget-slam's CSV files that hold text: they stay str even when every field is empty
+# (an evictions.csv without a failed shadow, a relocalization.csv without an error).
+_TEXT_COLUMNS = {"reducer", "reason", "shadow_choices", "shadow_errors", "run", "backend", "status",
+                 "traversal", "error", "rawlog", "metric"}
 
 
 class Error(Exception):
@@ -183,7 +188,29 @@ def _sets(overrides):
     return args
 
 
-def _invoke(command, config, rawlog, overrides, outdir, force, flags):
+def _cap_flag(cap):
+    """--cap of run() and compare(): a whole number of landmarks >= 1, or "none" (no cap)."""
+    if cap is None:
+        return []
+    if isinstance(cap, str):
+        if cap == "none":
+            return ["--cap", "none"]
+        raise ConfigError(f"cap={cap!r}: a number of landmarks or 'none'")
+    if isinstance(cap, bool) or not isinstance(cap, numbers.Integral):
+        raise TypeError(f"cap={cap!r}: expected a whole number of landmarks (int) or 'none'")
+    return ["--cap", str(int(cap))]
+
+
+def _count_flag(name, value):
+    """A flag taking a whole number (--max-steps, --threads)."""
+    if value is None:
+        return []
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name.lstrip('-').replace('-', '_')}={value!r}: expected an int")
+    return [name, str(int(value))]
+
+
+def _invoke(command, config, rawlog, overrides, outdir, force, flags, progress=None):
     args, params = [command], None
     if isinstance(config, dict):
         params = _ini_text(config) if config else "[MappingApplication]\n"
@@ -197,10 +224,15 @@ def _invoke(command, config, rawlog, overrides, outdir, force, flags):
     folder = tempfile.mkdtemp(prefix="budget_slam_") if temporary else os.fspath(outdir)
     args += ["-o", folder, "--quiet"] + (["--force"] if force else []) + flags + _sets(overrides)
     try:
+        if progress is not None and not callable(progress):
+            raise TypeError("progress: expected a callable taking one dict")
         try:
-            outcome = _core.run_app(args, params)
+            outcome = _core.run_app(args, params, progress)
         except _core.ConfigError as e:
             raise ConfigError(str(e)) from None
+        for line in outcome.err.splitlines():  # what the CLI warns of on stderr
+            if line.startswith(_PREFIX + "warning: "):
+                warnings.warn(line[len(_PREFIX + "warning: "):], RuntimeWarning, stacklevel=3)
         if outcome.exit_code == 130:
             raise KeyboardInterrupt(_message(outcome.err) or "interrupted")
         if outcome.exit_code != 0:
@@ -224,21 +256,22 @@ def _message(err):
 
 
 def run(config, rawlog=None, overrides=None, outdir=None, *, reducer=None, cap=None, backend=None,
-        force=False):
+        max_steps=None, force=False, progress=None):
     """`budget-slam run` in this process. config: an ini file path, or a dict
     {section: {key: value}} used as the in-memory ini; rawlog: -i (default: the ini's rawlog_file);
-    overrides: {"Section.key": value} or {"Section": {"key": value}} (--set); reducer, cap, backend:
-    the flags. outdir: the output folder (kept; refused if not empty unless force), None: a
-    temporary one removed after reading. Returns read_run() of the folder (outdir None if temporary).
-    Raises ConfigError / Error with the application's message, KeyboardInterrupt on Ctrl-C."""
-    flags = []
+    overrides: {"Section.key": value} or {"Section": {"key": value}} (--set); reducer, backend,
+    max_steps: the flags; cap: an int >= 1 or "none". outdir: the output folder (kept; refused if not
+    empty unless force), None: a temporary one removed after reading. progress: called with a dict
+    (task, fraction, steps_done, steps_total, elapsed_s, steps_per_s, eta_s, detail, finished) at most
+    5 times a second and once at the end. Returns read_run() of the folder (outdir None if
+    temporary). Raises ConfigError / Error with the application's message, KeyboardInterrupt on
+    Ctrl-C, and whatever progress raised (which stops the run as Ctrl-C does)."""
+    flags = _cap_flag(cap) + _count_flag("--max-steps", max_steps)
     if reducer is not None:
         flags += ["--reducer", str(reducer)]
-    if cap is not None:
-        flags += ["--cap", str(int(cap))]
     if backend is not None:
         flags += ["--backend", str(backend)]
-    folder, temporary = _invoke("run", config, rawlog, overrides, outdir, force, flags)
+    folder, temporary = _invoke("run", config, rawlog, overrides, outdir, force, flags, progress)
     try:
         result = read_run(folder)
     finally:
@@ -250,23 +283,27 @@ def run(config, rawlog=None, overrides=None, outdir=None, *, reducer=None, cap=N
 
 
 def compare(config, rawlog=None, reducers=None, overrides=None, outdir=None, *, cap=None,
-            backend=None, threads=0, force=False):
+            backend=None, threads=0, seeds=None, max_steps=None, force=False, progress=None):
     """`budget-slam compare` in this process: the unreduced reference and each reducer (default:
-    all registered) on one rawlog. Same arguments as run(). Returns a dict: summary (the
+    all registered) on one rawlog. Same arguments as run(); seeds: --seeds, "A:B" or a list of
+    ints (a run a reducer and seed, named "<reducer>/seed<S>"). Returns a dict: summary (the
     comparison's summary.json), comparison (comparison.csv as a structured array), runs
     ({"reference": ..., reducer: ...}, each as run() returns it), outdir."""
-    flags = []
+    flags = _cap_flag(cap) + _count_flag("--max-steps", max_steps)
     if reducers is not None:
         if isinstance(reducers, str):
             reducers = [reducers]
         flags += ["--reducers", ",".join(reducers)]
-    if cap is not None:
-        flags += ["--cap", str(int(cap))]
     if backend is not None:
         flags += ["--backend", str(backend)]
     if threads:
-        flags += ["--threads", str(int(threads))]
-    folder, temporary = _invoke("compare", config, rawlog, overrides, outdir, force, flags)
+        flags += _count_flag("--threads", threads)
+    if seeds is not None:
+        if isinstance(seeds, str):
+            flags += ["--seeds", seeds]
+        else:
+            flags += ["--seeds", ",".join(_count_flag("--seeds", x)[1] for x in seeds)]
+    folder, temporary = _invoke("compare", config, rawlog, overrides, outdir, force, flags, progress)
     try:
         with open(os.path.join(folder, "summary.json")) as f:
             summary = json.load(f)

@@ -8,13 +8,16 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <csignal>
 #include <cmath>
 #include <optional>
 #include <set>
 #include <sstream>
 
 #include "BudgetSlamApp.h"
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/Progress.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/gaussian/GaussianStateBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
@@ -32,11 +35,41 @@ struct AppOutcome {
 
 /// `args` without the program name. `params`: the ini text (in-memory config) or none (-c is
 /// then among `args`). A command line the app refuses raises ConfigError with its message.
-AppOutcome runApp(const std::vector<std::string>& args, const std::optional<std::string>& params) {
+/// A progress report as the dict Python's progress= callback receives (docs/PYTHON.md).
+py::dict progressDict(const ProgressSnapshot& s) {
+  py::dict d;
+  d["task"] = s.task;
+  d["fraction"] = s.fraction;
+  d["steps_done"] = s.steps_done;
+  d["steps_total"] = s.steps_total ? py::object(py::int_(s.steps_total)) : py::object(py::none());
+  d["elapsed_s"] = s.elapsed_s;
+  d["steps_per_s"] = s.steps_per_s;
+  d["eta_s"] = s.eta_s;
+  d["detail"] = s.detail;
+  d["finished"] = s.finished;
+  return d;
+}
+
+AppOutcome runApp(const std::vector<std::string>& args, const std::optional<std::string>& params,
+                  const std::optional<py::function>& progress) {
   app::BudgetSlamApp a;
   std::ostringstream out, err;
   a.out = &out;
   a.err = &err;
+  // The callback runs on this thread with the GIL taken back; an exception it raises stops the
+  // run as Ctrl-C does (every output written) and is raised again once the run has ended.
+  std::optional<py::error_already_set> callback_error;
+  if (progress)
+    a.on_progress = [&](const ProgressSnapshot& s) {
+      if (callback_error) return;
+      py::gil_scoped_acquire gil;
+      try {
+        (*progress)(progressDict(s));
+      } catch (py::error_already_set& e) {
+        callback_error.emplace(std::move(e));
+        Cancellation::request(SIGINT);
+      }
+    };
   // The same text checks as a -c file (core/IniText.h): a bad value is a ConfigError, never an
   // abort inside MRPT's variable expansion.
   if (params) loadIniText(a.params, *params, "config");
@@ -47,6 +80,10 @@ AppOutcome runApp(const std::vector<std::string>& args, const std::optional<std:
   {
     py::gil_scoped_release release;  // Ctrl-C reaches the app's own handler meanwhile
     r.exit_code = a.run();
+  }
+  if (callback_error) {
+    callback_error->restore();
+    throw py::error_already_set();
   }
   r.out = out.str();
   r.err = err.str();
@@ -195,8 +232,10 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("out", &AppOutcome::out)
       .def_readonly("err", &AppOutcome::err);
   m.def("run_app", &runApp, py::arg("args"), py::arg("params") = py::none(),
-        "Runs `budget-slam <args>` in this process (params: in-memory ini text). Returns "
-        "exit_code, out, err; raises ConfigError when the command line is refused.");
+        py::arg("progress") = py::none(),
+        "Runs `budget-slam <args>` in this process (params: in-memory ini text; progress: called "
+        "with a dict of how far it has come). Returns exit_code, out, err; raises ConfigError "
+        "when the command line is refused, and what the progress callback raised.");
   m.def("reducer_names", [] { return budget_slam::reducers::builtinReducers().names(); });
   m.def("reducer_scores", &reducerScores, py::arg("name"), py::arg("mean"), py::arg("cov"),
         py::arg("ids"), py::arg("n_obs") = py::none(), py::arg("obs_mean") = py::none(),

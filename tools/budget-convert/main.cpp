@@ -13,7 +13,22 @@
 
 int main(int argc, char** argv) {
   using namespace budget_slam;
-  CapturedUsage usage;  // outlives cmd, which only borrows it
+  CapturedUsage usage(  // outlives cmd, which only borrows it
+      "   budget-convert --format isam data/datasets/victoria_park_gtsam/victoria_park.txt.gz "
+      "-o vp.rawlog\n"
+      "      GTSAM's Victoria Park text file (odometry and range-bearing lines)\n"
+      "   budget-convert --format isam --steps 3500: "
+      "data/datasets/victoria_park_gtsam/victoria_park.txt.gz -o vp_from3500.rawlog\n"
+      "      the same from step 3500 on, renumbered from 0\n"
+      "   budget-convert --format utias --robot 2 --frame-robot 1 "
+      "data/datasets/utias_mrclam/MRCLAM_Dataset7 -o mrclam7_robot2.rawlog\n"
+      "      UTIAS MRCLAM robot 2, ground truth in robot 1's world frame\n"
+      "   budget-convert --format g2o data/datasets/g2o_sample/simulation-pose-landmark.g2o.gz "
+      "-o g2o.rawlog\n"
+      "   budget-convert --format freiburg data/datasets/freiburg_slam_course -o freiburg.rawlog\n"
+      "      (a folder holding world.dat and sensor_data.dat, gzipped or not)\n"
+      "   Each writes the rawlog, its ground truth when the dataset has one, and a sidecar .ini\n"
+      "   with the sensor noise, which budget-slam reads after -c.\n");
   try {
     TCLAP::CmdLine cmd(
         "Converts a planar landmark-SLAM dataset into a gzip MRPT rawlog, its ground-truth files "

@@ -28,7 +28,16 @@ double noiseFlag(const TCLAP::ValueArg<double>& flag) {
 
 int main(int argc, char** argv) {
   using namespace budget_slam;
-  CapturedUsage usage;  // outlives cmd, which only borrows it
+  CapturedUsage usage(  // outlives cmd, which only borrows it
+      "   budget-simulate --scenario rooms --seed 3 -o my_rooms.rawlog\n"
+      "      the rooms world of seed 3: my_rooms.rawlog, its ground truth\n"
+      "      (my_rooms_ground_truth.txt, my_rooms_ground_truth_robot_path.txt) and my_rooms.ini\n"
+      "   budget-simulate --scenario rooms --seed 3 --route revisit -o my_rooms_revisit.rawlog\n"
+      "      the same world along another route: a traversal to relocalize on\n"
+      "   budget-simulate --scenario lifelong --laps 10 --no-ids -o long.rawlog\n"
+      "      10 laps of a changing world, readings without landmark IDs\n"
+      "   budget-slam run -c config.ini -i my_rooms.rawlog -o OUT\n"
+      "      then SLAM on it (the sidecar my_rooms.ini is read after config.ini)\n");
   try {
     TCLAP::CmdLine cmd(
         "Simulates 2D landmark SLAM data (odometry + range-bearing readings) in one of the "
@@ -57,8 +66,8 @@ int main(int argc, char** argv) {
     TCLAP::ValuesConstraint<std::string> route_values(routes);
     TCLAP::ValueArg<std::string> route(
         "", "route",
-        "revisit (rooms, park): the same world from another start along another route through "
-        "every room or region, other noise (default: default)",
+        "revisit (rooms, park, corridors, clusters): the same world from another start along "
+        "another route through every room or region, other noise (default: default)",
         false, "default", &route_values, cmd);
     TCLAP::SwitchArg zero_noise("", "zero-noise", "no odometry or sensor noise at all", cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "output rawlog (name ends in .rawlog)", true, "",

@@ -11,7 +11,7 @@ import paired_stats
 COLUMNS = ["rawlog", "backend", "cap", "metric", "reducer_a", "reducer_b", "n_pairs", "median_diff", "ci_low",
            "ci_high", "p_value", "significant"]
 GROUND_TRUTH_METRIC = "gt_trajectory_rmse_aligned_m"
-UNREDUCED_METRIC = "ate_m"
+UNREDUCED_METRIC = "ref_ate_m"
 
 
 def samples(rows):

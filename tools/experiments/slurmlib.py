@@ -100,8 +100,27 @@ def recorded_jobs(outdir):
         return []
 
 
+SCRIPT_CPUS_PER_TASK = 4  # slurm-array.sh's #SBATCH --cpus-per-task
+
+
+def default_cpus_per_task(partition=None):
+    """The CPUs a task asks for when --cpus-per-task is not given: the array script's 4, or fewer
+    when no node of the partition has 4 (sinfo's CPU count of its largest node), so that the
+    default never asks for more than the cluster has. None when sinfo cannot tell (the script's
+    value then stands)."""
+    try:
+        cmd = [_tool("sinfo"), "-h", "-o", "%c"] + ([f"--partition={partition}"] if partition else [])
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=30)
+    except (SlurmError, OSError, subprocess.TimeoutExpired):
+        return None
+    cpus = [int(m.group(1)) for m in re.finditer(r"(\d+)", p.stdout)] if p.returncode == 0 else []
+    return min(SCRIPT_CPUS_PER_TASK, max(cpus)) if cpus else None
+
+
 def submit(exp, lines, todo_jobs, partition=None, throttle=None, cpus_per_task=None, extra=(), log=print):
     """Submits the lines of jobs.txt whose jobs are in `todo_jobs`. Returns the job id."""
+    if cpus_per_task is None:
+        cpus_per_task = default_cpus_per_task(partition)
     for job_id in recorded_jobs(exp.outdir):
         still = active(task_states(job_id))
         if still:
@@ -126,6 +145,7 @@ def submit(exp, lines, todo_jobs, partition=None, throttle=None, cpus_per_task=N
         f.write(f"{job_id} {array_spec(indices, throttle)}\n")
     log(f"submitted job array {job_id}: {len(indices)} task(s), lines {array_spec(indices)} of {jobs_txt}"
         + (f", partition {partition}" if partition else "") + (f", at most {throttle} at once" if throttle else "")
+        + (f", {cpus_per_task} CPU(s) a task" if cpus_per_task else "")
         + f"; logs {logdir}/slurm-{job_id}_<task>.out")
     return job_id
 

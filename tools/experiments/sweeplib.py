@@ -12,6 +12,7 @@ import math
 import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 import threading
@@ -22,7 +23,7 @@ from reportlib import write_atomic
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
-GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics"}
+GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics", "figure_format"}
 GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config", "relocalize",
               "reference_trajectory"}
 BACKENDS = ("ekf", "graph")
@@ -216,6 +217,7 @@ class Experiment:
         self.budget_simulate = os.path.abspath(budget_simulate or top.get("budget_simulate") and resolve_path(top["budget_simulate"], base_dirs) or default_binary("budget-simulate"))
         self.default_jobs = int(top.get("jobs", "0") or 0)
         self.metrics = parse_metrics(top.get("metrics", ""), f"{path}: [sweep]")
+        self.figure_format = top.get("figure_format", "png")
         group_sections = [s for s in ini.sections() if s.startswith("group ")]
         for s in ini.sections():
             if s != "sweep" and not s.startswith("group "):
@@ -415,6 +417,21 @@ def read_comparison(folder):
         return None
 
 
+def mrpt_ini_value(path, section, key):
+    """The value of `key` in `[section]` of an MRPT-style ini (`key = value  // comment`), or None."""
+    current = None
+    with open(path) as f:
+        for line in f:
+            line = line.split("//", 1)[0].split("#", 1)[0].strip()
+            if line.startswith("[") and line.endswith("]"):
+                current = line[1:-1].strip()
+            elif current == section and "=" in line:
+                k, v = line.split("=", 1)
+                if k.strip() == key:
+                    return v.strip()
+    return None
+
+
 def read_json(path):
     try:
         with open(path) as f:
@@ -536,7 +553,9 @@ SUMMARY_METRICS = [
     ("peak_rss_bytes", ("timings", "peak_rss_bytes")),
     ("steps", ("counts", "steps")),
 ]
-NON_METRIC_COLUMNS = {"run", "reducer", "backend", "status", "cap"}
+NON_METRIC_COLUMNS = {"run", "reducer", "backend", "status", "cap", "seed"}
+# comparison.csv of budget-slam before the reference metrics got their ref_ prefix.
+LEGACY_COLUMNS = {c: "ref_" + c for c in ("ate_m", "ale_m", "are_deg", "ud_pct", "eig_min", "eig_max")}
 RESULT_COLUMNS = ["rawlog", "backend", "reducer", "cap", "seed", "metric", "value"]
 
 
@@ -558,10 +577,12 @@ def job_rows(job):
         metrics = [("status_ok", 1.0 if r["status"] == "ok" else 0.0)]
         if reducer != "none" and job.cap_landmarks != "none":
             metrics.append(("cap_landmarks", float(job.cap_landmarks)))
-        metrics += [(c, as_number(r[c])) for c in r if c not in NON_METRIC_COLUMNS]
+        metrics += [(LEGACY_COLUMNS.get(c, c), as_number(r[c])) for c in r if c not in NON_METRIC_COLUMNS]
         summary = read_json(os.path.join(job.folder, r["run"], "summary.json"))
+        in_table = {m for m, _ in metrics}
         for name, (a, b) in SUMMARY_METRICS:
-            metrics.append((name, as_number(summary.get(a, {}).get(b))))
+            if name not in in_table:  # comparison.csv carries the aligned ATE too: one row
+                metrics.append((name, as_number(summary.get(a, {}).get(b))))
         for m, v in metrics:
             if v is not None:
                 rows.append(dict(key, metric=m, value=fmt_value(v)))
@@ -659,3 +680,52 @@ def position_error(folder):
     err = np.hypot(s["x"] - gt[idx, 1], s["y"] - gt[idx, 2])
     sigma = np.sqrt(np.maximum(s["var_x"] + s["var_y"], 0.0))
     return s["step"][ok], err[ok], sigma[ok]
+
+
+# ---- what the scripts built on the sweep share (paper_tables, benchmark) ----
+
+def write_experiment(path, sweep, groups, written_by):
+    """An experiment file: [sweep] with the keys of `sweep`, then a [group NAME] per (name, keys) of
+    `groups`; a list value is written one item a line (the `set` key)."""
+    def block(keys):
+        out = []
+        for k, v in keys.items():
+            if isinstance(v, list):
+                v = "\n    ".join(v)
+            out.append(f"{k} = {v}")
+        return "\n".join(out)
+    text = f"# Written by {written_by}.\n[sweep]\n" + block(sweep) + "\n"
+    for name, keys in groups:
+        text += f"\n[group {name}]\n" + block(keys) + "\n"
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    write_atomic(path, text)
+
+
+def run_experiment(ini, outdir, budget_slam, budget_simulate, jobs, retry_failed=False, log=print):
+    """Simulations, baselines and the jobs of an experiment file that are not done yet, then
+    results.csv. Returns (Experiment, rows, jobs run)."""
+    exp = Experiment(ini, outdir, budget_slam, budget_simulate)
+    runner = Runner(jobs, os.path.join(outdir, "logs"))
+    prepare(exp, runner, log)
+    ran = run_jobs(exp, runner, retry_failed=retry_failed, log=log)
+    rows = collect(exp, os.path.join(outdir, "results.csv"))
+    return exp, rows, ran
+
+
+def unreduced_trajectory(budget_slam, config, rawlog, dst, log=print):
+    """trajectory.tum of one unreduced EKF run over the whole `rawlog` in the folder dst (made once,
+    written as dst.part then renamed): what a traversal without ground truth is measured against."""
+    tum = os.path.join(dst, "trajectory.tum")
+    if os.path.isfile(tum):
+        return tum
+    log(f"unreduced EKF run over the whole {os.path.basename(rawlog)} (the reference trajectory of its split)")
+    part = dst + ".part"
+    p = subprocess.run([budget_slam, "run", "-c", config, "-i", rawlog, "-o", part, "--reducer", "none",
+                        "--backend", "ekf", "--quiet", "--force"], capture_output=True, text=True)
+    if p.returncode != 0 or not os.path.isfile(os.path.join(part, "trajectory.tum")):
+        raise RuntimeError(f"the unreduced run over {os.path.basename(rawlog)} failed (exit {p.returncode}): "
+                           + (p.stderr.strip().splitlines() or ["no trajectory.tum"])[-1])
+    if os.path.isdir(dst):
+        shutil.rmtree(dst)
+    os.rename(part, dst)
+    return tum

@@ -19,8 +19,12 @@ const std::vector<std::pair<std::string, bool>> kMade = {{"victoria_park", false
                                                          {"rooms", true},
                                                          {"paper_synthetic", true},
                                                          {"park", true},
+                                                         {"corridors", true},
+                                                         {"clusters", true},
                                                          {"rooms_revisit", true},
                                                          {"park_revisit", true},
+                                                         {"corridors_revisit", true},
+                                                         {"clusters_revisit", true},
                                                          {"mrclam7_robot2", true},
                                                          {"mrclam7_robot3", true},
                                                          {"mrclam7_robot4", true},
@@ -94,13 +98,15 @@ TEST(ShippedRawlogs, CountsAfterConversion) {
 // (the first traversal's start pose is the origin), another path; Victoria Park's second part is
 // the whole file's steps from 3500 on, times and readings unchanged.
 TEST(ShippedRawlogs, SecondTraversalsShareTheWorldOfTheFirst) {
-  for (const auto& [first, second] : std::vector<std::pair<std::string, std::string>>{
-           {"rooms", "rooms_revisit"},
-           {"park", "park_revisit"},
-           {"mrclam7_robot1", "mrclam7_robot2"},
-           {"mrclam7_robot1", "mrclam7_robot3"},
-           {"mrclam7_robot1", "mrclam7_robot4"},
-           {"mrclam7_robot1", "mrclam7_robot5"}}) {
+  for (const auto& [first, second] :
+       std::vector<std::pair<std::string, std::string>>{{"rooms", "rooms_revisit"},
+                                                        {"park", "park_revisit"},
+                                                        {"corridors", "corridors_revisit"},
+                                                        {"clusters", "clusters_revisit"},
+                                                        {"mrclam7_robot1", "mrclam7_robot2"},
+                                                        {"mrclam7_robot1", "mrclam7_robot3"},
+                                                        {"mrclam7_robot1", "mrclam7_robot4"},
+                                                        {"mrclam7_robot1", "mrclam7_robot5"}}) {
     const auto a = loadGroundTruth(rawlogsDir() + first + ".rawlog");
     const auto b = loadGroundTruth(rawlogsDir() + second + ".rawlog");
     EXPECT_EQ(a.landmarks.size(), b.landmarks.size()) << second;

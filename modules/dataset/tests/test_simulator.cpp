@@ -248,7 +248,46 @@ TEST(Simulator, RevisitRouteDrivesTheSameWorldElsewhere) {
     FAIL() << "no error";
   } catch (const ConfigError& e) {
     EXPECT_STREQ(e.what(),
-                 "scenario 'paper-synthetic' has no revisit route (rooms and park have one)");
+                 "scenario 'paper-synthetic' has no revisit route (rooms, park, corridors and "
+                 "clusters have one)");
+  }
+}
+
+// The worlds of another character: long corridors with few landmarks, and trees in clusters.
+// Both routes read most of the world, the revisit starts elsewhere, and the readings are few a
+// step (corridors) or come in bursts between blind stretches (clusters).
+TEST(Simulator, CorridorsAndClustersAreSparseWorldsWithARevisit) {
+  for (const Kind scenario : {Kind::Corridors, Kind::Clusters}) {
+    SimulationOptions first = zeroNoise(scenario), again = zeroNoise(scenario);
+    again.route = Route::Revisit;
+    const auto a = simulate(first), b = simulate(again);
+    EXPECT_EQ(a.ground_truth.landmarks, b.ground_truth.landmarks) << name(scenario);
+    const std::size_t n = a.ground_truth.landmarks.size();
+    if (scenario == Kind::Corridors) {
+      EXPECT_GT(n, 90u);
+      EXPECT_LT(n, 150u);
+    } else {
+      EXPECT_GT(n, 140u);  // 16 clusters of 6-12 trees and 24 lone ones
+      EXPECT_LT(n, 220u);
+    }
+    const auto& start = b.ground_truth.path.front();
+    EXPECT_GT(std::hypot(start.x, start.y), 20.0) << name(scenario);
+    for (const auto* d : {&a, &b}) {
+      std::set<LandmarkId> seen;
+      std::size_t readings = 0, blind = 0;
+      for (const auto& st : d->steps) {
+        for (const auto& r : st.scan->readings) seen.insert(r.id);
+        readings += st.scan->readings.size();
+        blind += st.scan->readings.empty();
+      }
+      EXPECT_GT(seen.size(), 9 * n / 10) << name(scenario);
+      const double per_step = static_cast<double>(readings) / static_cast<double>(d->steps.size());
+      if (scenario == Kind::Corridors) {
+        EXPECT_LT(per_step, 4.0) << name(scenario);  // few in view
+      } else {
+        EXPECT_GT(blind, d->steps.size() / 20) << name(scenario);  // blind stretches
+      }
+    }
   }
 }
 
@@ -264,7 +303,8 @@ TEST(Simulator, BadOptionsAreConfigErrors) {
     return std::string("no error");
   };
   EXPECT_EQ(message("[Sim]\nscenario = moon\n"),
-            "[Sim] scenario = 'moon': must be one of paper-synthetic, rooms, park, lifelong");
+            "[Sim] scenario = 'moon': must be one of paper-synthetic, rooms, park, lifelong, "
+            "corridors, clusters");
   EXPECT_EQ(message("[Sim]\nroute = back\n"),
             "[Sim] route = 'back': must be one of default, revisit");
   EXPECT_EQ(message("[Sim]\ndt = 0\n"), "[Sim] dt = 0: must be at least 1e-06");

@@ -5,14 +5,17 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <limits>
+#include <set>
 #include <stdexcept>
 
+#include "budget_slam/core/RangeBearingModel.h"
 #include "budget_slam/ekf/MrptStepInput.h"
+#include "budget_slam/ekf/PoseFromPoints.h"
 
 namespace budget_slam::ekf {
 
-void LocalizationKF2D::initialize(const PoseEstimate& start,
-                                  const std::vector<LandmarkView>& map) {
+void LocalizationKF2D::initialize(const PoseEstimate& start, const std::vector<LandmarkView>& map) {
   const std::size_t n = 3 + 2 * map.size();
   m_xkk.resize(n);
   m_pkk.setSize(n, n);
@@ -34,13 +37,88 @@ void LocalizationKF2D::initialize(const PoseEstimate& start,
   }
   used_.clear();
   gated_ = 0;
+  paired_.clear();
+  accepted_ = 0;
+  steps_ = rejected_run_ = 0;
+  rejected_.clear();
+  recovered_ = false;
 }
 
 void LocalizationKF2D::processStep(const Step& step) {
   auto in = mrptStepInput(step);
   used_.clear();
   gated_ = 0;
+  paired_.clear();
+  accepted_ = 0;
+  recovered_ = false;
   processActionObservation(in.action, in.frame);
+  afterStep(step);
+}
+
+void LocalizationKF2D::afterStep(const Step& step) {
+  ++steps_;
+  if (paired_.empty()) return;  // nothing read of the map: the run neither grows nor breaks
+  if (accepted_ > 0) {
+    rejected_run_ = 0;
+    rejected_.clear();
+    return;
+  }
+  ++rejected_run_;
+  if (gate.recover_after_steps == 0) return;
+  const auto& s = step.scan->sensor_pose_on_robot;
+  rejected_.push_back({steps_, robotPose().mean, mrpt::math::TPose2D(s.x, s.y, s.yaw), paired_});
+  while (!rejected_.empty() && steps_ - rejected_.front().step >= gate.recovery_window_steps)
+    rejected_.pop_front();
+  if (rejected_run_ >= gate.recover_after_steps && recover()) {
+    rejected_run_ = 0;
+    rejected_.clear();
+    recovered_ = true;
+  }
+}
+
+bool LocalizationKF2D::recover() {
+  // Each rejected reading where it puts its landmark in the current robot frame: its own robot
+  // frame, then the filter's motion from that step to now (x_now (-) x_then (+) q).
+  const mrpt::poses::CPose2D now(robotPose().mean);
+  const auto& P = m_pkk.asEigen();
+  std::vector<PointMatch> matches;
+  for (const RejectedStep& r : rejected_) {
+    const mrpt::poses::CPose2D relative = mrpt::poses::CPose2D(r.robot) - now;
+    const double c = std::cos(relative.phi()), s = std::sin(relative.phi());
+    Eigen::Matrix2d rot;
+    rot << c, -s, s, c;
+    for (const PairedReading& p : r.readings) {
+      const Eigen::Vector2d q = readingInRobotFrame(p.range, p.bearing, r.sensor);
+      // The reading's Cartesian covariance: polar noise through d(point)/d(range, bearing).
+      const double a = r.sensor.phi + p.bearing;
+      Eigen::Matrix2d J;
+      J << std::cos(a), -p.range * std::sin(a), std::sin(a), p.range * std::cos(a);
+      const Eigen::Matrix2d R = Eigen::Vector2d(mrpt::square(options.std_sensor_range),
+                                                mrpt::square(options.std_sensor_yaw))
+                                    .asDiagonal();
+      PointMatch m;
+      m.in_robot = Eigen::Vector2d(relative.x(), relative.y()) + rot * q;
+      m.cov_in_robot = rot * J * R * J.transpose() * rot.transpose();
+      const auto k = static_cast<Eigen::Index>(3 + 2 * p.landmark);
+      m.in_map = Eigen::Vector2d(m_xkk[k], m_xkk[k + 1]);
+      m.cov_in_map = P.block<2, 2>(k, k);
+      matches.push_back(m);
+    }
+  }
+  std::set<std::size_t> distinct;
+  for (const RejectedStep& r : rejected_)
+    for (const PairedReading& p : r.readings) distinct.insert(p.landmark);
+  if (distinct.size() < std::max<std::size_t>(2, gate.recovery_min_landmarks)) return false;
+  const auto fit = fitPose(matches);
+  if (!fit || fit->worst_d2 > gate.chi2) return false;
+  m_xkk[0] = fit->pose.mean.x;
+  m_xkk[1] = fit->pose.mean.y;
+  m_xkk[2] = fit->pose.mean.phi;
+  auto Pw = m_pkk.asEigen();
+  Pw.topRows<3>().setZero();
+  Pw.leftCols<3>().setZero();
+  Pw.block<3, 3>(0, 0) = 0.5 * (fit->pose.cov + fit->pose.cov.transpose());
+  return true;
 }
 
 PoseEstimate LocalizationKF2D::robotPose() const {
@@ -88,28 +166,33 @@ void LocalizationKF2D::OnGetObservationsAndDataAssociation(
   // ... then only the paired readings that pass the gate go to the update; the rest (unpaired:
   // -1, which MRPT would turn into new landmarks) are left out altogether.
   used_.assign(z.size(), kNoLandmarkId);
-  gated_ = 0;
+  gated_ = consistent_ = 0;
+  paired_.clear();
+  accepted_ = 0;
   out_z.clear();
   out_data_association.clear();
   for (std::size_t i = 0; i < z.size(); ++i) {
     if (da[i] < 0) continue;
     const auto lm = static_cast<std::size_t>(da[i]);
+    paired_.push_back({lm, z[i][0], z[i][1]});
     const auto it = std::find(in_lm_indices_in_S.begin(), in_lm_indices_in_S.end(), lm);
-    if (gate_chi2 > 0) {
-      if (it == in_lm_indices_in_S.end()) {  // MRPT predicts it out of view: far off
-        ++gated_;
-        continue;
-      }
+    // d^2 = v' S^-1 v of the reading against the map's landmark; infinite when MRPT predicts the
+    // landmark out of view (far off) or S is not positive definite.
+    double d2 = std::numeric_limits<double>::infinity();
+    if (it != in_lm_indices_in_S.end()) {
       const auto k = static_cast<Eigen::Index>(2 * (it - in_lm_indices_in_S.begin()));
       const Eigen::Matrix2d S = in_S.asEigen().block<2, 2>(k, k);
       const Eigen::Vector2d v(z[i][0] - in_all_predictions[lm][0],
                               mrpt::math::wrapToPi(z[i][1] - in_all_predictions[lm][1]));
       const Eigen::LLT<Eigen::Matrix2d> llt(S);
-      if (llt.info() != Eigen::Success || v.dot(llt.solve(v)) > gate_chi2) {
-        ++gated_;
-        continue;
-      }
+      if (llt.info() == Eigen::Success) d2 = v.dot(llt.solve(v));
     }
+    if (d2 <= kConsistentChi2) ++consistent_;
+    if (gate.chi2 > 0 && !(d2 <= gate.chi2)) {
+      ++gated_;
+      continue;
+    }
+    ++accepted_;
     out_z.push_back(z[i]);
     out_data_association.push_back(da[i]);
     mrpt::maps::CLandmark::TLandmarkID id;

@@ -69,6 +69,7 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
   if (!path.empty()) {
     double sum = 0, mx = 0;
     std::vector<Eigen::Vector2d> est, ref;
+    std::vector<mrpt::math::TPose2D> est_poses, ref_poses;
     for (const auto& p : trajectory) {
       const std::size_t row = groundTruthRow(p.step, path.size(), steps);
       if (row >= path.size()) continue;
@@ -79,7 +80,10 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
       ++out.poses;
       est.emplace_back(p.pose.x, p.pose.y);
       ref.emplace_back(gt.x, gt.y);
+      est_poses.push_back(p.pose);
+      ref_poses.push_back(gt);
     }
+    out.rpe = relativePoseError(est_poses, ref_poses);
     if (out.poses) {
       out.trajectory_rmse = std::sqrt(sum / out.poses);
       out.trajectory_max = mx;

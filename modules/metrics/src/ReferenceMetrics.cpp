@@ -56,7 +56,11 @@ ReferenceMetrics compareWithReference(const Backend& reference, const Backend& r
   // UD (Eq. 12): the latest pose's covariance determinant, reduced vs reference.
   const double det_ref = reference.robotPose().cov.determinant();
   const double det_red = reduced.robotPose().cov.determinant();
-  if (det_ref > 0) m.ud_percent = (det_red - det_ref) / det_ref * 100.0;
+  if (det_ref > 0) {
+    m.ud_percent = (det_red - det_ref) / det_ref * 100.0;
+    const auto dim = static_cast<double>(reduced.robotPose().cov.rows());
+    if (det_red >= 0) m.ud_std_factor = std::pow(det_red / det_ref, 1.0 / (2.0 * dim));
+  }
 
   // EIG (Eq. 11) over the variables both runs hold: the kept poses (only the latest one for the
   // EKF, which keeps no past poses) and the kept landmarks.

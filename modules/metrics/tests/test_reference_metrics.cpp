@@ -53,6 +53,13 @@ TEST(ReferenceMetrics, EkfAgainstItselfIsZeroAndReducedRunIsMeasured) {
   EXPECT_EQ(m.landmarks, 25u);
   EXPECT_GT(m.ate, 0.0);
   EXPECT_GT(m.ud_percent, 0.0);  // fewer landmarks: a less certain latest pose
+  // UD as the growth of the pose's standard deviations: the sixth root of the determinants' ratio
+  // (a 3x3 covariance), from the two covariances directly.
+  const double ratio = reduced.robotPose().cov.determinant() / ref.robotPose().cov.determinant();
+  EXPECT_NEAR(m.ud_std_factor, std::pow(ratio, 1.0 / 6), 1e-12);
+  EXPECT_NEAR(std::pow(m.ud_std_factor, 6), 1 + m.ud_percent / 100,
+              1e-9 * (1 + m.ud_percent / 100));
+  EXPECT_EQ(zero.ud_std_factor, 1.0);
   EXPECT_EQ(m.eig_rows, 3u + 2 * 25);
   // Marginalizing landmarks out of the EKF never makes it more certain than the full filter:
   // Sigma_ref - Sigma_reduced has no clearly positive eigenvalue.

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "budget_slam/metrics/LocalizationScore.h"
+#include "budget_slam/metrics/MappedArea.h"
 #include "budget_slam/metrics/RelocalizationCoverage.h"
 
 using namespace budget_slam;
@@ -24,8 +25,10 @@ TEST(RelocalizationTracker, ThreePlacesCountedByHand) {
     return seen;
   };
   StepIndex k = 0;
-  for (int i = 0; i < 4; ++i, ++k) t.addStep(k, step(k, kA)), so_far.push_back(t.coverageSoFarPct());
-  for (int i = 0; i < 3; ++i, ++k) t.addStep(k, step(k, kB)), so_far.push_back(t.coverageSoFarPct());
+  for (int i = 0; i < 4; ++i, ++k)
+    t.addStep(k, step(k, kA)), so_far.push_back(t.coverageSoFarPct());
+  for (int i = 0; i < 3; ++i, ++k)
+    t.addStep(k, step(k, kB)), so_far.push_back(t.coverageSoFarPct());
   for (int i = 0; i < 5; ++i, ++k) {
     step(k, kC);
     if (i == 0)
@@ -58,15 +61,16 @@ TEST(RelocalizationTracker, ThreePlacesCountedByHand) {
   // The same numbers recomputed from the kept steps against the final map.
   auto steps = t.steps();
   const std::set<LandmarkId> final_map = {1, 2, 3, 7, 8, 9};
-  const auto again =
-      coverageOf(steps, [&](LandmarkId id) { return final_map.count(id) > 0; }, 2);
+  const auto again = coverageOf(
+      steps, [&](LandmarkId id) { return final_map.count(id) > 0; }, 2);
   EXPECT_EQ(again.steps_covered, 11u);
   EXPECT_DOUBLE_EQ(again.mean_landmarks, c.mean_landmarks);
   for (std::size_t i = 0; i < steps.size(); ++i)
     EXPECT_EQ(steps[i].in_map, t.steps()[i].in_map) << i;
 
   // k = 4: no step sees four map landmarks.
-  EXPECT_EQ(coverageOf(steps, [&](LandmarkId id) { return final_map.count(id) > 0; }, 4)
+  EXPECT_EQ(coverageOf(
+                steps, [&](LandmarkId id) { return final_map.count(id) > 0; }, 4)
                 .steps_covered,
             0u);
 }
@@ -110,7 +114,8 @@ TEST(RelocalizationTracker, SampledTrackerStaysBoundedAndConsistent) {
   for (std::size_t i = 1; i < t.steps().size(); ++i)
     EXPECT_EQ(t.steps()[i].step - t.steps()[i - 1].step, stride);
   auto steps = t.steps();
-  const auto again = coverageOf(steps, [&](LandmarkId id) { return map.count(id) > 0; }, 2, true);
+  const auto again = coverageOf(
+      steps, [&](LandmarkId id) { return map.count(id) > 0; }, 2, true);
   const auto c = t.coverage();
   EXPECT_EQ(again.steps_covered, c.steps_covered);
   EXPECT_DOUBLE_EQ(again.mean_landmarks, c.mean_landmarks);
@@ -141,8 +146,8 @@ TEST(MatchLandmarks, PairsOneToOneByMahalanobisDistance) {
   ASSERT_EQ(self.size(), 3u);
   for (const auto& [a, b] : self) EXPECT_EQ(a, b);
   // Two landmarks competing for one: only the nearer gets it.
-  const auto one = matchLandmarks({lm(1, 0.1, 0, 0.01), lm(2, 0.02, 0, 0.01)}, {lm(100, 0, 0, 0.01)},
-                                  13.8);
+  const auto one =
+      matchLandmarks({lm(1, 0.1, 0, 0.01), lm(2, 0.02, 0, 0.01)}, {lm(100, 0, 0, 0.01)}, 13.8);
   ASSERT_EQ(one.size(), 1u);
   EXPECT_EQ(one.at(2), 100);
 }
@@ -165,4 +170,51 @@ TEST(LocalizationScorer, CountsLostStepsAndErrors) {
   EXPECT_DOUBLE_EQ(r.mean_landmarks, 6.0 / 5);
   EXPECT_DOUBLE_EQ(r.nees_mean, 3.0);
   EXPECT_EQ(r.nees_samples, 2u);
+}
+
+TEST(LocalizationScorer, ScoresOnlyTheMappedAreaAndSuccessPerPlace) {
+  // Thresholds 0.25 m and 5 deg. Place A: 3 steps, 2 tracked (one has a 10 deg yaw error);
+  // place B: 1 step, tracked; one step outside the mapped area counts for nothing but
+  // `compared`, whatever its error.
+  LocalizationScorer s(1.0, 2, 0.25, 5 * M_PI / 180);
+  const PlaceKey a{0, 0, 0}, b{5, 0, 1};
+  const auto step = [](double e, double yaw_deg, bool in, std::optional<PlaceKey> p) {
+    StepError x;
+    x.error_m = e;
+    x.yaw_error = yaw_deg * M_PI / 180;
+    x.map_landmarks = 2;
+    x.in_mapped_area = in;
+    x.place = p;
+    return x;
+  };
+  EXPECT_FALSE(s.add(step(0.1, 1, true, a)));
+  EXPECT_FALSE(s.add(step(0.2, 10, true, a)));
+  EXPECT_FALSE(s.add(step(0.24, 4.9, true, a)));
+  EXPECT_FALSE(s.add(step(0.05, 0, true, b)));
+  EXPECT_FALSE(s.add(step(50, 0, false, b)));  // outside: not lost, not in the errors
+  const auto r = s.score();
+  EXPECT_EQ(r.compared, 5u);
+  EXPECT_EQ(r.scored, 4u);
+  EXPECT_DOUBLE_EQ(r.scored_pct, 80.0);
+  EXPECT_EQ(r.places, 2u);
+  EXPECT_DOUBLE_EQ(r.success_pct, 100.0 * (2.0 / 3 + 1.0) / 2);
+  EXPECT_DOUBLE_EQ(r.max_m, 0.24);
+  EXPECT_DOUBLE_EQ(r.lost_pct, 0.0);
+  EXPECT_TRUE(s.tracked(0.25, 5 * M_PI / 180));
+  EXPECT_FALSE(s.tracked(std::numeric_limits<double>::infinity(), 0));  // a diverged filter
+}
+
+TEST(MappedArea, CellsWithinReachOfThePath) {
+  const MappedArea area({{0.5, 0.5, 0}, {2.5, 0.5, 1}}, 1.0, 0.8);  // cells (0, 0), (2, 0), 1 round
+  EXPECT_TRUE(area.contains(0.5, 0.5));
+  EXPECT_TRUE(area.contains(-0.5, 1.5));  // a neighbour of (0, 0)
+  EXPECT_TRUE(area.contains(3.9, -0.9));  // a neighbour of (2, 0)
+  EXPECT_FALSE(area.contains(4.1, 0.5));  // two cells away
+  EXPECT_FALSE(area.contains(0.5, -1.1));
+  EXPECT_TRUE(MappedArea().contains(1e6, -1e6));     // no path known: everywhere
+  const MappedArea wide({{0.5, 0.5, 0}}, 1.0, 2.5);  // three cells round (0, 0)
+  EXPECT_TRUE(wide.contains(3.9, -2.9));
+  EXPECT_FALSE(wide.contains(4.1, 0.5));
+  EXPECT_TRUE(MappedArea({{0.5, 0.5, 0}}, 1.0, 0).contains(0.9, 0.1));  // reach 0: its own cell
+  EXPECT_FALSE(MappedArea({{0.5, 0.5, 0}}, 1.0, 0).contains(1.1, 0.1));
 }

@@ -151,15 +151,41 @@ Eviction BudgetManager::dropLandmark(Backend& backend, const DropContext& ctx,
   return e;
 }
 
-void BudgetManager::tellObservations(const Backend& backend, StepIndex step, const Step* raw) {
+void BudgetManager::tellObservations(const Backend& backend, StepIndex step, const Step* processed,
+                                     const Step* raw) {
   if (observers_.empty()) return;
   StepObservation seen;
   seen.step = step;
   seen.robot = backend.robotPose().mean;
   seen.observed = backend.observedAt(step);
-  if (raw && raw->scan) {
-    seen.sensor_max_range = raw->scan->max_range;
-    seen.sensor_fov = raw->scan->fov_yaw;
+  if (processed && processed->scan) {
+    seen.sensor_max_range = processed->scan->max_range;
+    seen.sensor_fov = processed->scan->fov_yaw;
+    const auto& s = processed->scan->sensor_pose_on_robot;
+    seen.sensor_pose = mrpt::math::TPose2D(s.x, s.y, s.yaw);
+    // The landmark of each reading: the backend's association when it gives one (readings
+    // without IDs), else the reading's own ID when that landmark is in the map.
+    const std::vector<LandmarkId> association = backend.lastAssociation();
+    const std::set<LandmarkId> observed(seen.observed.begin(), seen.observed.end());
+    const auto& readings = processed->scan->readings;
+    for (std::size_t i = 0; i < readings.size(); ++i) {
+      const LandmarkId id = association.size() == readings.size() ? association[i] : readings[i].id;
+      if (id != kNoLandmarkId && observed.count(id))
+        seen.sightings.push_back({id, readings[i].range, readings[i].yaw});
+    }
+    // What admissible() left out: readings of the raw step whose landmark the processed step lacks.
+    if (raw && raw != processed && raw->scan) {
+      std::multiset<LandmarkId> kept;
+      for (const auto& r : readings) kept.insert(r.id);
+      for (const auto& r : raw->scan->readings) {
+        if (r.id == kNoLandmarkId) continue;
+        const auto it = kept.find(r.id);
+        if (it != kept.end())
+          kept.erase(it);
+        else
+          seen.withheld.push_back({r.id, r.range, r.yaw});
+      }
+    }
   }
   for (Reducer* r : observers_) r->observe(seen);
 }
@@ -222,10 +248,16 @@ std::vector<Eviction> BudgetManager::enforce(Backend& backend, const Step& step)
   return enforceAt(backend, step.index, &step);
 }
 
-std::vector<Eviction> BudgetManager::enforceAt(Backend& backend, StepIndex step, const Step* raw) {
+std::vector<Eviction> BudgetManager::enforce(Backend& backend, const Step& processed,
+                                             const Step& raw) {
+  return enforceAt(backend, processed.index, &processed, &raw);
+}
+
+std::vector<Eviction> BudgetManager::enforceAt(Backend& backend, StepIndex step,
+                                               const Step* processed, const Step* raw) {
   std::vector<Eviction> out;
   if (!active_) return out;
-  tellObservations(backend, step, raw);
+  tellObservations(backend, step, processed, raw);
   out = runScheduled(backend, step, false);
   const bool compete = options_.admission == BudgetOptions::Admission::Compete;
   bool event_started = false;

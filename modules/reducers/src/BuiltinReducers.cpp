@@ -2,6 +2,7 @@
 
 #include "budget_slam/reducers/BaselineReducers.h"
 #include "budget_slam/reducers/CoverageReducer.h"
+#include "budget_slam/reducers/LocalizationInformationReducer.h"
 #include "budget_slam/reducers/MutualInformationReducer.h"
 #include "budget_slam/reducers/PlaceCoverageReducer.h"
 
@@ -25,6 +26,7 @@ ReducerRegistry makeRegistry() {
   r.add(CoverageReducer::entry());
   r.add(CoverageMiReducer::entry());
   r.add(PlaceCoverageReducer::entry());
+  r.add(LocalizationInformationReducer::entry());
   return r;
 }
 

@@ -49,73 +49,8 @@ const OptionTable<PlaceCoverageOptions>& PlaceCoverageOptions::table() {
   return t;
 }
 
-std::size_t PlaceCoverageReducer::KeyHash::operator()(const PlaceKey& k) const {
-  // SplitMix64-style mixing of the three coordinates.
-  auto mix = [](std::uint64_t x) {
-    x += 0x9e3779b97f4a7c15ULL;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-  };
-  return static_cast<std::size_t>(mix(static_cast<std::uint64_t>(k.ix) ^
-                                      mix(static_cast<std::uint64_t>(k.iy) ^ mix(k.sector))));
-}
-
-void PlaceCoverageReducer::fixGeometry(const StepObservation& seen) {
-  if (size_ > 0) return;
-  // A quarter of the sensor's range: a place's landmarks stay in view across it.
-  size_ = options_.place_size > 0     ? options_.place_size
-          : seen.sensor_max_range > 0 ? seen.sensor_max_range / 4
-                                      : 1.0;
-  if (options_.heading_sectors > 0) {
-    sectors_ = options_.heading_sectors;
-  } else if (seen.sensor_fov <= 0 || seen.sensor_fov >= 2 * M_PI - 1e-6) {
-    sectors_ = 1;  // all around (or unknown): the heading does not change what is in view
-  } else {
-    sectors_ = static_cast<std::size_t>(std::max(1.0, std::round(4 * M_PI / seen.sensor_fov)));
-  }
-}
-
-PlaceCoverageReducer::PlaceKey PlaceCoverageReducer::placeOf(
-    const mrpt::math::TPose2D& robot) const {
-  const double size = size_ > 0 ? size_ : 1.0;
-  const std::size_t sectors = sectors_ > 0 ? sectors_ : 1;
-  PlaceKey k;
-  k.ix = static_cast<std::int64_t>(std::floor(robot.x / size));
-  k.iy = static_cast<std::int64_t>(std::floor(robot.y / size));
-  double yaw = std::fmod(robot.phi, 2 * M_PI);
-  if (yaw < 0) yaw += 2 * M_PI;
-  k.sector = static_cast<std::uint32_t>(
-      std::min<double>(static_cast<double>(sectors) - 1,
-                       std::floor(yaw / (2 * M_PI / static_cast<double>(sectors)))));
-  return k;
-}
-
-std::uint32_t PlaceCoverageReducer::visit(const PlaceKey& key, StepIndex step) {
-  std::uint32_t slot;
-  const auto it = place_of_key_.find(key);
-  if (it != place_of_key_.end()) {
-    slot = it->second;
-    by_visit_.erase({places_[slot].last_visit, slot});
-  } else {
-    if (!free_slots_.empty()) {
-      slot = free_slots_.back();
-      free_slots_.pop_back();
-    } else {
-      slot = static_cast<std::uint32_t>(places_.size());
-      places_.emplace_back();
-    }
-    places_[slot] = Place{key, {}, step, true};
-    place_of_key_.emplace(key, slot);
-  }
-  places_[slot].last_visit = step;
-  by_visit_.insert({step, slot});
-  while (place_of_key_.size() > options_.max_places) {
-    const auto oldest = by_visit_.begin();
-    if (oldest->second == slot) break;  // never the place being visited
-    forgetPlace(oldest->second);
-  }
-  return slot;
+PlaceKey PlaceCoverageReducer::placeOf(const mrpt::math::TPose2D& robot) const {
+  return (grid_ ? *grid_ : PlaceGrid(1.0, 1)).placeOf(robot);
 }
 
 void PlaceCoverageReducer::addSighting(std::uint32_t slot, LandmarkId id) {
@@ -158,16 +93,17 @@ void PlaceCoverageReducer::forgetPlace(std::uint32_t slot) {
     if (counted) t.loss -= 1;
     t.places.erase(std::find(t.places.begin(), t.places.end(), slot));
   }
-  by_visit_.erase({p.last_visit, slot});
-  place_of_key_.erase(p.key);
   p = Place();
-  free_slots_.push_back(slot);
 }
 
 void PlaceCoverageReducer::observe(const StepObservation& seen) {
-  fixGeometry(seen);
+  if (!grid_)
+    grid_ = PlaceGrid::fromSensor(options_.place_size, options_.heading_sectors,
+                                  seen.sensor_max_range, seen.sensor_fov);
   if (seen.observed.empty()) return;  // a place with no landmark constrains no choice
-  const std::uint32_t slot = visit(placeOf(seen.robot), seen.step);
+  const std::uint32_t slot = slots_.visit(grid_->placeOf(seen.robot), seen.step,
+                                          [this](std::uint32_t gone) { forgetPlace(gone); });
+  places_.resize(slots_.slots());
   for (const LandmarkId id : seen.observed) addSighting(slot, id);
 }
 
@@ -186,22 +122,23 @@ double PlaceCoverageReducer::loss(LandmarkId id) const {
 
 double PlaceCoverageReducer::coverage() const {
   double f = 0;
-  for (const Place& p : places_)
-    if (p.used)
-      f += static_cast<double>(std::min<std::size_t>(p.seen.size(), options_.min_landmarks));
+  for (std::uint32_t s = 0; s < places_.size(); ++s)
+    if (slots_.used(s))
+      f += static_cast<double>(
+          std::min<std::size_t>(places_[s].seen.size(), options_.min_landmarks));
   return f;
 }
 
 std::vector<std::vector<LandmarkId>> PlaceCoverageReducer::placeSightings() const {
   std::vector<std::vector<LandmarkId>> out;
-  for (const Place& p : places_)
-    if (p.used) out.push_back(p.seen);
+  for (std::uint32_t s = 0; s < places_.size(); ++s)
+    if (slots_.used(s)) out.push_back(places_[s].seen);
   return out;
 }
 
 std::vector<LandmarkId> PlaceCoverageReducer::observedFrom(const mrpt::math::TPose2D& robot) const {
-  const auto it = place_of_key_.find(placeOf(robot));
-  return it == place_of_key_.end() ? std::vector<LandmarkId>() : places_[it->second].seen;
+  const auto slot = slots_.find(placeOf(robot));
+  return slot ? places_[*slot].seen : std::vector<LandmarkId>();
 }
 
 ReducerChoice PlaceCoverageReducer::choose(const DropContext& ctx) {

@@ -111,14 +111,17 @@ COpenGLScene::Ptr buildMapScene(const MapContent& c, const mrpt::math::TPose2D& 
   }
   if (!c.ground_truth_path.empty())
     scene.insert(polyline(c.ground_truth_path, scene_names::kGroundTruthPath, 0, 0, 0, 1.5f));
-  // map.png's blue (BGR 200, 80, 20).
-  scene.insert(
-      polyline(c.trajectory, scene_names::kTrajectory, 20 / 255.f, 80 / 255.f, 200 / 255.f, 2.5f));
+  // The map figure's blue path.
+  const auto path = map_colours::kPathGood;
+  scene.insert(polyline(c.trajectory, scene_names::kTrajectory, static_cast<float>(path.r),
+                        static_cast<float>(path.g), static_cast<float>(path.b), 2.5f));
 
   {
     auto dropped = CSetOfLines::Create();
     dropped->setName(scene_names::kDropped);
-    dropped->setColor(220 / 255.f, 30 / 255.f, 30 / 255.f);
+    const auto grey = map_colours::kDropped;  // the map figure's dropped landmarks
+    dropped->setColor(static_cast<float>(grey.r), static_cast<float>(grey.g),
+                      static_cast<float>(grey.b));
     dropped->setLineWidth(1.5f);
     const double h = kCrossFraction * extent;
     for (const auto& d : c.dropped) {
@@ -137,7 +140,7 @@ COpenGLScene::Ptr buildMapScene(const MapContent& c, const mrpt::math::TPose2D& 
     for (std::size_t i = 0; i < c.kept.size(); ++i) {
       const auto& l = c.kept[i];
       const int cluster = i < c.cluster_of_kept.size() ? c.cluster_of_kept[i] : -1;
-      const auto rgb = cluster >= 0 ? paletteRgb(static_cast<std::size_t>(cluster))
+      const auto rgb = cluster >= 0 ? clusterRgb(static_cast<std::size_t>(cluster))
                                     : std::array<std::uint8_t, 3>{40, 150, 40};
       auto e = CEllipsoid2D::Create();
       e->setName(scene_names::keptLandmark(static_cast<long long>(l.id), cluster));

@@ -1,10 +1,10 @@
 #include "budget_slam/report/RunFileReaders.h"
 
 #include <cerrno>
-#include <filesystem>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <set>
@@ -106,8 +106,7 @@ std::vector<LandmarkView> readLandmarksCsv(const std::string& path, std::size_t 
     if (c.size() != columns)
       in.fail("expected " + std::to_string(columns) + " cells (" + std::string(kHeader) +
               "), found " + std::to_string(c.size()));
-    if (out.size() == max_rows)
-      in.fail("more than " + std::to_string(max_rows) + " landmarks");
+    if (out.size() == max_rows) in.fail("more than " + std::to_string(max_rows) + " landmarks");
     LandmarkView v;
     v.id = nonNegativeInteger(in, c[0], "id");
     if (!ids.insert(v.id).second) in.fail("landmark id " + c[0] + " appears twice");
@@ -140,8 +139,7 @@ std::vector<TrajectoryPoint> readTrajectoryTum(const std::string& path, std::siz
     double v[8];
     static const char* names[8] = {"t", "x", "y", "z", "qx", "qy", "qz", "qw"};
     for (int i = 0; i < 8; ++i) v[i] = finite(in, w[i], names[i]);
-    if (!out.empty() && !(v[0] > out.back().t))
-      in.fail("time " + w[0] + " does not increase");
+    if (!out.empty() && !(v[0] > out.back().t)) in.fail("time " + w[0] + " does not increase");
     const double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
     if (!(norm > 0.5 && norm < 1.5)) in.fail("quaternion is not of unit length");
     // Yaw of the quaternion's rotation (about z for every budget-slam trajectory).

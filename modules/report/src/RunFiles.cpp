@@ -58,13 +58,24 @@ void writeJson(const std::string& path, const nlohmann::json& j) {
 }
 
 const std::vector<std::string>& stepsCsvColumns() {
-  static const std::vector<std::string> c = {
-      "step",        "t",         "n_landmarks",
-      "n_new",       "n_dropped", "n_poses",
-      "x",           "y",         "yaw",
-      "var_x",       "var_y",     "var_yaw",
-      "step_ms",     "step_cpu_ms", "rss_bytes",
-      "reloc_landmarks", "reloc_coverage_so_far_pct"};
+  static const std::vector<std::string> c = {"step",
+                                             "t",
+                                             "n_landmarks",
+                                             "n_new",
+                                             "n_dropped",
+                                             "n_poses",
+                                             "x",
+                                             "y",
+                                             "yaw",
+                                             "var_x",
+                                             "var_y",
+                                             "var_yaw",
+                                             "step_ms",
+                                             "step_cpu_ms",
+                                             "rss_bytes",
+                                             "reloc_landmarks",
+                                             "reloc_coverage_so_far_pct",
+                                             "n_refused"};
   return c;
 }
 

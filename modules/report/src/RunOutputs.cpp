@@ -65,7 +65,8 @@ void RunOutputs::addStep(const StepRow& r) {
       .cell(r.cpu_ms)
       .cell(r.rss_bytes)
       .cell(r.reloc_landmarks)
-      .cell(r.reloc_coverage_so_far_pct);
+      .cell(r.reloc_coverage_so_far_pct)
+      .cell(r.refused);
   steps_csv_.endRow();
 }
 
@@ -131,7 +132,10 @@ RunOutputs::EndFilesResult RunOutputs::writeEndFiles(const RunEndFiles& files) {
     if (!map) map = files.map();
     return *map;
   };
-  attempt("map.png", [&] { writeMapPng(folder_.file("map.png"), finalMap()); });
+  for (const auto format : files.figure_formats) {
+    const std::string name = figureFile("map", format);
+    attempt(name, [&] { writeMapFigure(folder_.file(name), finalMap(), format); });
+  }
   if (files.scene)
     attempt("map.3Dscene", [&] { writeScene("map.3Dscene", finalMap(), files.robot); });
   if (files.truth && !files.truth->path.empty())

@@ -47,7 +47,7 @@ def value(rawlog, reducer, seed, metric):
     s = 0.01 * seed
     return {
         "gt_trajectory_rmse_aligned_m": base * 0.1 + 0.05 * q + s + e,
-        "ate_m": 0.0 if q == 0 else 0.2 * q + s + e,
+        "ref_ate_m": 0.0 if q == 0 else 0.2 * q + s + e,
         "reloc_coverage_pct": 100.0 - 8.0 * q - s + e,
         "reloc_mean_landmarks": 6.0 - 0.5 * q + e,
         "reloc_rmse_m": base * 0.2 + 0.1 * q + s + e,
@@ -97,7 +97,7 @@ def compare(args):
     reloc = ["reloc_coverage_pct", "reloc_mean_landmarks", "reloc_rmse_m", "reloc_max_m", "reloc_lost_pct",
              "reloc_traversal_coverage_pct", "reloc_rmse_ratio", "reloc_lost_ratio"]
     header = ["run", "reducer", "backend", "status", "cap", "landmarks", "landmarks_reduction_pct", "poses",
-              "poses_reduction_pct", "evictions", "ate_m", "ale_m", "are_deg", "ud_pct", "eig_min", "eig_max",
+              "poses_reduction_pct", "evictions", "ref_ate_m", "ref_ale_m", "ref_are_deg", "ref_ud_pct", "ref_eig_min", "ref_eig_max",
               "gt_trajectory_rmse_m", "gt_trajectory_max_m", "gt_landmark_rmse_m", "nees_mean", "time_s"] + reloc
     os.makedirs(out, exist_ok=True)
     lines, per_traversal = [",".join(header)], ["run,traversal,status,rmse_m,max_m,lost_pct,coverage_pct,nees_mean"]
@@ -106,8 +106,8 @@ def compare(args):
         failed = fails and red == "none"
         row = dict(run=run, reducer=red, backend="ekf", status="failed" if failed else "ok", cap="" if red == "none" else arg(args, "--cap"),
                    landmarks=40 if red == "none" else arg(args, "--cap"), landmarks_reduction_pct=0, poses=1,
-                   poses_reduction_pct=0, evictions=0, ate_m=value(rawlog, red, seed, "ate_m"), ale_m="",
-                   are_deg="nan", ud_pct="", eig_min="nan", eig_max="nan", gt_trajectory_rmse_m=0.5,
+                   poses_reduction_pct=0, evictions=0, ref_ate_m=value(rawlog, red, seed, "ref_ate_m"), ref_ale_m="",
+                   ref_are_deg="nan", ref_ud_pct="", ref_eig_min="nan", ref_eig_max="nan", gt_trajectory_rmse_m=0.5,
                    gt_trajectory_max_m=1.0, gt_landmark_rmse_m=0.3, nees_mean="", time_s=0.1)
         for m in reloc:
             if not traversals and m not in ("reloc_coverage_pct", "reloc_mean_landmarks"):
@@ -117,7 +117,7 @@ def compare(args):
             else:
                 row[m] = value(rawlog, red, seed, m)
         if failed:  # the app leaves a failed run's metrics empty
-            row.update({m: "" for m in reloc + ["ate_m"]})
+            row.update({m: "" for m in reloc + ["ref_ate_m"]})
         lines.append(",".join(str(row[h]) for h in header))
         os.makedirs(os.path.join(out, run), exist_ok=True)
         write(os.path.join(out, run, "summary.json"), json.dumps({

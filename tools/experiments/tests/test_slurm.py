@@ -104,7 +104,7 @@ class SweepOnSlurm(unittest.TestCase):
         local_rows, local = results(os.path.join(self.local, "results.csv"))
         rows, slurm = results(os.path.join(out, "results.csv"))
         self.assertEqual(len(rows), len(local_rows))
-        self.assertEqual(len(rows), 2 * (25 + 2 * 26))  # as test_sweep.py: every row there
+        self.assertEqual(len(rows), 2 * (28 + 2 * 29))  # as test_sweep.py: every row there
         self.assertEqual(slurm, local)
 
     def test_submit_returns_the_job_id_then_collect_only_gathers_the_results(self):
@@ -145,7 +145,7 @@ class SweepOnSlurm(unittest.TestCase):
         job_id = p.stdout.strip()
         self.assertRegex(job_id, r"^\d+$")
         self.assertIn(f"[slurm {job_id}] 2 task(s) ended, 0 running, 0 waiting", p.stderr)
-        self.assertIn("results.csv: 154 rows", p.stderr)
+        self.assertIn("results.csv: 172 rows", p.stderr)
         self.assertSameResults(out)
         with open(os.path.join(out, "slurm_jobs.txt")) as f:
             self.assertEqual(f.read(), f"{job_id} 1-2%2\n")

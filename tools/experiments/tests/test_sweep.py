@@ -35,11 +35,12 @@ REDUCERS = ["none", "coverage", "mi"]
 CAPS = ["20", "50%"]
 # Every run of the kf-slam demo has ground truth, so every metric is finite.
 METRICS_REFERENCE = [
-    "status_ok", "landmarks", "landmarks_reduction_pct", "poses", "poses_reduction_pct", "evictions",
-    "ate_m", "ale_m", "are_deg", "ud_pct", "eig_min", "eig_max", "gt_trajectory_rmse_m",
-    "gt_trajectory_max_m", "gt_landmark_rmse_m", "nees_mean", "time_s", "reloc_coverage_pct",
-    "reloc_mean_landmarks", "gt_trajectory_rmse_aligned_m",
-    "gt_landmark_rmse_aligned_m", "step_ms_mean", "step_ms_max", "peak_rss_bytes", "steps"]
+    "status_ok", "gt_trajectory_rmse_aligned_m", "gt_trajectory_rpe_10m_m", "landmarks",
+    "landmarks_reduction_pct", "poses", "poses_reduction_pct", "evictions", "refused", "ref_ate_m",
+    "ref_ale_m", "ref_are_deg", "ref_ud_pct", "ref_ud_std_factor", "ref_eig_min", "ref_eig_max",
+    "gt_trajectory_rmse_m", "gt_trajectory_max_m", "gt_landmark_rmse_m", "gt_landmark_rmse_aligned_m",
+    "nees_mean", "time_s", "reloc_coverage_pct", "reloc_mean_landmarks", "step_ms_mean", "step_ms_max",
+    "peak_rss_bytes", "steps"]
 METRICS_REDUCED = METRICS_REFERENCE + ["cap_landmarks"]
 PLOTS = ["kf-slam_demo__ekf__error_vs_cap.png"] + [
     f"kf-slam_demo__ekf__cap{c}__{kind}.png" for c in ("20", "50pct") for kind in ("landmarks", "error", "step_time")]
@@ -74,7 +75,7 @@ class TinySweep(unittest.TestCase):
         expected = sorted(("kf-slam_demo", "ekf", r, c, "1", m)
                           for r in REDUCERS for c in CAPS
                           for m in (METRICS_REFERENCE if r == "none" else METRICS_REDUCED))
-        self.assertEqual(len(rows), 2 * (25 + 2 * 26))
+        self.assertEqual(len(rows), 2 * (28 + 2 * 29))
         self.assertEqual(sorted(tuple(r[:6]) for r in rows), expected)
         for r in rows:
             float(r[6])
@@ -167,7 +168,7 @@ class KilledSweepResumes(unittest.TestCase):
             self.assertEqual(os.stat(log_first).st_mtime_ns, log_stamp)
             self.assertFalse(os.path.exists(os.path.join(out, other + ".part")))
             with open(os.path.join(out, "results.csv")) as f:
-                self.assertEqual(sum(1 for _ in f), 1 + 2 * (25 + 2 * 26))
+                self.assertEqual(sum(1 for _ in f), 1 + 2 * (28 + 2 * 29))
 
 
 class PairwiseWithFakeBudgetSlam(unittest.TestCase):
@@ -251,9 +252,9 @@ class PairwiseWithFakeBudgetSlam(unittest.TestCase):
             rows = list(csv.DictReader(f))
         metrics = {r["metric"] for r in rows}
         for m in ("reloc_coverage_pct", "reloc_mean_landmarks", "reloc_rmse_m", "reloc_max_m", "reloc_lost_pct",
-                  "reloc_traversal_coverage_pct", "reloc_rmse_ratio", "reloc_lost_ratio", "ate_m", "time_s"):
+                  "reloc_traversal_coverage_pct", "reloc_rmse_ratio", "reloc_lost_ratio", "ref_ate_m", "time_s"):
             self.assertIn(m, metrics)
-        for m in ("ale_m", "ud_pct", "nees_mean", "are_deg", "eig_min", "eig_max", "gt_landmark_rmse_aligned_m"):
+        for m in ("ref_ale_m", "ref_ud_pct", "nees_mean", "ref_are_deg", "ref_eig_min", "ref_eig_max", "gt_landmark_rmse_aligned_m"):
             self.assertNotIn(m, metrics)  # written empty, `nan` or null by the fake
         v = {(r["reducer"], r["seed"], r["metric"]): float(r["value"]) for r in rows}
         self.assertEqual(v[("mi", "7", "reloc_rmse_m")], fake.value("rooms", "mi", 7, "reloc_rmse_m"))
@@ -274,6 +275,35 @@ class PairwiseWithFakeBudgetSlam(unittest.TestCase):
             lines = f.read().splitlines()
         self.assertEqual(len(lines), 12)
         self.assertTrue(all(f"--relocalize {ROOT}/rawlogs/park.rawlog --quiet" in l for l in lines))
+
+
+class SlurmDefaults(unittest.TestCase):
+    """Issue 25: without --cpus-per-task a task asks for 4 CPUs, or for the largest node's count
+    when the partition has no node that large (a 2-core node), as sinfo reports it."""
+
+    def fake_sinfo(self, tmp, output):
+        path = os.path.join(tmp, "sinfo")
+        with open(path, "w") as f:
+            f.write("#!/bin/sh\n" + "".join(f"echo '{line}'\n" for line in output))
+        os.chmod(path, 0o755)
+
+    def test_default_cpus_per_task_fits_the_largest_node(self):
+        import slurmlib
+        old_path = os.environ["PATH"]
+        with tempfile.TemporaryDirectory(prefix="test_slurm_defaults_") as tmp:
+            os.environ["PATH"] = tmp + os.pathsep + old_path
+            try:
+                self.fake_sinfo(tmp, ["2"])
+                self.assertEqual(slurmlib.default_cpus_per_task("local"), 2)
+                self.fake_sinfo(tmp, ["2", "16+"])
+                self.assertEqual(slurmlib.default_cpus_per_task(), 4)
+                self.fake_sinfo(tmp, [])
+                self.assertIsNone(slurmlib.default_cpus_per_task())
+                os.environ["PATH"] = tmp  # no sinfo at all (only an empty folder and this one)
+                os.remove(os.path.join(tmp, "sinfo"))
+                self.assertIsNone(slurmlib.default_cpus_per_task())
+            finally:
+                os.environ["PATH"] = old_path
 
 
 class Readers(unittest.TestCase):
@@ -379,12 +409,12 @@ class ExperimentFile(unittest.TestCase):
             # comparison.csv as budget-slam writes it without ground truth: a metric that does not
             # apply is an empty field, and no row of results.csv.
             os.makedirs(job.folder)
-            header = "run,reducer,backend,status,cap,landmarks,ate_m,gt_trajectory_rmse_m,time_s\n"
+            header = "run,reducer,backend,status,cap,landmarks,ref_ate_m,gt_trajectory_rmse_m,time_s\n"
             with open(os.path.join(job.folder, "comparison.csv"), "w") as f:
                 f.write(header + "reference,none,graph,ok,,23,0,,0.5\nmi,mi,graph,ok,,14,0.15,,0.7\n")
             rows = sweeplib.job_rows(job)
             metrics = {(r["reducer"], r["metric"]): r["value"] for r in rows}
-            self.assertEqual(metrics[("mi", "ate_m")], "0.15")
+            self.assertEqual(metrics[("mi", "ref_ate_m")], "0.15")
             self.assertEqual(metrics[("none", "landmarks")], "23")
             self.assertFalse(any(m in ("gt_trajectory_rmse_m", "cap_landmarks") for _, m in metrics))
 

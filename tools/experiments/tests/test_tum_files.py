@@ -9,7 +9,9 @@ line) into exactly 8 fields that all parse as float; at least one row; timestamp
 no duplicates; quaternions (qx qy qz qw, the last 4 columns) of unit norm within numpy.allclose's
 default tolerance. Beyond evo: values finite, z = 0 and rotation about z only (2D), and
 ground_truth.tum has exactly the timestamps of trajectory.tum beside it, so evo_ape associates
-every pose. And evo_ape on the pair (aligned or not) gives the trajectory errors of summary.json.
+every pose. And evo_ape on the pair (aligned or not) gives the trajectory errors of summary.json,
+the relative pose error over 10 m recomputed from the files gives its RPE, and comparison.csv leads
+with the same two numbers.
 
     test_tum_files.py --budget-slam build/bin/budget-slam [unittest options]
 """
@@ -85,6 +87,46 @@ def evo_ape_rmse(traj_path, gt_path, align):
     return float(np.sqrt(np.mean(np.sum((x - y) ** 2, axis=0))))
 
 
+def se2(row):
+    """(x, y, yaw) of a TUM row (rotation about z only)."""
+    return row[1], row[2], 2.0 * math.atan2(row[6], row[7])
+
+
+def relative(a, b):
+    """a⁻¹ b in SE(2), both (x, y, yaw)."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    return c * dx + s * dy, -s * dx + c * dy, b[2] - a[2]
+
+
+def rpe_10m(traj_path, gt_path, delta=10.0):
+    """(pairs, RMSE) of the translational relative pose error over every stretch of 10 m of
+    ground-truth path, written from the definition (docs/OUTPUTS.md), independently of the app:
+    for each pose i, walk forward summing the path; the stretch ends at the first pose j where it
+    reaches delta; error |t((G_i⁻¹ G_j)⁻¹ (E_i⁻¹ E_j))|."""
+    import numpy as np
+    est = [se2(r) for r in np.loadtxt(traj_path, ndmin=2)]
+    gt = [se2(r) for r in np.loadtxt(gt_path, ndmin=2)]
+    errors = []
+    for i in range(len(gt) - 1):
+        path, end = 0.0, None
+        for j in range(i + 1, len(gt)):
+            path += float(np.hypot(gt[j][0] - gt[j - 1][0], gt[j][1] - gt[j - 1][1]))  # C's hypot
+            if path >= delta:
+                end = j
+                break
+        if end is None:
+            continue
+        err = relative(relative(gt[i], gt[end]), relative(est[i], est[end]))
+        errors.append(math.hypot(err[0], err[1]))
+    return len(errors), (math.sqrt(sum(x * x for x in errors) / len(errors)) if errors else None)
+
+
+def comparison_row(folder, run):
+    with open(os.path.join(folder, "comparison.csv"), newline="") as f:
+        return next(r for r in csv.DictReader(f) if r["run"] == run)
+
+
 def stamps(path):
     with open(path) as f:
         return [l.split(" ", 1)[0] for l in f if not l.startswith("#")]
@@ -131,6 +173,18 @@ class AppTumFiles(unittest.TestCase):
     def tearDownClass(cls):
         cls.tmp.cleanup()
 
+    def test_mrclam_reference_leads_with_the_aligned_error(self):
+        # Issue 25: MRCLAM 7's whole estimate is turned 44 degrees by an early heading error; in
+        # the start frame the unreduced run is 2.4 m off, aligned 0.27 m, and the table leads with that.
+        out, rc, err = self.folders[("mrclam7_robot1", "ekf")]
+        self.assertEqual(rc, 0, err)
+        ref = comparison_row(out, "reference")
+        self.assertLess(float(ref["gt_trajectory_rmse_aligned_m"]), 0.3)
+        self.assertGreater(float(ref["gt_trajectory_rmse_m"]), 2.0)
+        with open(os.path.join(out, "comparison.md")) as f:
+            line = [l for l in f if l.startswith("| reference |")][0]
+        self.assertEqual(line.split(" | ")[2], f"{float(ref['gt_trajectory_rmse_aligned_m']):.4f}")
+
     def test_every_tum_file_meets_evo(self):
         for (rawlog, backend), (out, rc, err) in self.folders.items():
             with self.subTest(rawlog=rawlog, backend=backend):
@@ -150,6 +204,28 @@ class AppTumFiles(unittest.TestCase):
                                            delta=1e-9 * max(1.0, summary["trajectory_rmse_aligned_m"]))
                     self.assertAlmostEqual(evo_ape_rmse(traj, gt, False), summary["trajectory_rmse_m"],
                                            delta=1e-9 * max(1.0, summary["trajectory_rmse_m"]))
+                    # the drift over 10 m, recomputed from the two files
+                    pairs, rpe = rpe_10m(traj, gt)
+                    self.assertEqual(pairs, summary["rpe_pairs"], traj)
+                    if rpe is None:
+                        self.assertIsNone(summary["trajectory_rpe_10m_m"])
+                    else:
+                        self.assertAlmostEqual(rpe, summary["trajectory_rpe_10m_m"], delta=1e-9 * max(1.0, rpe))
+                    # comparison.csv leads with these numbers, the ones of summary.json
+                    row = comparison_row(out, run)
+                    for column, key in (("gt_trajectory_rmse_aligned_m", "trajectory_rmse_aligned_m"),
+                                        ("gt_trajectory_rpe_10m_m", "trajectory_rpe_10m_m")):
+                        if summary[key] is None:
+                            self.assertEqual(row[column], "", column)
+                        else:
+                            self.assertAlmostEqual(float(row[column]), summary[key], delta=1e-12 * max(1.0, summary[key]))
+                # the tables lead with the error against ground truth, aligned, then the drift
+                with open(os.path.join(out, "comparison.csv"), newline="") as f:
+                    header = next(csv.reader(f))
+                self.assertEqual(header[6:8], ["gt_trajectory_rmse_aligned_m", "gt_trajectory_rpe_10m_m"])
+                with open(os.path.join(out, "comparison.md")) as f:
+                    md_header = [l for l in f if l.startswith("| run |")][0]
+                self.assertTrue(md_header.startswith("| run | cap | ATE vs GT, aligned (m) | RPE (m / 10 m) |"), md_header)
                 # any other .tum the app writes must meet evo's reader too
                 found = [os.path.join(d, f) for d, _, fs in os.walk(out) for f in fs if f.endswith(".tum")]
                 self.assertGreaterEqual(len(found), 6)

@@ -243,6 +243,131 @@ Scenario lifelong(Random& rng, int laps) {
   return s;
 }
 
+// An office floor of long corridors with few landmarks: a 60 x 40 m building, corridors 2.4 m
+// wide along its four sides and through its middle both ways, solid blocks between them (walls
+// occlude), landmarks on the corridor walls 2 to 8 m apart (about 120), a 180 deg sensor to 8 m.
+// Few landmarks are in view at a time and each corridor is long: a tight cap must keep some in
+// every stretch of every corridor.
+Scenario corridors(Random& rng) {
+  Scenario s;
+  s.name = "corridors";
+  s.description =
+      "Office floor: 60 x 40 m, corridors 2.4 m wide around and through the middle both ways, "
+      "landmarks on the corridor walls 2-8 m apart, 180 deg sensor to 8 m.";
+  auto& w = s.world;
+  const double W = 60, H = 40, c = 2.4;                 // building, corridor width [m]
+  const double xm = W / 2 - c / 2, ym = H / 2 - c / 2;  // the middle corridors' low sides
+  w.walls.push_back({V(0, 0), V(W, 0)});
+  w.walls.push_back({V(W, 0), V(W, H)});
+  w.walls.push_back({V(W, H), V(0, H)});
+  w.walls.push_back({V(0, H), V(0, 0)});
+  const std::vector<std::pair<V, V>> blocks = {{V(c, c), V(xm, ym)},
+                                               {V(xm + c, c), V(W - c, ym)},
+                                               {V(c, ym + c), V(xm, H - c)},
+                                               {V(xm + c, ym + c), V(W - c, H - c)}};
+  for (const auto& [lo, hi] : blocks) box(w, lo, hi, {}, {}, 0);
+  // Landmarks 0.2 m off every wall that faces a corridor, at gaps drawn in [2, 8] m.
+  LandmarkId id = 1;
+  const auto along = [&](V a, V b, V inward) {
+    const double len = (b - a).norm();
+    const V dir = (b - a) / len;
+    for (double d = rng.uniform(0, 4); d < len; d += rng.uniform(2, 8)) {
+      Landmark l;
+      l.id = id++;
+      l.p = quantize(a + d * dir + 0.2 * inward);
+      w.landmarks.push_back(l);
+    }
+  };
+  along(V(0, 0), V(W, 0), V(0, 1));  // the outer walls, facing in
+  along(V(W, 0), V(W, H), V(-1, 0));
+  along(V(W, H), V(0, H), V(0, -1));
+  along(V(0, H), V(0, 0), V(1, 0));
+  for (const auto& [lo, hi] : blocks) {  // the blocks' walls, facing out
+    along(V(lo.x(), lo.y()), V(hi.x(), lo.y()), V(0, -1));
+    along(V(hi.x(), lo.y()), V(hi.x(), hi.y()), V(1, 0));
+    along(V(hi.x(), hi.y()), V(lo.x(), hi.y()), V(0, 1));
+    along(V(lo.x(), hi.y()), V(lo.x(), lo.y()), V(-1, 0));
+  }
+  const double h = c / 2, xc = W / 2, yc = H / 2;  // corridor centre lines
+  s.start = V(h, h);
+  // The outer corridors anticlockwise, then the middle one northwards, back to the crossing,
+  // and the middle one westwards and eastwards.
+  s.route = {V(W - h, h),  V(W - h, H - h), V(h, H - h), V(h, h),     V(xc, h),
+             V(xc, H - h), V(xc, yc),       V(h, yc),    V(W - h, yc)};
+  // Revisit: from the east side's middle, the outer corridors clockwise, the middle westwards,
+  // then the middle north-south.
+  s.revisit_start = V(W - h, yc);
+  s.revisit_start_yaw = M_PI / 2;
+  s.revisit_route = {V(W - h, H - h), V(h, H - h), V(h, h),      V(W - h, h), V(W - h, yc),
+                     V(h, yc),        V(xc, yc),   V(xc, H - h), V(xc, h)};
+  s.step = 0.4;
+  s.max_turn = 30 * kDeg;
+  s.sensor.min_range = 0.2;
+  s.sensor.max_range = 8.0;
+  s.sensor.fov_yaw = M_PI;
+  s.sensor.std_range = 0.03;
+  s.sensor.std_yaw = 1 * kDeg;
+  s.odo_std_xy = 0.01;
+  s.odo_std_yaw = 0.3 * kDeg;
+  return s;
+}
+
+// A large outdoor area with trees in clusters, like Victoria Park's: 240 x 240 m, 16 clusters
+// on a jittered 4 x 4 grid 60 m apart (6 to 12 trees each, 4 m spread), 24 lone trees, a 180 deg
+// laser to 30 m. Between clusters the robot sees little: a map must keep trees of every cluster.
+Scenario clusters(Random& rng) {
+  Scenario s;
+  s.name = "clusters";
+  s.description =
+      "Trees in clusters, Victoria-Park-like: 240 x 240 m, 16 clusters of 6-12 trees (4 m "
+      "spread) and 24 lone trees, 180 deg laser to 30 m.";
+  LandmarkId id = 1;
+  std::vector<V> centres;
+  for (int row = 0; row < 4; ++row)
+    for (int col = 0; col < 4; ++col)
+      centres.push_back(
+          V(30 + 60 * col + rng.uniform(-12, 12), 30 + 60 * row + rng.uniform(-12, 12)));
+  for (const V& centre : centres) {
+    const int n = 6 + static_cast<int>(rng.uniform() * 7);  // 6..12
+    for (int placed = 0, tries = 0; placed < n && tries < 1000; ++tries) {
+      const V p = quantize(centre + V(rng.normal(4.0), rng.normal(4.0)));
+      if ((p - centre).norm() > 10) continue;  // a cluster stays clear of the road beside it
+      if (std::any_of(s.world.landmarks.begin(), s.world.landmarks.end(),
+                      [&](const Landmark& l) { return (l.p - p).norm() < 1.5; }))
+        continue;
+      Landmark l;
+      l.id = id++;
+      l.p = p;
+      s.world.landmarks.push_back(l);
+      ++placed;
+    }
+  }
+  scatter(s, rng, 24, V(5, 5), V(235, 235), -1, 20.0, id);  // lone trees
+  // Drive 14 m south of each cluster, row by row (serpentine), then back south past the west
+  // column's clusters to the start (a loop closure); revisit 14 m west of each, column by column
+  // from the opposite corner.
+  const auto at = [&](int row, int col, V offset) { return centres[4 * row + col] + offset; };
+  for (int row = 0; row < 4; ++row)
+    for (int k = 0; k < 4; ++k) s.route.push_back(at(row, row % 2 ? 3 - k : k, V(0, -14)));
+  s.start = s.route.front() - V(20, 0);
+  for (int row = 2; row >= 0; --row) s.route.push_back(at(row, 0, V(-14, 0)));
+  s.route.push_back(s.start);
+  for (int col = 3; col >= 0; --col)
+    for (int k = 0; k < 4; ++k) s.revisit_route.push_back(at(col % 2 ? k : 3 - k, col, V(-14, 0)));
+  s.revisit_start = s.revisit_route.front() + V(0, 20);
+  s.revisit_start_yaw = -M_PI / 2;
+  s.step = 1.0;
+  s.max_turn = 20 * kDeg;
+  s.sensor.min_range = 1.0;
+  s.sensor.max_range = 30;
+  s.sensor.fov_yaw = M_PI;
+  s.sensor.std_range = 0.15;
+  s.sensor.std_yaw = 1 * kDeg;
+  s.odo_std_xy = 0.03;
+  s.odo_std_yaw = 0.1 * kDeg;  // as park: MRPT's EKF is stable on long drives with this
+  return s;
+}
+
 }  // namespace
 
 Scenario makeScenario(SimulationOptions::ScenarioKind kind, std::uint64_t seed, int laps,
@@ -263,12 +388,18 @@ Scenario makeScenario(SimulationOptions::ScenarioKind kind, std::uint64_t seed, 
     case Kind::Lifelong:
       s = lifelong(rng, laps > 0 ? laps : 2);
       break;
+    case Kind::Corridors:
+      s = corridors(rng);
+      break;
+    case Kind::Clusters:
+      s = clusters(rng);
+      break;
   }
   if (laps > 0) s.laps = laps;
   const bool revisit = route == SimulationOptions::Route::Revisit;
   if (revisit && s.revisit_route.empty())
     throw ConfigError("scenario '" + nameOf(SimulationOptions::scenarioNames(), kind) +
-                      "' has no revisit route (rooms and park have one)");
+                      "' has no revisit route (rooms, park, corridors and clusters have one)");
   // Shift the world so that the robot starts at the origin, where MRPT's filter starts: the
   // ground truth then compares with its estimate directly (start_yaw is 0 in every scenario).
   const V shift = -s.start;

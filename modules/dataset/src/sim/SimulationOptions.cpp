@@ -8,7 +8,9 @@ const EnumNames<SimulationOptions::ScenarioKind>& SimulationOptions::scenarioNam
   static const EnumNames<ScenarioKind> n = {{"paper-synthetic", ScenarioKind::PaperSynthetic},
                                             {"rooms", ScenarioKind::Rooms},
                                             {"park", ScenarioKind::Park},
-                                            {"lifelong", ScenarioKind::Lifelong}};
+                                            {"lifelong", ScenarioKind::Lifelong},
+                                            {"corridors", ScenarioKind::Corridors},
+                                            {"clusters", ScenarioKind::Clusters}};
   return n;
 }
 
@@ -22,11 +24,12 @@ const OptionTable<SimulationOptions>& SimulationOptions::table() {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   static const OptionTable<O> t = {
       option::choice("scenario", &O::scenario, scenarioNames(),
-                     "paper-synthetic | rooms | park | lifelong"),
+                     "paper-synthetic | rooms | park | lifelong | corridors | clusters"),
       option::integer("seed", &O::seed, 0),
       option::flag("with_ids", &O::with_ids),
       option::integer("laps", &O::laps, 0, 1000000, "0: scenario default"),
-      option::choice("route", &O::route, routeNames(), "default | revisit (rooms, park)"),
+      option::choice("route", &O::route, routeNames(),
+                     "default | revisit (rooms, park, corridors, clusters)"),
       option::real("odo_std_xy", &O::odo_std_xy, -kInf, kInf, "m per step; < 0: scenario default"),
       option::real("odo_std_yaw_deg", &O::odo_std_yaw_deg, -kInf, kInf,
                    "deg per step; < 0: default"),

@@ -6,6 +6,7 @@
 
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace budget_slam {
 
@@ -21,14 +22,18 @@ enum ExitCode : int {
 /// (TCLAP prints it itself and then throws ExitException).
 class CapturedUsage : public TCLAP::StdOutput {
  public:
+  explicit CapturedUsage(std::string examples_text = "") : examples(std::move(examples_text)) {}
   void usage(TCLAP::CmdLineInterface& cmd) override {
     std::ostringstream os;
     os << "USAGE:\n\n";
     _shortUsage(cmd, os);
     os << "\n\nWhere:\n\n";
     _longUsage(cmd, os);
+    if (!examples.empty()) os << "\nEXAMPLES:\n\n" << examples;
     text = os.str();
   }
+  /// Example command lines, one a line, shown after the options by --help.
+  std::string examples;
   void version(TCLAP::CmdLineInterface& cmd) override {
     const std::string name = cmd.getProgramName();  // "budget-slam run": the program's name only
     text = name.substr(0, name.find(' ')) + " version " + cmd.getVersion() + "\n";

@@ -48,6 +48,13 @@ struct ScheduledDrops {
   std::size_t keep_last_poses = 0;
 };
 
+/// One reading of a landmark of the map at a step (the sensor frame).
+struct Sighting {
+  LandmarkId id = kNoLandmarkId;
+  double range = 0;    ///< [m]
+  double bearing = 0;  ///< [rad]
+};
+
 /// What the robot observed at one step: told to the reducers that ask for it
 /// (Reducer::wantsObservations) after the backend has processed the step and before any drop
 /// decision of that step (BudgetManager::enforce).
@@ -55,8 +62,16 @@ struct StepObservation {
   StepIndex step = 0;
   mrpt::math::TPose2D robot;         ///< the robot pose estimate after the step [m, m, rad]
   std::vector<LandmarkId> observed;  ///< landmarks of the map observed at this step, new ones too
-  double sensor_max_range = 0;       ///< [m]; 0 when the step did not say
-  double sensor_fov = 0;             ///< total horizontal field of view [rad]; 0 when unknown
+  /// The readings behind `observed`: each reading of the step with the landmark it went to
+  /// (its sensor ID, else the backend's association, Backend::lastAssociation).
+  std::vector<Sighting> sightings;
+  /// Readings the map did not take in at this step (landmarks refused and waiting for a retry,
+  /// or dropped for good; BudgetManager::admissible), with their sensor IDs: what the robot saw of
+  /// landmarks it does not keep.
+  std::vector<Sighting> withheld;
+  mrpt::math::TPose2D sensor_pose;  ///< the sensor's pose on the robot (2D) [m, m, rad]
+  double sensor_max_range = 0;      ///< [m]; 0 when the step did not say
+  double sensor_fov = 0;            ///< total horizontal field of view [rad]; 0 when unknown
 };
 
 /// A rule that picks the landmark to drop (docs/ALGORITHMS.md). Registered by name in a

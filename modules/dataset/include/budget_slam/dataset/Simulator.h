@@ -22,13 +22,14 @@ struct SimulationOptions : public TabledOptions<SimulationOptions> {
   static constexpr const char* kSection = "Simulation";
 
   /// The worlds of docs/DATASETS.md; ini and command-line names in scenarioNames().
-  enum class ScenarioKind { PaperSynthetic, Rooms, Park, Lifelong };
-  /// default: the scenario's route; revisit (rooms, park): the same world (same seed, landmarks,
-  /// ids and frame) driven from another start along another route through every room or region,
-  /// with another noise stream: a second traversal to relocalize on.
+  enum class ScenarioKind { PaperSynthetic, Rooms, Park, Lifelong, Corridors, Clusters };
+  /// default: the scenario's route; revisit (rooms, park, corridors, clusters): the same world
+  /// (same seed, landmarks, ids and frame) driven from another start along another route through
+  /// every room or region, with another noise stream: a second traversal to relocalize on.
   enum class Route { Default, Revisit };
 
-  ScenarioKind scenario = ScenarioKind::Rooms;  ///< paper-synthetic | rooms | park | lifelong
+  ScenarioKind scenario = ScenarioKind::Rooms;  ///< paper-synthetic | rooms | park | lifelong |
+                                                ///< corridors | clusters
   std::uint64_t seed = 1;          ///< seed of the world and of the noise; same seed, same bytes
   bool with_ids = true;            ///< false: readings carry no landmark ID (--no-ids)
   int laps = 0;                    ///< laps of the route; 0: scenario default (lifelong: 2)

@@ -5,6 +5,7 @@
 
 #include "budget_slam/core/Estimates.h"
 #include "budget_slam/dataset/GroundTruth.h"
+#include "budget_slam/metrics/RelativePoseError.h"
 
 namespace budget_slam::metrics {
 
@@ -25,6 +26,9 @@ struct GroundTruthErrors {
   /// pose, so an early heading error rotates the whole estimate; this separates that from shape.
   double trajectory_rmse_aligned = std::numeric_limits<double>::quiet_NaN();  ///< [m]
   double alignment_rotation_deg = std::numeric_limits<double>::quiet_NaN();   ///< of that transform
+  /// Drift: the translational relative pose error over pairs of poses 10 m of ground-truth path
+  /// apart (RelativePoseError.h, evo_rpe --delta 10 --delta_unit m), RMSE [m per 10 m].
+  RelativePoseError rpe;
   std::size_t landmarks = 0;                                        ///< landmarks matched by id
   double landmark_rmse = std::numeric_limits<double>::quiet_NaN();  ///< [m]
   double landmark_rmse_aligned = std::numeric_limits<double>::quiet_NaN();  ///< [m], same transform

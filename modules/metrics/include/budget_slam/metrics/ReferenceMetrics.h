@@ -17,8 +17,13 @@ struct ReferenceMetrics {
   double ale = kNaN;          ///< RMSE of landmark position differences [m] (Eq. 9)
   double are_deg = kNaN;      ///< mean absolute heading difference [deg] (Eq. 10)
   double ud_percent = kNaN;   ///< % increase of det of the latest pose covariance (Eq. 12)
+  /// UD as a factor on standard deviations: (det_reduced / det_reference)^(1/6), the geometric
+  /// mean of the growth of the 3x3 pose covariance's standard deviations (UD = 7.6e6 % is 6.5x).
+  double ud_std_factor = kNaN;
   /// Eigenvalue range of Sigma_ref - Sigma_reduced over the kept variables (Eq. 11; Carlevaris-
-  /// Bianco et al.'s eigen envelope). NaN when skipped (more than `eig_max_variables` rows).
+  /// Bianco et al.'s eigen envelope): all <= 0 when the reduced run is conservative (as uncertain
+  /// as the reference or more in every direction); a positive eig_max is a direction in which it
+  /// is more certain. NaN when skipped (more than `eig_max_rows` rows).
   double eig_min = kNaN, eig_max = kNaN;
   std::size_t eig_rows = 0;  ///< size of the compared covariance, 0 if skipped
 };

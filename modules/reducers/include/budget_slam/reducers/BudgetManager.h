@@ -73,6 +73,9 @@ class BudgetManager {
   /// The same, told the step itself (its sensor's range and field of view reach the reducers
   /// that keep a record of where landmarks were observed from; Reducer::observe).
   std::vector<Eviction> enforce(Backend& backend, const Step& step);
+  /// The same, told also the step as read (`raw`, before admissible()): the readings the map did
+  /// not take in reach the reducers that keep a record as StepObservation::withheld.
+  std::vector<Eviction> enforce(Backend& backend, const Step& processed, const Step& raw);
 
   /// `raw` without the readings the map must not take in now: the landmarks dropped for good
   /// (readmit_evicted = false) and the refused newcomers still waiting for a retry
@@ -129,9 +132,11 @@ class BudgetManager {
   std::vector<Reducer*> observers_;  ///< the active and shadow reducers that want observations
   std::vector<ShadowFailures> shadow_failures_;  ///< one a shadow, in shadow order
 
-  std::vector<Eviction> enforceAt(Backend& backend, StepIndex step, const Step* raw);
+  std::vector<Eviction> enforceAt(Backend& backend, StepIndex step, const Step* processed,
+                                  const Step* raw = nullptr);
   /// Tells the observing reducers what step `step` observed (Reducer::observe).
-  void tellObservations(const Backend& backend, StepIndex step, const Step* raw);
+  void tellObservations(const Backend& backend, StepIndex step, const Step* processed,
+                        const Step* raw);
   std::vector<Eviction> runScheduled(Backend& backend, StepIndex step, bool final);
   /// Drops `victim` (a landmark of ctx.landmarks) from the backend: asks the shadows, removes
   /// it, remembers it when readmission is off, and returns its log record.

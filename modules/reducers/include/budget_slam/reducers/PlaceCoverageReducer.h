@@ -1,11 +1,13 @@
 #pragma once
 #include <cstdint>
-#include <set>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
 #include "budget_slam/core/OptionTable.h"
+#include "budget_slam/core/PlaceGrid.h"
 #include "budget_slam/core/ReducerRegistry.h"
+#include "budget_slam/reducers/PlaceSlots.h"
 
 namespace budget_slam::reducers {
 
@@ -57,7 +59,8 @@ struct PlaceCoverageOptions : public TabledOptions<PlaceCoverageOptions> {
 /// max_places), not by the length of the run; a landmark that leaves the map is forgotten.
 class PlaceCoverageReducer : public Reducer {
  public:
-  explicit PlaceCoverageReducer(const PlaceCoverageOptions& options) : options_(options) {}
+  explicit PlaceCoverageReducer(const PlaceCoverageOptions& options)
+      : options_(options), slots_(options.max_places) {}
   std::string name() const override { return "place-coverage"; }
   ReducerChoice choose(const DropContext& ctx) override;
   void dumpOptions(std::ostream& out) const override { options_.dumpToTextStream(out); }
@@ -66,58 +69,40 @@ class PlaceCoverageReducer : public Reducer {
   void forget(LandmarkId id) override;
   static ReducerRegistry::Entry entry();
 
-  /// A place: grid cell and heading sector.
-  struct PlaceKey {
-    std::int64_t ix = 0, iy = 0;
-    std::uint32_t sector = 0;
-    bool operator==(const PlaceKey& o) const {
-      return ix == o.ix && iy == o.iy && sector == o.sector;
-    }
-  };
-  /// The place of a robot pose (after the first observe() has fixed size and sectors).
+  /// The place of a robot pose (after the first observe() has fixed size and sectors; a 1 m
+  /// cell and one sector before).
   PlaceKey placeOf(const mrpt::math::TPose2D& robot) const;
 
   /// Coverage loss of dropping `id` now [places] (0 for a landmark never observed).
   double loss(LandmarkId id) const;
   /// f(K) of the landmarks the reducer knows (the map): sum over places of min(k, count).
   double coverage() const;
-  std::size_t placeCount() const { return place_of_key_.size(); }
+  std::size_t placeCount() const { return slots_.size(); }
   /// Landmarks of the map observed from the place of `robot` (sorted ids).
   std::vector<LandmarkId> observedFrom(const mrpt::math::TPose2D& robot) const;
   /// For every place remembered, the landmarks observed from it (sorted ids), in slot order.
   std::vector<std::vector<LandmarkId>> placeSightings() const;
-  double placeSize() const { return size_; }
-  std::size_t headingSectors() const { return sectors_; }
+  double placeSize() const { return grid_ ? grid_->size() : 0.0; }
+  std::size_t headingSectors() const { return grid_ ? grid_->sectors() : 0; }
 
  private:
-  struct KeyHash {
-    std::size_t operator()(const PlaceKey& k) const;
-  };
   struct Place {
-    PlaceKey key;
     std::vector<LandmarkId> seen;  ///< map landmarks observed from here, sorted
-    StepIndex last_visit = 0;
-    bool used = false;
   };
   struct Track {
     std::vector<std::uint32_t> places;  ///< slots of the places observing it
     double loss = 0;                    ///< places among them holding <= k landmarks
   };
 
-  void fixGeometry(const StepObservation& seen);
-  std::uint32_t visit(const PlaceKey& key, StepIndex step);
   void addSighting(std::uint32_t slot, LandmarkId id);
   /// Takes `id` out of place `slot` (not out of the track's list), updating the losses.
   void removeFromPlace(std::uint32_t slot, LandmarkId id);
   void forgetPlace(std::uint32_t slot);
 
   PlaceCoverageOptions options_;
-  double size_ = 0;          ///< [m], fixed at the first observe()
-  std::size_t sectors_ = 0;  ///< fixed at the first observe()
-  std::vector<Place> places_;
-  std::vector<std::uint32_t> free_slots_;
-  std::unordered_map<PlaceKey, std::uint32_t, KeyHash> place_of_key_;
-  std::set<std::pair<StepIndex, std::uint32_t>> by_visit_;  ///< (last visit, slot), oldest first
+  std::optional<PlaceGrid> grid_;  ///< fixed at the first observe()
+  PlaceSlots slots_;
+  std::vector<Place> places_;  ///< by slot
   std::unordered_map<LandmarkId, Track> tracks_;
 };
 

@@ -20,15 +20,16 @@ namespace budget_slam::report {
 /// One row of steps.csv (docs/OUTPUTS.md): the state after the step, SI units.
 struct StepRow {
   StepIndex step = 0;
-  double t = 0;                          ///< [s]
-  std::size_t landmarks = 0;             ///< in the map after the step's drops
-  std::size_t added = 0;                 ///< landmarks the step brought in
-  std::size_t dropped = 0;               ///< evictions.csv rows of the step
-  std::size_t poses = 0;                 ///< poses the backend holds
-  PoseEstimate pose;                     ///< online robot pose and its covariance
-  double step_ms = 0;                    ///< wall time of the step [ms]
-  double cpu_ms = 0;                     ///< CPU time of the step's thread [ms]
-  std::size_t rss_bytes = 0;             ///< resident memory after the step [bytes]
+  double t = 0;               ///< [s]
+  std::size_t landmarks = 0;  ///< in the map after the step's drops
+  std::size_t added = 0;      ///< landmarks the step brought in
+  std::size_t dropped = 0;    ///< landmarks dropped after holding a place (evictions.csv rows)
+  std::size_t refused = 0;    ///< newcomers refused (evictions.csv rows with reason refused)
+  std::size_t poses = 0;      ///< poses the backend holds
+  PoseEstimate pose;          ///< online robot pose and its covariance
+  double step_ms = 0;         ///< wall time of the step [ms]
+  double cpu_ms = 0;          ///< CPU time of the step's thread [ms]
+  std::size_t rss_bytes = 0;  ///< resident memory after the step [bytes]
   std::size_t reloc_landmarks = 0;       ///< landmarks of the map held then, observed then
   double reloc_coverage_so_far_pct = 0;  ///< [%]
 };
@@ -51,9 +52,11 @@ struct EvictionRow {
 struct RunEndFiles {
   std::vector<TrajectoryPoint> trajectory;
   std::vector<LandmarkView> landmarks;
-  /// What map.png and map.3Dscene show; called at most once (the k-means it runs is not cheap).
+  /// What the map figure and map.3Dscene show; called at most once (the k-means it runs is not
+  /// cheap).
   std::function<MapContent()> map;
-  bool scene = true;                            ///< write map.3Dscene
+  std::vector<FigureFormat> figure_formats = {FigureFormat::Png};  ///< map.png, map.pdf, ...
+  bool scene = true;                                               ///< write map.3Dscene
   mrpt::math::TPose2D robot;                    ///< where map.3Dscene draws the robot
   const dataset::GroundTruth* truth = nullptr;  ///< ground_truth.tum when it has a path
   std::size_t steps_in_rawlog = 0;              ///< maps ground-truth rows (groundTruthRow)
@@ -61,7 +64,7 @@ struct RunEndFiles {
 
 /// The files one run writes in its folder (docs/OUTPUTS.md): steps.csv and evictions.csv a row at
 /// a time as the run goes, state dumps and kf-slam's per-step scenes during the run, then at the
-/// end trajectory.tum, landmarks.csv, map.png, map.3Dscene, ground_truth.tum and, last,
+/// end trajectory.tum, landmarks.csv, map.<png|pdf|svg>, map.3Dscene, ground_truth.tum and, last,
 /// summary.json. Every write is checked (Error naming the file).
 class RunOutputs {
  public:
@@ -83,8 +86,8 @@ class RunOutputs {
                   const mrpt::math::TPose2D& robot) const;
 
   /// The end files, in this order: steps.csv and evictions.csv flushed, trajectory.tum,
-  /// landmarks.csv, map.png, map.3Dscene, ground_truth.tum. Each is attempted even when another
-  /// fails (a full disk); returns the names of those not written, and the first error.
+  /// landmarks.csv, the map figures, map.3Dscene, ground_truth.tum. Each is attempted even when
+  /// another fails (a full disk); returns the names of those not written, and the first error.
   struct EndFilesResult {
     std::vector<std::string> not_written;
     std::string first_error;  ///< "" when all were written

@@ -1,4 +1,4 @@
-#include "budget_slam/report/FileWrite.h"
+#include "budget_slam/core/FileWrite.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -10,7 +10,7 @@
 
 #include "budget_slam/core/Error.h"
 
-namespace budget_slam::report {
+namespace budget_slam {
 namespace {
 
 /// Writes all of `bytes` at the current offset; false with errno set on failure (a short write
@@ -112,4 +112,4 @@ void LineFile::sync() {
   if (::fsync(fd_) != 0) fail(errno);
 }
 
-}  // namespace budget_slam::report
+}  // namespace budget_slam

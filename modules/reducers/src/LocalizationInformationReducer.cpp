@@ -1,0 +1,302 @@
+#include "budget_slam/reducers/LocalizationInformationReducer.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <ostream>
+#include <tuple>
+#include <vector>
+
+#include "budget_slam/core/IniSection.h"
+#include "budget_slam/core/RangeBearingModel.h"
+
+namespace budget_slam::reducers {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// The prior's sigma in x and y when the rawlog states no sensor range [m].
+constexpr double kPriorWithoutRange = 10.0;
+
+const EnumNames<LocalizationInformationOptions::Objective>& objectiveNames() {
+  using O = LocalizationInformationOptions::Objective;
+  static const EnumNames<O> n = {{"sum_log_det", O::SumLogDet}, {"min_log_det", O::MinLogDet}};
+  return n;
+}
+
+/// log det of a symmetric positive definite 3x3 matrix.
+double logDet(const Eigen::Matrix3d& m) {
+  const Eigen::LLT<Eigen::Matrix3d> llt(m);
+  const Eigen::Matrix3d& L = llt.matrixLLT();
+  return 2 * (std::log(L(0, 0)) + std::log(L(1, 1)) + std::log(L(2, 2)));
+}
+
+}  // namespace
+
+const OptionTable<LocalizationInformationOptions>& LocalizationInformationOptions::table() {
+  using O = LocalizationInformationOptions;
+  static const OptionTable<O> t = {
+      option::choice("objective", &O::objective, objectiveNames(), "sum_log_det | min_log_det"),
+      option::real("prior_std_xy", &O::prior_std_xy, 0.0, 1e6,
+                   "[m], 0 = the sensor's maximum range"),
+      option::real("prior_std_yaw_deg", &O::prior_std_yaw_deg, 1e-6, 1e6, "[deg]"),
+      option::real("place_size", &O::place_size, 0.0, 1e6, "[m], 0 = from the sensor's range"),
+      option::integer("heading_sectors", &O::heading_sectors, 0, 360,
+                      "0 = from the sensor's field of view"),
+      option::integer("max_places", &O::max_places, 1, 100000000, "[places]"),
+      option::integer("remember_dropped", &O::remember_dropped, 0, 100000000,
+                      "[landmarks], 0 = forget at once"),
+  };
+  return t;
+}
+
+LocalizationInformationReducer::LocalizationInformationReducer(
+    const LocalizationInformationOptions& options, double std_range, double std_bearing)
+    : options_(options),
+      std_range_(std_range),
+      std_bearing_(std_bearing),
+      slots_(options.max_places) {}
+
+void LocalizationInformationReducer::fixGeometry(const StepObservation& seen) {
+  if (grid_) return;
+  grid_ = PlaceGrid::fromSensor(options_.place_size, options_.heading_sectors,
+                                seen.sensor_max_range, seen.sensor_fov);
+  const double sxy = options_.prior_std_xy > 0   ? options_.prior_std_xy
+                     : seen.sensor_max_range > 0 ? seen.sensor_max_range
+                                                 : kPriorWithoutRange;
+  const double syaw = options_.prior_std_yaw_deg * kDeg;
+  prior_ = Eigen::Vector3d(1 / (sxy * sxy), 1 / (sxy * sxy), 1 / (syaw * syaw)).asDiagonal();
+}
+
+void LocalizationInformationReducer::addReading(std::uint32_t slot, const StepObservation& seen,
+                                                const Sighting& r, bool active) {
+  // The landmark where the reading puts it, and the reading's information at that geometry.
+  const double c = std::cos(seen.robot.phi), s = std::sin(seen.robot.phi);
+  const Eigen::Vector2d q = readingInRobotFrame(r.range, r.bearing, seen.sensor_pose);
+  const Eigen::Vector2d at(seen.robot.x + c * q.x() - s * q.y(),
+                           seen.robot.y + s * q.x() + c * q.y());
+  if (!(r.range > 0) || !at.allFinite()) return;
+  const auto H = predictRangeBearing(seen.robot, seen.sensor_pose, at).H_robot;
+  const Eigen::Matrix3d info = readingInformation(H, std_range_, std_bearing_);
+  Place& p = places_[slot];
+  auto it = std::lower_bound(p.entries.begin(), p.entries.end(), r.id,
+                             [](const Entry& e, LandmarkId id) { return e.id < id; });
+  if (it == p.entries.end() || it->id != r.id) {
+    it = p.entries.insert(it, Entry{r.id});
+    it->active = active;
+    places_of_[r.id].push_back(slot);
+  }
+  it->info_sum += info;
+  it->readings += 1;
+  if (it->active) markDirty(slot);
+}
+
+void LocalizationInformationReducer::observe(const StepObservation& seen) {
+  fixGeometry(seen);
+  const bool withheld = options_.remember_dropped > 0 && !seen.withheld.empty();
+  if (seen.sightings.empty() && !withheld) return;  // no landmark read: no choice constrained
+  const std::uint32_t slot = slots_.visit(grid_->placeOf(seen.robot), seen.step,
+                                          [this](std::uint32_t gone) { forgetPlace(gone); });
+  places_.resize(slots_.slots());
+  for (const Sighting& r : seen.sightings) {
+    if (dropped_at_.count(r.id)) {  // back in the map: every place on record counts again
+      dropped_.erase(dropped_at_.at(r.id));
+      dropped_at_.erase(r.id);
+      setActive(r.id, true);
+    }
+    addReading(slot, seen, r, true);
+  }
+  if (!withheld) return;
+  for (const Sighting& r : seen.withheld) {
+    const auto on_map = places_of_.find(r.id);
+    if (on_map != places_of_.end() && !dropped_at_.count(r.id))
+      continue;  // in the map: not withheld
+    addReading(slot, seen, r, false);
+    remember(r.id);
+  }
+}
+
+void LocalizationInformationReducer::setActive(LandmarkId id, bool active) {
+  const auto it = places_of_.find(id);
+  if (it == places_of_.end()) return;
+  for (const std::uint32_t slot : it->second) {
+    Place& p = places_[slot];
+    for (Entry& e : p.entries)
+      if (e.id == id && e.active != active) {
+        e.active = active;
+        markDirty(slot);
+      }
+  }
+}
+
+void LocalizationInformationReducer::remember(LandmarkId id) {
+  const auto at = dropped_at_.find(id);
+  if (at != dropped_at_.end()) dropped_.erase(at->second);
+  dropped_.push_back(id);
+  dropped_at_[id] = std::prev(dropped_.end());
+  while (dropped_.size() > options_.remember_dropped) {
+    const LandmarkId oldest = dropped_.front();
+    dropped_.pop_front();
+    dropped_at_.erase(oldest);
+    eraseLandmark(oldest);
+  }
+}
+
+void LocalizationInformationReducer::eraseLandmark(LandmarkId id) {
+  const auto it = places_of_.find(id);
+  if (it == places_of_.end()) return;
+  for (const std::uint32_t slot : it->second) {
+    Place& p = places_[slot];
+    const auto e = std::find_if(p.entries.begin(), p.entries.end(),
+                                [&](const Entry& x) { return x.id == id; });
+    if (e->active) markDirty(slot);
+    p.entries.erase(e);
+  }
+  places_of_.erase(it);
+}
+
+void LocalizationInformationReducer::forget(LandmarkId id) {
+  if (!places_of_.count(id)) return;
+  if (options_.remember_dropped == 0) {
+    eraseLandmark(id);
+    return;
+  }
+  setActive(id, false);
+  remember(id);
+}
+
+void LocalizationInformationReducer::forgetPlace(std::uint32_t slot) {
+  for (const Entry& e : places_[slot].entries) {
+    auto& slots = places_of_[e.id];
+    slots.erase(std::find(slots.begin(), slots.end(), slot));
+    if (slots.empty()) {
+      places_of_.erase(e.id);
+      const auto at = dropped_at_.find(e.id);
+      if (at != dropped_at_.end()) dropped_.erase(at->second), dropped_at_.erase(at);
+    }
+  }
+  places_[slot] = Place();
+}
+
+void LocalizationInformationReducer::markDirty(std::uint32_t slot) {
+  if (places_[slot].dirty) return;
+  places_[slot].dirty = true;
+  dirty_.push_back(slot);
+}
+
+void LocalizationInformationReducer::refresh() const {
+  for (const std::uint32_t slot : dirty_) {
+    Place& p = places_[slot];
+    if (!p.dirty || !slots_.used(slot)) continue;
+    p.lambda = prior_;
+    for (const Entry& e : p.entries)
+      if (e.active) p.lambda += e.info_sum / e.readings;
+    p.logdet = logDet(p.lambda);
+    for (Entry& e : p.entries)
+      if (e.active) e.without = logDet(p.lambda - e.info_sum / e.readings);
+    p.dirty = false;
+  }
+  dirty_.clear();
+}
+
+const LocalizationInformationReducer::Entry* LocalizationInformationReducer::entryOf(
+    const Place& p, LandmarkId id) const {
+  const auto it = std::lower_bound(p.entries.begin(), p.entries.end(), id,
+                                   [](const Entry& e, LandmarkId v) { return e.id < v; });
+  return it != p.entries.end() && it->id == id ? &*it : nullptr;
+}
+
+Eigen::Matrix3d LocalizationInformationReducer::placeInformation(
+    const mrpt::math::TPose2D& robot) const {
+  refresh();
+  const auto slot = grid_ ? slots_.find(grid_->placeOf(robot)) : std::nullopt;
+  return slot ? places_[*slot].lambda : prior_;
+}
+
+double LocalizationInformationReducer::objective() const {
+  refresh();
+  double f = 0;
+  for (std::uint32_t s = 0; s < places_.size(); ++s)
+    if (slots_.used(s)) f += places_[s].logdet;
+  return f;
+}
+
+double LocalizationInformationReducer::leastPlace() const {
+  refresh();
+  double m = kInf;
+  for (std::uint32_t s = 0; s < places_.size(); ++s)
+    if (slots_.used(s)) m = std::min(m, places_[s].logdet);
+  return m;
+}
+
+double LocalizationInformationReducer::loss(LandmarkId id) const {
+  refresh();
+  const auto it = places_of_.find(id);
+  if (it == places_of_.end() || dropped_at_.count(id)) return 0;
+  double sum = 0;
+  for (const std::uint32_t slot : it->second) {
+    const Place& p = places_[slot];
+    sum += p.logdet - entryOf(p, id)->without;
+  }
+  return sum;
+}
+
+double LocalizationInformationReducer::minLoss(LandmarkId id) const {
+  // Removing l lowers only its places, so the least place after is min(m, least of its places
+  // without it): the loss of the minimum is max(0, m - that least).
+  refresh();
+  const auto it = places_of_.find(id);
+  if (it == places_of_.end() || dropped_at_.count(id)) return 0;
+  double least_without = kInf;
+  for (const std::uint32_t slot : it->second)
+    least_without = std::min(least_without, entryOf(places_[slot], id)->without);
+  const double m = leastPlace(), drop = m - least_without;
+  // A place left with the prior alone computes its log det as a difference: round-off is no loss.
+  return drop > 1e-9 * std::max(1.0, std::abs(m)) ? drop : 0.0;
+}
+
+ReducerChoice LocalizationInformationReducer::choose(const DropContext& ctx) {
+  refresh();
+  const bool by_min = options_.objective == LocalizationInformationOptions::Objective::MinLogDet;
+  struct Scored {
+    double key, sum;
+    LandmarkId id;
+  };
+  std::vector<Scored> scored;
+  double least = kInf;
+  for (const std::size_t i : ctx.candidates) {
+    const LandmarkId id = ctx.landmarks[i].id;
+    const double sum = loss(id);
+    scored.push_back({by_min ? minLoss(id) : sum, sum, id});
+    least = std::min(least, scored.back().key);
+  }
+  // The least loss goes; losses equal up to round-off (1e-9 relative) are ties, decided by the
+  // sum's loss, then the lowest id.
+  const double tie = least + 1e-9 * std::max(1.0, std::abs(least));
+  const Scored* best = nullptr;
+  for (const Scored& c : scored)
+    if (c.key <= tie && (!best || std::tie(c.sum, c.id) < std::tie(best->sum, best->id))) best = &c;
+  return {best->id, best->key};
+}
+
+ReducerRegistry::Entry LocalizationInformationReducer::entry() {
+  return {"localization-information",
+          "keep the landmarks that tell the robot most about its pose at every visited place: "
+          "greedy on the sum over places of log det of the pose's Fisher information",
+          LocalizationInformationOptions::kSection, LocalizationInformationOptions::keys(),
+          [](const mrpt::config::CConfigFileBase& ini, std::uint64_t) {
+            LocalizationInformationOptions o;
+            o.loadFromConfigFile(ini, LocalizationInformationOptions::kSection);
+            // The sensor noise the filter assumes (MRPT's defaults: 0.1 m, 0.5 deg), checked as
+            // the filter checks it; a noise of 0 is read as 1e-12 (the information is finite).
+            const IniSection sensor(ini, "RangeBearingKFSLAM");
+            const double std_range = sensor.readDouble("std_sensor_range", 0.1, 0, 1e6);
+            const double std_yaw_deg = sensor.readDouble("std_sensor_yaw_deg", 0.5, 0, 360);
+            return std::make_unique<LocalizationInformationReducer>(
+                o, std::max(std_range, 1e-12), std::max(std_yaw_deg * kDeg, 1e-12));
+          }};
+}
+
+}  // namespace budget_slam::reducers

@@ -1,0 +1,256 @@
+// Waking up place by place (docs/RESULTS.md "Waking up on a saved map"): from a start at each place
+// a traversal visits, a fresh GlobalLocalizer gets the traversal's next steps, up to [WakeUp]
+// max_steps, and is found (within 0.25 m and 5 deg of the truth brought into the map's frame),
+// found at a wrong pose, ambiguous or not found. Prints the shares and the time to be found.
+//
+//   bench_wakeup_places --map RUN_DIR -i TRAVERSAL.rawlog [-c INI] [--reference TUM]
+//                       [--place-size M] [--sectors N] [--found-xy M] [--found-yaw-deg D]
+//                       [--csv FILE] [--set WakeUp.key=value ...]
+//
+// RUN_DIR is a `budget-slam run` output folder (landmarks.csv, and summary.json's
+// ground_truth.map_alignment, which brings the traversal's ground truth into the map's frame).
+// Without ground truth, --reference gives the poses to compare with, in the map's frame, matched
+// to the traversal's steps by timestamp (the trajectory.tum of a run that mapped the traversal
+// from the map's own start, e.g. the whole rawlog the map is the first part of).
+// The reading noise is [RangeBearingKFSLAM] std_sensor_range / std_sensor_yaw_deg from INI, then
+// the traversal's sidecar ini. A place is a cell of --place-size metres (default 2) and one of
+// --sectors heading sectors (default 8) of the true pose; its start is the first step there. A pose
+// is right within --found-xy metres and --found-yaw-deg degrees (default 0.25, 5).
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <tuple>
+
+#include "budget_slam/core/Error.h"
+#include "budget_slam/core/Text.h"
+#include "budget_slam/dataset/GroundTruth.h"
+#include "budget_slam/dataset/RawlogReader.h"
+#include "budget_slam/dataset/SidecarIni.h"
+#include "budget_slam/metrics/GroundTruthErrors.h"
+#include "budget_slam/metrics/MapAlignment.h"
+#include "budget_slam/report/RunFileReaders.h"
+#include "budget_slam/wakeup/GlobalLocalizer.h"
+
+using namespace budget_slam;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Args {
+  std::string map, rawlog, ini, csv, reference;
+  double place_size = 2.0, found_xy = 0.25, found_yaw_deg = 5.0;
+  int sectors = 8;
+  std::vector<std::pair<std::string, std::string>> sets;  ///< (Section.key, value)
+};
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string f = argv[i];
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw UsageError(f + ": needs a value");
+      return argv[++i];
+    };
+    if (f == "--map")
+      a.map = value();
+    else if (f == "-i")
+      a.rawlog = value();
+    else if (f == "-c")
+      a.ini = value();
+    else if (f == "--csv")
+      a.csv = value();
+    else if (f == "--reference")
+      a.reference = value();
+    else if (f == "--place-size")
+      a.place_size = std::stod(value());
+    else if (f == "--sectors")
+      a.sectors = std::stoi(value());
+    else if (f == "--found-xy")
+      a.found_xy = std::stod(value());
+    else if (f == "--found-yaw-deg")
+      a.found_yaw_deg = std::stod(value());
+    else if (f == "--set") {
+      const std::string s = value();
+      const auto eq = s.find('=');
+      if (eq == std::string::npos) throw UsageError("--set " + s + ": expected Section.key=value");
+      a.sets.emplace_back(s.substr(0, eq), s.substr(eq + 1));
+    } else {
+      throw UsageError("unknown argument '" + f + "'");
+    }
+  }
+  if (a.map.empty() || a.rawlog.empty()) throw UsageError("--map RUN_DIR and -i RAWLOG are needed");
+  if (!(a.place_size > 0) || a.sectors < 1) throw UsageError("--place-size > 0, --sectors >= 1");
+  return a;
+}
+
+/// summary.json's ground_truth.map_alignment of the mapping run.
+metrics::MapAlignment alignmentOf(const std::string& dir) {
+  std::ifstream in(fs::path(dir) / "summary.json");
+  if (!in) throw InputError(dir + "/summary.json: cannot open");
+  const auto j = nlohmann::json::parse(in);
+  const auto& a = j.at("ground_truth").at("map_alignment");
+  return metrics::MapAlignment::fromPose(a.at("x").get<double>(), a.at("y").get<double>(),
+                                         a.at("yaw").get<double>(), "summary.json", 0);
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Args args = parse(argc, argv);
+    // Options: -c, then the traversal's sidecar, then --set.
+    mrpt::config::CConfigFileMemory ini;
+    const auto overlay = [&](const std::string& file) {
+      if (file.empty() || !fs::exists(file)) return;
+      mrpt::config::CConfigFile f(file);
+      std::vector<std::string> sections;
+      f.getAllSections(sections);
+      for (const auto& s : sections) {
+        std::vector<std::string> keys;
+        f.getAllKeys(s, keys);
+        for (const auto& k : keys) ini.write(s, k, f.read_string(s, k, ""));
+      }
+    };
+    overlay(args.ini);
+    overlay(dataset::sidecarIniPathFor(args.rawlog));
+    for (const auto& [key, v] : args.sets)
+      ini.write(key.substr(0, key.find('.')), key.substr(key.find('.') + 1), v);
+    wakeup::WakeUpOptions options;
+    options.loadFromConfigFile(ini, wakeup::WakeUpOptions::kSection);
+    wakeup::ReadingNoise noise;
+    noise.std_range = ini.read_double("RangeBearingKFSLAM", "std_sensor_range", 0.1);
+    noise.std_bearing =
+        ini.read_double("RangeBearingKFSLAM", "std_sensor_yaw_deg", 0.5) * M_PI / 180;
+
+    const auto map =
+        report::readLandmarksCsv((fs::path(args.map) / "landmarks.csv").string(), 100000);
+    const auto steps = dataset::readAllSteps(args.rawlog);
+    std::function<mrpt::math::TPose2D(StepIndex)> trueAt;
+    std::map<double, mrpt::math::TPose2D> by_time;
+    dataset::GroundTruth truth;
+    metrics::MapAlignment alignment;
+    if (!args.reference.empty()) {
+      for (const auto& p : report::readTrajectoryTum(args.reference, 10000000))
+        by_time[p.t] = p.pose;
+      trueAt = [&](StepIndex s) {
+        const auto it = by_time.lower_bound(steps.at(s).t - 1e-6);
+        if (it == by_time.end() || std::abs(it->first - steps[s].t) > 1e-6)
+          throw InputError(args.reference + ": no pose at t = " + std::to_string(steps[s].t));
+        return it->second;
+      };
+    } else {
+      alignment = alignmentOf(args.map);
+      truth = dataset::loadGroundTruth(args.rawlog);
+      if (truth.path.empty()) throw InputError(args.rawlog + ": no ground-truth path");
+      trueAt = [&](StepIndex s) {
+        const auto row = metrics::groundTruthRow(s, truth.path.size(), steps.size());
+        return alignment.apply(truth.path.at(row));
+      };
+    }
+
+    // Places: the first step at each (cell, heading sector) of the true path.
+    std::set<std::tuple<long, long, int>> seen;
+    std::vector<StepIndex> starts;
+    for (const auto& s : steps) {
+      const auto p = trueAt(s.index);
+      const double sector = std::floor((wrapAngle(p.phi) + M_PI) / (2 * M_PI) * args.sectors);
+      const auto key = std::make_tuple(static_cast<long>(std::floor(p.x / args.place_size)),
+                                       static_cast<long>(std::floor(p.y / args.place_size)),
+                                       std::min(args.sectors - 1, static_cast<int>(sector)));
+      if (seen.insert(key).second) starts.push_back(s.index);
+    }
+
+    std::size_t found = 0, wrong = 0, ambiguous = 0, not_found = 0;
+    std::map<std::string, std::size_t> reasons;
+    std::vector<double> found_ms, found_steps, all_ms;
+    std::ofstream csv;
+    if (!args.csv.empty()) {
+      csv.open(args.csv);
+      csv << "start_step,x,y,yaw,status,reason,steps_used,landmarks,inliers,runner_up,"
+             "hypotheses,score,runner_up_score,error_xy,error_yaw_deg,ms\n";
+    }
+    for (const StepIndex s0 : starts) {
+      wakeup::GlobalLocalizer g(map, options, noise);
+      const auto t0 = std::chrono::steady_clock::now();
+      for (StepIndex s = s0; s < steps.size() && !g.finished(); ++s) g.add(steps[s]);
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      const auto& r = g.result();
+      const auto t = trueAt(r.step);
+      const double exy = std::hypot(r.pose.mean.x - t.x, r.pose.mean.y - t.y);
+      const double eyaw = std::abs(wrapAngle(r.pose.mean.phi - t.phi)) * 180 / M_PI;
+      all_ms.push_back(ms);
+      if (r.status == wakeup::WakeUpStatus::Found) {
+        if (exy <= args.found_xy && eyaw <= args.found_yaw_deg) {
+          ++found;
+          found_ms.push_back(ms);
+          found_steps.push_back(static_cast<double>(r.steps_used));
+        } else {
+          ++wrong;
+        }
+      } else if (r.status == wakeup::WakeUpStatus::Ambiguous) {
+        ++ambiguous;
+      } else {
+        ++not_found;
+        ++reasons[wakeup::reasonName(r.reason)];
+      }
+      if (csv) {
+        const auto p0 = trueAt(s0);
+        csv << s0 << ',' << p0.x << ',' << p0.y << ',' << p0.phi << ','
+            << wakeup::statusName(r.status) << ',' << wakeup::reasonName(r.reason) << ','
+            << r.steps_used << ',' << r.landmarks << ',' << r.inliers << ',' << r.runner_up << ','
+            << r.hypotheses << ',' << r.score << ',' << r.runner_up_score << ',';
+        if (r.status == wakeup::WakeUpStatus::Found)
+          csv << exy << ',' << eyaw;
+        else
+          csv << ',';
+        csv << ',' << ms << '\n';
+      }
+    }
+    const double n = static_cast<double>(starts.size());
+    std::printf("map %s (%zu landmarks), traversal %s (%zu steps), %zu places\n", args.map.c_str(),
+                map.size(), args.rawlog.c_str(), steps.size(), starts.size());
+    std::printf(
+        "found within %zu steps (%g m, %g deg): %zu (%.1f%%); found wrong: %zu (%.1f%%); "
+        "ambiguous: %zu (%.1f%%); not found: %zu (%.1f%%)",
+        options.max_steps, args.found_xy, args.found_yaw_deg, found, 100 * found / n, wrong,
+        100 * wrong / n, ambiguous, 100 * ambiguous / n, not_found, 100 * not_found / n);
+    for (const auto& [why, k] : reasons) std::printf(" [%s %zu]", why.c_str(), k);
+    std::printf(
+        "\nwhen found: median %.0f steps, median %.2f ms, 95th percentile %.2f ms; "
+        "every place: median %.2f ms, max %.2f ms\n",
+        median(found_steps), median(found_ms), percentile(found_ms, 0.95), median(all_ms),
+        all_ms.empty() ? 0.0 : *std::max_element(all_ms.begin(), all_ms.end()));
+    return 0;
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "bench_wakeup_places: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_wakeup_places: %s\n", exceptionLine(e).c_str());
+    return 1;
+  }
+}
