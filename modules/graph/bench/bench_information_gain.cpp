@@ -12,8 +12,10 @@
 #include <memory>
 
 #include "TestGraphs.h"
+#include "budget_slam/dataset/Simulator.h"
 #include "budget_slam/graph/GraphBackend.h"
 #include "budget_slam/graph/InformationGain.h"
+#include "budget_slam/graph/Solver.h"
 
 using namespace budget_slam;
 using namespace budget_slam::graph;
@@ -122,24 +124,49 @@ void BM_FullSlam(benchmark::State& state) {
     return;
   }
   GraphSlamOptions options;
-  options.reorder_fill_ratio = static_cast<double>(state.range(1)) / 10.0;
+  options.relinearize_threshold = static_cast<double>(state.range(1)) * 1e-3;
+  if (state.range(2) > 0) options.reorder_fill_ratio = static_cast<double>(state.range(2)) / 10.0;
   for (auto _ : state) {
     GraphBackend b(options, noise);
-    std::vector<double> update_ms;  // CPU time of each step that ran an incremental update
+    std::vector<double> update_ms;   // CPU time of each step that ran an incremental update
+    std::vector<char> refactorized;  // ... and whether it refactorized the whole factor
     for (const Step& s : steps) {
-      const std::size_t before = b.updateCount();
+      const std::size_t before = b.updateCount(), rebuilds = b.heldFactorStats().rebuilds;
       const double t0 = threadCpuMs();
       b.process(s);
       benchmark::DoNotOptimize(b.robotPose());
-      if (b.updateCount() != before) update_ms.push_back(threadCpuMs() - t0);
+      if (b.updateCount() != before) {
+        update_ms.push_back(threadCpuMs() - t0);
+        refactorized.push_back(b.heldFactorStats().rebuilds != rebuilds);
+      }
     }
+    const std::size_t tail = std::max<std::size_t>(1, refactorized.size() / 10);
+    state.counters["last10_refactorized_pct"] =
+        100.0 * static_cast<double>(std::count(refactorized.end() - tail, refactorized.end(), 1)) /
+        static_cast<double>(tail);
+    state.counters["first10_refactorized_pct"] =
+        100.0 *
+        static_cast<double>(std::count(refactorized.begin(), refactorized.begin() + tail, 1)) /
+        static_cast<double>(tail);
+    // The batch solution from the same linearization (Gauss-Newton on H factorized afresh at
+    // every iteration, from the estimate finish() starts from; not timed) ...
+    FactorGraph batch = b.graph();
+    SparseCholesky batch_factor;
+    optimize(batch, b.options().solver, &batch_factor);
     const double t0 = threadCpuMs();
     b.finish();
     state.counters["finish_ms"] = threadCpuMs() - t0;
+    // ... and the largest difference of finish()'s estimate from it [m, rad].
+    Eigen::VectorXd diff = b.graph().values() - batch.values();
+    for (const auto& [step, p] : batch.poses()) diff[p.col + 2] = wrapAngle(diff[p.col + 2]);
+    state.counters["final_vs_batch"] = diff.lpNorm<Eigen::Infinity>();
     benchmark::DoNotOptimize(b.landmarks());
     benchmark::DoNotOptimize(b.trajectory());
     state.counters["updates"] = static_cast<double>(b.updateCount());
-    state.counters["fresh_orderings"] = static_cast<double>(b.solverOrdering().freshAnalyses());
+    const IncrementalStats& held = b.heldFactorStats();
+    state.counters["rebuilds"] = static_cast<double>(held.rebuilds);
+    state.counters["fresh_orderings"] = static_cast<double>(held.fresh_orderings);
+    state.counters["in_place"] = static_cast<double>(held.modifications);
     // Median update over the first and the last 10% of the updates (the growth measure).
     const std::size_t tenth = std::max<std::size_t>(1, update_ms.size() / 10);
     const auto median = [](std::vector<double> v) {
@@ -155,20 +182,99 @@ void BM_FullSlam(benchmark::State& state) {
   }
 }
 
+/// Median of the first and of the last 10% of `v`.
+std::pair<double, double> firstLastMedians(const std::vector<double>& v) {
+  const std::size_t tenth = std::max<std::size_t>(1, v.size() / 10);
+  const auto median = [](std::vector<double> x) {
+    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+    return x[x.size() / 2];
+  };
+  return {median({v.begin(), v.begin() + tenth}), median({v.end() - tenth, v.end()})};
+}
+
+/// The lifelong scenario (docs/DATASETS.md) streamed from the simulator, seed 1, the first
+/// state.range(0) steps, no max_poses, the map capped at 100 landmarks: after each step the
+/// landmarks seen longest ago leave (removeLandmark; the held factor folds the removals in at its
+/// next update). CPU time of every update (a step that ran an incremental update), median over the
+/// first and the last 10% of the updates after the cap is first reached; and of every step.
+void BM_Lifelong(benchmark::State& state) {
+  dataset::SimulationOptions so;
+  so.scenario = dataset::SimulationOptions::ScenarioKind::Lifelong;
+  so.seed = 1;
+  so.laps = 12;
+  const std::size_t n = static_cast<std::size_t>(state.range(0));
+  std::vector<Step> steps;
+  dataset::Simulator sim(so);
+  sim.run([&](const Step& s) {
+    if (steps.size() < n) steps.push_back(s);
+  });
+  RangeBearingNoise noise;
+  noise.std_sensor_range = sim.noise().std_range;
+  noise.std_sensor_yaw_deg = sim.noise().std_yaw * 180.0 / M_PI;
+  GraphSlamOptions options;
+  options.relinearize_threshold = static_cast<double>(state.range(1)) * 1e-3;
+  const std::size_t cap = 100;
+  for (auto _ : state) {
+    GraphBackend b(options, noise);
+    std::map<LandmarkId, StepIndex> last_seen;
+    std::vector<double> update_ms, step_ms;
+    bool capped = false;
+    for (const Step& s : steps) {
+      const std::size_t before = b.updateCount();
+      const double t0 = threadCpuMs();
+      b.process(s);
+      benchmark::DoNotOptimize(b.robotPose());
+      for (LandmarkId id : b.lastAssociation()) last_seen[id] = s.index;
+      while (b.landmarkCount() > cap) {
+        auto oldest =
+            std::min_element(last_seen.begin(), last_seen.end(), [](const auto& a, const auto& c) {
+              return a.second != c.second ? a.second < c.second : a.first < c.first;
+            });
+        b.removeLandmark(oldest->first);
+        last_seen.erase(oldest);
+        capped = true;
+      }
+      const double dt = threadCpuMs() - t0;
+      if (capped) {
+        step_ms.push_back(dt);
+        if (b.updateCount() != before) update_ms.push_back(dt);
+      }
+    }
+    const auto [uf, ul] = firstLastMedians(update_ms);
+    const auto [sf, sl] = firstLastMedians(step_ms);
+    state.counters["upd_first10_ms"] = uf;
+    state.counters["upd_last10_ms"] = ul;
+    state.counters["upd_growth"] = ul / uf;
+    state.counters["step_first10_ms"] = sf;
+    state.counters["step_last10_ms"] = sl;
+    state.counters["step_growth"] = sl / sf;
+    state.counters["updates"] = static_cast<double>(b.updateCount());
+    const IncrementalStats& held = b.heldFactorStats();
+    state.counters["rebuilds"] = static_cast<double>(held.rebuilds);
+    state.counters["fresh_orderings"] = static_cast<double>(held.fresh_orderings);
+    state.counters["in_place"] = static_cast<double>(held.modifications);
+    setCounters(state, b.graph());
+  }
+}
+
 // Steps of the prefix; 6968 steps = the whole file (6969 poses with the start pose).
 #define SIZES Arg(500)->Arg(1000)->Arg(2000)->Arg(4000)->Arg(6968)
 BENCHMARK(BM_FastAll)->SIZES->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_FastGivenFactor)->SIZES->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_FactorizeOnly)->SIZES->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_NaiveAll)->SIZES->Unit(benchmark::kMillisecond)->Iterations(1);
-// Second argument: GraphSlamOptions::reorder_fill_ratio x 10 (0: a fresh ordering at every
-// structure change, as before the ordering was kept; 15: the default).
+// Second argument: GraphSlamOptions::relinearize_threshold in mm (and mrad; 0: full Gauss-Newton
+// on the held factor, 100: the default); third: reorder_fill_ratio x 10 (0: the default, 10:
+// a fresh ordering and a full refactorization at every change, no change in place).
 BENCHMARK(BM_FullSlam)
-    ->Args({6968, 0})
-    ->Args({6968, 11})
-    ->Args({6968, 15})
+    ->Args({6968, 100, 0})
+    ->Args({6968, 10, 0})
+    ->Args({6968, 0, 0})
+    ->Args({6968, 100, 10})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
+// Steps and relinearize_threshold in mm.
+BENCHMARK(BM_Lifelong)->Args({20000, 100})->Unit(benchmark::kMillisecond)->Iterations(1);
 }  // namespace
 
 BENCHMARK_MAIN();

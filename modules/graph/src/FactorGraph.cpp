@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <atomic>
 #include <iterator>
 #include <stdexcept>
 #include <string>
@@ -32,14 +33,102 @@ void FactorGraph::changed() {
   ++revision_;
 }
 
+std::uint64_t FactorGraph::Lineage::next() {
+  static std::atomic<std::uint64_t> counter{0};
+  return ++counter;
+}
+
+void FactorGraph::record(GraphChange c) {
+  // Bounded: once twice the capacity is reached the older half goes (a reader that far behind
+  // starts afresh, changesSince).
+  if (journal_.size() >= 2 * kJournalCapacity) {
+    journal_.erase(journal_.begin(), journal_.begin() + kJournalCapacity);
+    journal_start_ += kJournalCapacity;
+  }
+  journal_.push_back(std::move(c));
+}
+
+void FactorGraph::recordVariable(GraphChange::Kind kind, const VariableKey& v,
+                                 VariableIndex index) {
+  GraphChange c;
+  c.kind = kind;
+  c.variable = v;
+  c.index = index;
+  record(std::move(c));
+}
+
+void FactorGraph::recordRemoval(FactorId id) {
+  GraphChange c;
+  c.kind = GraphChange::Kind::RemoveFactor;
+  c.factor.id = id;
+  record(std::move(c));
+}
+
+GraphFactor FactorGraph::posePriorFactor() const {
+  GraphFactor f = GraphFactor::posePrior(prior_id_, poses_.begin()->first, prior_);
+  f.vars[0] = poses_.begin()->second.index;
+  return f;
+}
+
+GraphFactor FactorGraph::odometryFactor(PoseIt from, PoseIt to) const {
+  GraphFactor f = GraphFactor::odometry(to->second.odo_id, from->first, to->first, *to->second.odo);
+  f.vars = {{from->second.index, to->second.index}};
+  return f;
+}
+
+GraphFactor FactorGraph::sightingFactor(LandmarkIt l, const Observation& o) const {
+  GraphFactor f = GraphFactor::rangeBearing(o.id, o.pose, l->first, o.f);
+  f.vars = {{poses_.at(o.pose).index, l->second.index}};
+  return f;
+}
+
+GraphFactor FactorGraph::landmarkPriorFactor(LandmarkIt l) const {
+  GraphFactor f = GraphFactor::landmarkPrior(l->second.prior_id, l->first, *l->second.prior);
+  f.vars[0] = l->second.index;
+  return f;
+}
+
+void FactorGraph::recordAddition(GraphFactor f) {
+  GraphChange c;
+  c.kind = GraphChange::Kind::AddFactor;
+  c.factor = std::move(f);
+  record(std::move(c));
+}
+
+bool FactorGraph::changesSince(std::uint64_t seq, const GraphChange** first,
+                               const GraphChange** last) const {
+  if (seq < journal_start_ || seq > changeCount()) return false;
+  *first = journal_.data() + (seq - journal_start_);
+  *last = journal_.data() + journal_.size();
+  return true;
+}
+
+std::vector<GraphFactor> FactorGraph::factors() const {
+  std::vector<GraphFactor> out;
+  if (poses_.empty()) return out;
+  out.push_back(posePriorFactor());
+  for (auto it = std::next(poses_.begin()); it != poses_.end(); ++it)
+    out.push_back(odometryFactor(std::prev(it), it));
+  for (auto it = landmarks_.begin(); it != landmarks_.end(); ++it) {
+    for (const Observation& o : it->second.obs) out.push_back(sightingFactor(it, o));
+    if (it->second.prior) out.push_back(landmarkPriorFactor(it));
+  }
+  return out;
+}
+
 void FactorGraph::addFirstPose(StepIndex step, double t, const Pose2& x, const PriorFactor& prior) {
   if (!poses_.empty()) throw std::logic_error("graph: first pose added twice");
   PoseNode n;
   n.x = x;
   n.t = t;
+  n.index = newVariableIndex();
   poses_.emplace(step, n);
+  variablesChanged();
   prior_ = prior;
+  prior_id_ = next_factor_id_++;
   changed();
+  recordVariable(GraphChange::Kind::AddVariable, VariableKey::pose(step), n.index);
+  recordAddition(posePriorFactor());
 }
 
 void FactorGraph::addPose(StepIndex step, double t, const Pose2& x, const BetweenFactor& odo) {
@@ -49,8 +138,13 @@ void FactorGraph::addPose(StepIndex step, double t, const Pose2& x, const Betwee
   n.x = x;
   n.t = t;
   n.odo = odo;
-  poses_.emplace_hint(poses_.end(), step, n);
+  n.odo_id = next_factor_id_++;
+  n.index = newVariableIndex();
+  auto it = poses_.emplace_hint(poses_.end(), step, n);
+  appendToLayout(&it->second);
   changed();
+  recordVariable(GraphChange::Kind::AddVariable, VariableKey::pose(step), n.index);
+  recordAddition(odometryFactor(std::prev(it), it));
 }
 
 void FactorGraph::addLandmark(LandmarkId id, const Eigen::Vector2d& x) {
@@ -58,8 +152,11 @@ void FactorGraph::addLandmark(LandmarkId id, const Eigen::Vector2d& x) {
     throw std::logic_error("graph: landmark " + std::to_string(id) + " exists");
   LandmarkNode n;
   n.x = x;
-  landmarks_.emplace(id, n);
+  n.index = newVariableIndex();
+  auto it = landmarks_.emplace(id, n).first;
+  insertIntoLayout(&it->second, static_cast<std::size_t>(std::distance(landmarks_.begin(), it)));
   changed();
+  recordVariable(GraphChange::Kind::AddVariable, VariableKey::landmark(id), n.index);
 }
 
 void FactorGraph::addObservation(StepIndex pose, LandmarkId id, const RangeBearingFactor& f) {
@@ -67,17 +164,27 @@ void FactorGraph::addObservation(StepIndex pose, LandmarkId id, const RangeBeari
   if (p == poses_.end()) throw std::out_of_range("graph: no pose " + std::to_string(pose));
   auto l = landmarks_.find(id);
   if (l == landmarks_.end()) throw std::out_of_range("graph: no landmark " + std::to_string(id));
-  l->second.obs.push_back({pose, f});
+  const FactorId fid = next_factor_id_++;
+  l->second.obs.push_back({pose, f, fid});
   ++p->second.n_obs;
   changed();
+  recordAddition(sightingFactor(l, l->second.obs.back()));
 }
 
 void FactorGraph::removeLandmark(LandmarkId id) {
   auto l = landmarks_.find(id);
   if (l == landmarks_.end()) throw std::out_of_range("graph: no landmark " + std::to_string(id));
-  for (const Observation& o : l->second.obs) --poses_.at(o.pose).n_obs;
+  for (const Observation& o : l->second.obs) {
+    --poses_.at(o.pose).n_obs;
+    recordRemoval(o.id);
+  }
+  if (l->second.prior) recordRemoval(l->second.prior_id);
+  const VariableIndex index = l->second.index;
+  removeFromLayout(&l->second);
   landmarks_.erase(l);
+  freeVariableIndex(index);
   changed();
+  recordVariable(GraphChange::Kind::RemoveVariable, VariableKey::landmark(id), index);
 }
 
 bool FactorGraph::canMarginalizePose(StepIndex step) const {
@@ -91,20 +198,18 @@ void FactorGraph::marginalizePose(StepIndex step) {
     throw std::logic_error("graph: pose " + std::to_string(step) + " cannot be marginalized");
   auto p = poses_.find(step);
   auto next = std::next(p);
+  const auto prev = std::prev(p);
+  recordRemoval(p->second.odo_id);
+  recordRemoval(next->second.odo_id);
   next->second.odo = composeBetween(*p->second.odo, *next->second.odo);
+  next->second.odo_id = next_factor_id_++;
+  const VariableIndex index = p->second.index;
   poses_.erase(p);
+  freeVariableIndex(index);
+  variablesChanged();
   changed();
-}
-
-LandmarkPrior LandmarkPrior::make(const Eigen::Vector2d& mean, const Eigen::Matrix2d& cov) {
-  LandmarkPrior p;
-  p.mean = mean;
-  // sqrt_info = L^-1 for cov = L L^T: sqrt_info^T sqrt_info = cov^-1.
-  const Eigen::LLT<Eigen::Matrix2d> llt(0.5 * (cov + cov.transpose()));
-  if (llt.info() != Eigen::Success || !cov.allFinite())
-    throw std::invalid_argument("graph: landmark prior covariance is not positive definite");
-  p.sqrt_info = llt.matrixL().solve(Eigen::Matrix2d::Identity());
-  return p;
+  recordVariable(GraphChange::Kind::RemoveVariable, VariableKey::pose(step), index);
+  recordAddition(odometryFactor(prev, next));
 }
 
 void FactorGraph::dropFirstPoses(std::size_t count, const PriorFactor& next_prior) {
@@ -116,21 +221,39 @@ void FactorGraph::dropFirstPoses(std::size_t count, const PriorFactor& next_prio
   const StepIndex first_kept = end->first;
   for (auto& [id, l] : landmarks_)
     l.obs.erase(std::remove_if(l.obs.begin(), l.obs.end(),
-                               [&](const Observation& o) { return o.pose < first_kept; }),
+                               [&](const Observation& o) {
+                                 if (o.pose >= first_kept) return false;
+                                 recordRemoval(o.id);
+                                 return true;
+                               }),
                 l.obs.end());
+  recordRemoval(prior_id_);
+  for (auto it = poses_.begin(); it != end; ++it) {
+    recordRemoval(std::next(it)->second.odo_id);  // every odometry up to the new first pose
+    recordVariable(GraphChange::Kind::RemoveVariable, VariableKey::pose(it->first),
+                   it->second.index);
+    freeVariableIndex(it->second.index);
+  }
   poses_.erase(poses_.begin(), end);
+  variablesChanged();
   poses_.begin()->second.odo.reset();
+  poses_.begin()->second.odo_id = 0;
   prior_ = next_prior;
+  prior_id_ = next_factor_id_++;
   changed();
+  recordAddition(posePriorFactor());
 }
 
 void FactorGraph::setLandmarkPrior(LandmarkId id, const LandmarkPrior& prior) {
   auto l = landmarks_.find(id);
   if (l == landmarks_.end()) throw std::out_of_range("graph: no landmark " + std::to_string(id));
   const bool had = l->second.prior.has_value();
+  if (had) recordRemoval(l->second.prior_id);
   l->second.prior = prior;
+  l->second.prior_id = next_factor_id_++;
   ++revision_;          // new numbers in H either way
   if (!had) changed();  // a new factor; replacing one keeps the pattern
+  recordAddition(landmarkPriorFactor(l));
 }
 
 std::size_t FactorGraph::factorCount() const {
@@ -139,12 +262,79 @@ std::size_t FactorGraph::factorCount() const {
   return n;
 }
 
+void FactorGraph::removeFromLayout(const LandmarkNode* landmark) {
+  Layout& L = layout_;
+  const bool current = L.version == variables_version_;
+  variablesChanged();
+  if (!current) return;  // rebuilt in full at its next use
+  const auto it = std::find(L.landmarks.begin(), L.landmarks.end(), landmark);
+  if (it == L.landmarks.end()) return;  // not in the layout: rebuilt at its next use
+  const std::size_t k = L.poses.size() + static_cast<std::size_t>(it - L.landmarks.begin());
+  for (auto q = std::next(it); q != L.landmarks.end(); ++q) (*q)->col -= 2;
+  L.landmarks.erase(it);
+  L.starts.erase(L.starts.begin() + static_cast<std::ptrdiff_t>(k));
+  for (std::size_t j = k; j < L.starts.size(); ++j) L.starts[j] -= 2;
+  L.indices.erase(L.indices.begin() + static_cast<std::ptrdiff_t>(k));
+  L.dim -= 2;
+  L.version = variables_version_;
+}
+
+VariableIndex FactorGraph::newVariableIndex() {
+  if (free_indices_.empty()) return next_variable_index_++;
+  const VariableIndex v = free_indices_.back();
+  free_indices_.pop_back();
+  return v;
+}
+
+void FactorGraph::freeVariableIndex(VariableIndex v) { free_indices_.push_back(v); }
+
+void FactorGraph::appendToLayout(PoseNode* pose) {
+  Layout& L = layout_;
+  const bool current = L.version == variables_version_;
+  variablesChanged();
+  if (!current) return;  // rebuilt in full at its next use
+  // A pose after the last one: the columns of the poses before it stay, so the layout grows in
+  // place (the landmarks' columns move up by 3).
+  const std::size_t k = L.poses.size();  // its place among the variables: after the poses
+  pose->col = static_cast<int>(3 * k);
+  L.poses.push_back(pose);
+  for (LandmarkNode* l : L.landmarks) l->col += 3;
+  L.starts.insert(L.starts.begin() + static_cast<std::ptrdiff_t>(k), pose->col);
+  for (std::size_t j = k + 1; j < L.starts.size(); ++j) L.starts[j] += 3;
+  L.indices.insert(L.indices.begin() + static_cast<std::ptrdiff_t>(k), pose->index);
+  const StepIndex step = poses_.rbegin()->first;
+  L.by_step.resize(step - L.first_step + 1, nullptr);
+  L.by_step.back() = pose;
+  L.dim += 3;
+  L.version = variables_version_;
+}
+
+void FactorGraph::insertIntoLayout(LandmarkNode* landmark, std::size_t position) {
+  Layout& L = layout_;
+  const bool current = L.version == variables_version_;
+  variablesChanged();
+  if (!current || position > L.landmarks.size()) return;  // rebuilt in full at its next use
+  // The landmarks are in id order after the poses: the new one takes the columns of the one it
+  // comes before, and those after it move up by 2.
+  const auto at = L.landmarks.begin() + static_cast<std::ptrdiff_t>(position);
+  landmark->col = at == L.landmarks.end() ? L.dim : (*at)->col;
+  for (auto q = at; q != L.landmarks.end(); ++q) (*q)->col += 2;
+  L.landmarks.insert(at, landmark);
+  const std::size_t k = L.poses.size() + position;
+  L.starts.insert(L.starts.begin() + static_cast<std::ptrdiff_t>(k), landmark->col);
+  for (std::size_t j = k + 1; j < L.starts.size(); ++j) L.starts[j] += 2;
+  L.indices.insert(L.indices.begin() + static_cast<std::ptrdiff_t>(k), landmark->index);
+  L.dim += 2;
+  L.version = variables_version_;
+}
+
 const FactorGraph::Layout& FactorGraph::layout() const {
   Layout& L = layout_;
-  if (L.version == structure_version_) return L;
+  if (L.version == variables_version_) return L;
   L.poses.clear();
   L.landmarks.clear();
   L.starts.clear();
+  L.indices.clear();
   L.by_step.clear();
   L.poses.reserve(poses_.size());
   L.landmarks.reserve(landmarks_.size());
@@ -156,12 +346,14 @@ const FactorGraph::Layout& FactorGraph::layout() const {
   for (auto& [s, p] : poses) {
     p.col = c;
     L.starts.push_back(c);
+    L.indices.push_back(p.index);
     L.poses.push_back(&p);
     c += 3;
   }
   for (auto& [id, l] : landmarks) {
     l.col = c;
     L.starts.push_back(c);
+    L.indices.push_back(l.index);
     L.landmarks.push_back(&l);
     c += 2;
   }
@@ -174,13 +366,15 @@ const FactorGraph::Layout& FactorGraph::layout() const {
     L.by_step.assign(poses_.rbegin()->first - L.first_step + 1, nullptr);
     for (auto& [s, p] : poses) L.by_step[s - L.first_step] = &p;
   }
-  L.version = structure_version_;
+  L.version = variables_version_;
   return L;
 }
 
 int FactorGraph::dim() const { return layout().dim; }
 
 const std::vector<int>& FactorGraph::variableStarts() const { return layout().starts; }
+
+const std::vector<VariableIndex>& FactorGraph::variableIndices() const { return layout().indices; }
 
 int FactorGraph::column(const VariableKey& v) const {
   layout();
@@ -280,7 +474,7 @@ void FactorGraph::retract(const Eigen::VectorXd& dx) {
     p->x.z() = wrapAngle(p->x.z());
   }
   for (LandmarkNode* l : L.landmarks) l->x += dx.segment<2>(l->col);
-  ++revision_;
+  valuesChanged();
 }
 
 Eigen::VectorXd FactorGraph::values() const {
@@ -296,7 +490,7 @@ void FactorGraph::setValues(const Eigen::VectorXd& v) {
   if (v.size() != L.dim) throw std::invalid_argument("graph: setValues with a wrong size");
   for (PoseNode* p : L.poses) p->x = v.segment<3>(p->col);
   for (LandmarkNode* l : L.landmarks) l->x = v.segment<2>(l->col);
-  ++revision_;
+  valuesChanged();
 }
 
 }  // namespace budget_slam::graph

@@ -102,6 +102,17 @@ Eigen::Vector2d RangeBearingFactor::landmarkFrom(const Pose2& x) const {
          range * Eigen::Vector2d(std::cos(s.z() + bearing), std::sin(s.z() + bearing));
 }
 
+LandmarkPrior LandmarkPrior::make(const Eigen::Vector2d& mean, const Eigen::Matrix2d& cov) {
+  LandmarkPrior p;
+  p.mean = mean;
+  // sqrt_info = L^-1 for cov = L L^T: sqrt_info^T sqrt_info = cov^-1.
+  const Eigen::LLT<Eigen::Matrix2d> llt(0.5 * (cov + cov.transpose()));
+  if (llt.info() != Eigen::Success || !cov.allFinite())
+    throw std::invalid_argument("graph: landmark prior covariance is not positive definite");
+  p.sqrt_info = llt.matrixL().solve(Eigen::Matrix2d::Identity());
+  return p;
+}
+
 BetweenFactor composeBetween(const BetweenFactor& a, const BetweenFactor& b) {
   Eigen::Matrix3d Ja, Jb;
   const Pose2 z = compose(a.z, b.z, &Ja, &Jb);

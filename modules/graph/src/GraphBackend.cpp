@@ -44,10 +44,7 @@ GraphBackend::GraphBackend(const mrpt::config::CConfigFileBase& ini)
     : GraphBackend(loaded<GraphSlamOptions>(ini), loaded<RangeBearingNoise>(ini)) {}
 
 GraphBackend::GraphBackend(const GraphSlamOptions& options, const RangeBearingNoise& noise)
-    : options_(options),
-      noise_(noise),
-      solver_ordering_(options.reorder_fill_ratio),
-      factorization_(options.reorder_fill_ratio) {}
+    : options_(options), noise_(noise), factorization_(options.reorder_fill_ratio) {}
 
 GraphBackend::GraphBackend(const GraphBackend& o)
     : options_(o.options_),
@@ -58,9 +55,10 @@ GraphBackend::GraphBackend(const GraphBackend& o)
       poses_since_update_(o.poses_since_update_),
       updates_(o.updates_),
       poses_dropped_(o.poses_dropped_),
-      solver_ordering_(o.options_.reorder_fill_ratio),
-      factorization_(o.factorization_),  // no CHOLMOD object: refactorizes at its first query
-      pose_cov_(o.pose_cov_) {}
+      factorization_(o.factorization_),
+      pose_cov_(o.pose_cov_) {
+  factorization_.adopt(graph_);
+}
 
 std::unique_ptr<Backend> GraphBackend::clone() const {
   return std::unique_ptr<Backend>(new GraphBackend(*this));
@@ -211,17 +209,17 @@ void GraphBackend::boundPoses() {
 }
 
 void GraphBackend::incrementalUpdate() {
-  SolverSettings s = options_.solver;
-  s.method = SolverSettings::Method::GaussNewton;
+  IncrementalStep s;
   s.max_iterations = options_.incremental_iterations;
-  s.step_tolerance = std::max(s.step_tolerance, options_.relinearize_threshold);
-  graph::optimize(graph_, s, &solver_chol_, &solver_ordering_);
+  s.relinearize_threshold = options_.relinearize_threshold;
+  s.step_tolerance = options_.solver.step_tolerance;
+  s.relative_chi2_tolerance = options_.solver.relative_chi2_tolerance;
+  factorization_.held().iterate(graph_, s);
   poses_since_update_ = 0;
   ++updates_;
-  // The solver's last factorization is of the current structure, linearized one step before the
-  // final estimate: the latest pose's marginal from it is exact up to that last step.
-  pose_cov_ =
-      jointMarginal(graph_, solver_chol_, {VariableKey::pose(graph_.poses().rbegin()->first)});
+  // The held factor is of the final estimate: the latest pose's marginal from it is exact.
+  pose_cov_ = factorization_.jointMarginal(
+      graph_, {VariableKey::pose(graph_.poses().rbegin()->first)}, /*at_estimate=*/false);
 }
 
 std::vector<LandmarkView> GraphBackend::landmarks() const {
@@ -249,8 +247,9 @@ PoseEstimate GraphBackend::robotPose() const {
   if (graph_.poses().empty()) return p;
   const auto& [step, node] = *graph_.poses().rbegin();
   p.mean = mrpt::math::TPose2D(node.x.x(), node.x.y(), node.x.z());
-  if (options_.exact_pose_covariance || !pose_cov_ || factorization_.computedFor(graph_)) {
-    pose_cov_ = factorization_.jointMarginal(graph_, {VariableKey::pose(step)});
+  if (options_.exact_pose_covariance || !pose_cov_ || factorization_.isCurrent(graph_)) {
+    pose_cov_ = factorization_.jointMarginal(graph_, {VariableKey::pose(step)},
+                                             options_.exact_pose_covariance);
   }
   p.cov = *pose_cov_;
   return p;
@@ -277,9 +276,11 @@ std::vector<double> GraphBackend::informationGain(const std::vector<LandmarkId>&
     if (!graph_.hasLandmark(id))
       throw std::out_of_range("graph backend: no landmark " + std::to_string(id));
   if (ids.empty()) return {};
+  // The held factor, relinearized where the estimate has left it: H at the estimate.
+  const SparseCholesky& chol = factorization_.factor(graph_, /*at_estimate=*/true);
   if (options_.information_gain == GraphSlamOptions::InformationGain::Conditional)
-    return graph::conditionalInformationGain(graph_, factorization_.factor(graph_), ids);
-  return graph::informationGain(graph_, factorization_.factor(graph_), ids);
+    return graph::conditionalInformationGain(graph_, chol, ids);
+  return graph::informationGain(graph_, chol, ids);
 }
 
 Eigen::Matrix2d GraphBackend::landmarkCovariance(LandmarkId id) const {
@@ -316,7 +317,21 @@ SolveReport GraphBackend::optimize() {
   settings.stop_on_request = true;  // a full solve of a long run takes seconds
   SolveReport r;
   try {
-    r = graph::optimize(graph_, settings, &solver_chol_, &solver_ordering_);
+    if (settings.method == SolverSettings::Method::LevenbergMarquardt) {
+      // The damped system is not H: batch factorizations (the held factor follows the new
+      // estimate at its next use).
+      SparseCholesky chol;
+      r = graph::optimize(graph_, settings, &chol);
+    } else {
+      // Gauss-Newton on the held factor, every variable that moves taking its step.
+      IncrementalStep s;
+      s.max_iterations = settings.max_iterations;
+      s.relinearize_threshold = 0;
+      s.step_tolerance = settings.step_tolerance;
+      s.relative_chi2_tolerance = settings.relative_chi2_tolerance;
+      s.stop_on_request = true;
+      r = factorization_.held().iterate(graph_, s);
+    }
   } catch (const Interrupted&) {
     // The estimate moved to the last accepted iterate: the pose covariance must follow it.
     pose_cov_.reset();

@@ -22,7 +22,9 @@ std::vector<LandmarkId> NearestNeighbourAssociation::associate(
   // includes the pose uncertainty and its correlation with each landmark.
   std::vector<VariableKey> vars{VariableKey::pose(pose)};
   for (const auto& [id, l] : graph.landmarks()) vars.push_back(VariableKey::landmark(id));
-  const Eigen::MatrixXd Sigma = factorization.jointMarginal(graph, vars);
+  // At the held factor's linearization point: the update just run leaves it one step behind the
+  // estimate, the gate's accuracy (a relinearization per step would cost more than it moves).
+  const Eigen::MatrixXd Sigma = factorization.jointMarginal(graph, vars, /*at_estimate=*/false);
   const Pose2& x = graph.pose(pose).x;
   struct Pair {
     double d2;

@@ -9,24 +9,21 @@ namespace budget_slam::graph {
 
 namespace {
 bool factorizeWith(const FactorGraph& graph, const Eigen::SparseMatrix<double>& H,
-                   SparseCholesky* chol, IncrementalOrdering* ordering) {
-  if (ordering) return ordering->factorize(graph, H, chol);
+                   SparseCholesky* chol) {
   // 0 means "always analyse"
   return chol->factorize(H, graph.structureVersion() + 1, &graph.variableStarts());
 }
 }  // namespace
 
-void factorizeAtEstimate(const FactorGraph& graph, SparseCholesky* chol,
-                         IncrementalOrdering* ordering) {
+void factorizeAtEstimate(const FactorGraph& graph, SparseCholesky* chol) {
   Eigen::SparseMatrix<double> H;
   Eigen::VectorXd g;
   graph.linearize(&H, &g);
-  if (!factorizeWith(graph, H, chol, ordering))
+  if (!factorizeWith(graph, H, chol))
     throw std::runtime_error("graph: information matrix is not positive definite");
 }
 
-SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky* chol,
-                     IncrementalOrdering* ordering) {
+SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky* chol) {
   SolveReport rep;
   if (graph.dim() == 0) {
     rep.initial_chi2 = rep.final_chi2 = graph.chi2();
@@ -50,7 +47,7 @@ SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky
     }
     rep.iterations = it + 1;
     if (s.method == SolverSettings::Method::GaussNewton) {
-      if (!factorizeWith(graph, H, chol, ordering))
+      if (!factorizeWith(graph, H, chol))
         throw std::runtime_error("graph: information matrix is not positive definite");
       const Eigen::VectorXd dx = -chol->solve(g);
       const Eigen::VectorXd backup = graph.values();
@@ -80,7 +77,7 @@ SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky
       if (s.stop_on_request) Cancellation::check();
       Eigen::SparseMatrix<double> Hd = H;
       for (int i = 0; i < Hd.rows(); ++i) Hd.coeffRef(i, i) += lambda * std::max(diag[i], 1e-12);
-      if (!factorizeWith(graph, Hd, chol, ordering)) {
+      if (!factorizeWith(graph, Hd, chol)) {
         lambda *= s.lm_lambda_factor;
         continue;
       }

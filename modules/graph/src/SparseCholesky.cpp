@@ -14,24 +14,37 @@ namespace budget_slam::graph {
 namespace {
 using SpMat = Eigen::SparseMatrix<double>;
 
-/// A CHOLMOD view (no copy) of a square compressed-column matrix of which only the lower triangle
-/// is read: `p`, `i` as CHOLMOD's column pointers and row indices, `x` the values (null for a
-/// pattern, CHOLMOD_PATTERN).
-cholmod_sparse lowerTriangleView(std::size_t n, std::size_t nonzeros, const int* p, const int* i,
-                                 const double* x) {
+/// A CHOLMOD view (no copy) of a compressed-column matrix, nrow x ncol: `p`, `i` as CHOLMOD's
+/// column pointers and row indices (rows ascending), `x` the values (null for a pattern,
+/// CHOLMOD_PATTERN); `stype` -1 / 1: symmetric with only the lower / upper triangle read, 0:
+/// unsymmetric.
+cholmod_sparse compressedView(std::size_t nrow, std::size_t ncol, std::size_t nonzeros,
+                              const int* p, const int* i, const double* x, int stype) {
   cholmod_sparse A{};
-  A.nrow = A.ncol = n;
+  A.nrow = nrow;
+  A.ncol = ncol;
   A.nzmax = nonzeros;
   A.p = const_cast<int*>(p);
   A.i = const_cast<int*>(i);
   A.x = const_cast<double*>(x);
-  A.stype = -1;
+  A.stype = stype;
   A.itype = CHOLMOD_INT;
   A.xtype = x ? CHOLMOD_REAL : CHOLMOD_PATTERN;
   A.dtype = CHOLMOD_DOUBLE;
   A.sorted = 1;
   A.packed = 1;
   return A;
+}
+
+cholmod_sparse lowerTriangleView(std::size_t n, std::size_t nonzeros, const int* p, const int* i,
+                                 const double* x) {
+  return compressedView(n, n, nonzeros, p, i, x, -1);
+}
+
+/// An upper triangle as a CHOLMOD matrix (a view, no copy).
+cholmod_sparse upperView(const SparseCholesky::UpperTriangle& H) {
+  const std::size_t n = static_cast<std::size_t>(H.n);
+  return compressedView(n, n, static_cast<std::size_t>(H.p[H.n]), H.p, H.i, H.x, 1);
 }
 
 /// H's lower triangle as a CHOLMOD matrix (a view, no copy; H must be compressed).
@@ -75,6 +88,21 @@ struct SparseCholesky::Impl {
   mutable std::vector<int> Lp_s, Lnz_s, Li_s, perm, iperm;
   mutable std::vector<double> Lx_s;
   mutable bool have_perm = false;
+  // The queries' column space: external column c is row colmap[c] of the factorized matrix
+  // (identity when empty); colpos[c] is its position in the factor, rebuilt with the permutation.
+  std::vector<int> colmap;
+  mutable std::vector<int> colpos;
+  mutable bool have_colpos = false;
+  double analysis_flops = 0;     ///< CHOLMOD's flop count of the last analysis
+  double analysis_nonzeros = 0;  ///< nnz(L) predicted by the last analysis
+
+  int columns() const { return colmap.empty() ? n : static_cast<int>(colmap.size()); }
+  /// Position in the factor of external column c; throws std::out_of_range outside.
+  int positionOf(int c) const {
+    if (c < 0 || c >= static_cast<int>(colpos.size()))
+      throw std::out_of_range("SparseCholesky: index out of range");
+    return colpos[c];
+  }
 
   /// The etree parent of column k: the first row below the diagonal (-1 at a root).
   int parentOf(int k) const { return Lnz[k] > 1 ? Li[Lp[k] + 1] : -1; }
@@ -99,6 +127,16 @@ struct SparseCholesky::Impl {
       for (int k = 0; k < n; ++k) perm[k] = P ? P[k] : k;
       for (int k = 0; k < n; ++k) iperm[perm[k]] = k;
       have_perm = true;
+      have_colpos = false;
+    }
+    if (!have_colpos) {
+      if (colmap.empty()) {
+        colpos = iperm;
+      } else {
+        colpos.resize(colmap.size());
+        for (std::size_t c = 0; c < colmap.size(); ++c) colpos[c] = iperm.at(colmap[c]);
+      }
+      have_colpos = true;
     }
     have_L = true;
   }
@@ -195,27 +233,34 @@ struct SparseCholesky::Impl {
     have_post = true;
   }
 
-  // The dense tail of the factor: the last t columns of L before the stand-alone ones when they
-  // form a full lower triangle (the root separator, which the fill-reducing ordering leaves for
-  // the end; t = 104 of 21206 on the full Victoria Park graph). Every etree path of a connected
-  // graph ends in it, so the partial inverses spend most of their flops there (about 70% for the
-  // information gain on Victoria Park); it is kept as a dense t x t block so those parts run as
-  // dense blocked kernels (triangular solve and rank-t update) instead of row-by-row sparse
-  // updates.
-  static constexpr int kMinDenseTail = 16;  ///< below this the sparse kernels are as good
+  // The dense tail of the factor: the last t columns of L before the stand-alone ones, kept as a
+  // dense t x t block (zero where L has no entry) so that the partial inverses run there as dense
+  // blocked kernels (triangular solve and rank-t update) instead of row-by-row sparse updates.
+  // Every etree path of a connected graph ends in it: the root separator, which the fill-reducing
+  // ordering leaves for the end as a full triangle (t = 104 of 21206 on the full Victoria Park
+  // graph, about 70% of the information gain's flops), and in the held factor the variables added
+  // after it since its last fresh ordering. The block is the one that saves the most: the sparse
+  // kernels' work on its entries, sum nnz, less the dense kernels' on the full triangle, which
+  // run about kDenseSpeedup times faster per entry. Any trailing block gives the same numbers:
+  // its columns' rows all lie inside it.
+  static constexpr int kMinDenseTail = 16;   ///< below this the sparse kernels are as good
+  static constexpr int kMaxDenseTail = 512;  ///< bounds the dense block (2 MB)
+  static constexpr double kDenseSpeedup = 4;
   mutable int tail = 0;
   mutable int active_end = 0;
   mutable Eigen::MatrixXd Ltail;  ///< L_TT (of L L^T), lower triangle, column-major
 
   void findDenseTail() const {
     int t = 0;
-    const auto full = [&](int k, int len) {  // column k holds exactly rows k .. k + len - 1
-      if (Lnz[k] != len) return false;
-      for (int u = 0; u < len; ++u)
-        if (Li[Lp[k] + u] != k + u) return false;
-      return true;
-    };
-    while (t < active_end && full(active_end - 1 - t, t + 1)) ++t;
+    double filled = 0, best = 0;
+    for (int u = 1; u <= std::min(active_end, kMaxDenseTail); ++u) {
+      filled += Lnz[active_end - u];
+      const double saved = filled - 0.5 * u * (u + 1.0) / kDenseSpeedup;
+      if (saved > best) {
+        best = saved;
+        t = u;
+      }
+    }
     tail = t >= kMinDenseTail ? t : 0;
     Ltail.setZero(tail, tail);
     const int k0 = active_end - tail;
@@ -261,8 +306,7 @@ struct SparseCholesky::Impl {
     std::vector<int>& nodes = w.nodes;
     nodes.clear();
     for (int col : S) {
-      if (col < 0 || col >= n) throw std::out_of_range("SparseCholesky: index out of range");
-      for (int k = iperm[col]; k != -1 && w.stamp[k] != w.counter; k = parentOf(k)) {
+      for (int k = positionOf(col); k != -1 && w.stamp[k] != w.counter; k = parentOf(k)) {
         w.stamp[k] = w.counter;
         nodes.push_back(k);
       }
@@ -276,9 +320,9 @@ struct SparseCholesky::Impl {
     Eigen::Map<RowMat> X(w.x.data(), nodes.size(), cols);
     for (std::size_t j = 0; j < S.size(); ++j) {
       if (R)
-        X.row(w.local[iperm[S[j]]]) += R->row(j);
+        X.row(w.local[colpos[S[j]]]) += R->row(j);
       else
-        X(w.local[iperm[S[j]]], j) = 1.0;
+        X(w.local[colpos[S[j]]], j) = 1.0;
     }
     // The path's columns of the L L^T factor on local row numbers, for the substitution kernel.
     w.path_start.assign(nodes.size() + 1, 0);
@@ -323,6 +367,9 @@ SparseCholesky SparseCholesky::copy() const {
   o.analysed = m.analysed;
   o.version = m.version;
   o.n = m.n;
+  o.colmap = m.colmap;
+  o.analysis_flops = m.analysis_flops;
+  o.analysis_nonzeros = m.analysis_nonzeros;
   return out;
 }
 
@@ -405,6 +452,8 @@ bool SparseCholesky::factorize(const SpMat& H, std::uint64_t pattern_version,
     m.analysed = true;
     m.version = pattern_version;
     m.have_perm = false;
+    m.analysis_flops = m.c.fl;
+    m.analysis_nonzeros = m.c.lnz;
   }
   m.n = n;
   cholmod_factorize(&A, m.F, &m.c);
@@ -413,64 +462,134 @@ bool SparseCholesky::factorize(const SpMat& H, std::uint64_t pattern_version,
   return m.ok;
 }
 
-bool SparseCholesky::refactorize(const SpMat& H) {
-  Impl& m = *impl_;
-  if (!m.F || H.rows() != m.n)
-    throw std::logic_error("SparseCholesky: refactorize without analysis");
-  m.invalidate();
-  cholmod_sparse A = viewLower(H);
-  cholmod_factorize(&A, m.F, &m.c);
-  m.ok = m.c.status == CHOLMOD_OK && m.F->minor == m.F->n;
-  if (!m.ok) m.analysed = false;
-  return m.ok;
-}
+double SparseCholesky::analysedNonZeros() const { return impl_->analysis_nonzeros; }
 
-double SparseCholesky::analysedNonZeros() const { return impl_->c.lnz; }
+double SparseCholesky::analysedFlops() const { return impl_->analysis_flops; }
+
+void SparseCholesky::setColumnMap(std::vector<int> rows) {
+  for (int r : rows)
+    if (r < 0) throw std::invalid_argument("SparseCholesky: negative row in the column map");
+  impl_->colmap = std::move(rows);
+  impl_->have_colpos = false;
+  impl_->have_L = false;
+  impl_->have_post = false;
+}
 
 std::vector<int> SparseCholesky::ordering() const {
   impl_->extractL();
   return impl_->perm;
 }
 
-bool SparseCholesky::factorizeOrdered(const SpMat& H, const std::vector<int>& perm,
-                                      bool simplicial) {
+bool SparseCholesky::factorizeInOrder(const UpperTriangle& H) {
   Impl& m = *impl_;
   m.invalidate();
-  if (perm.size() != static_cast<std::size_t>(H.rows()))
-    throw std::invalid_argument("SparseCholesky: ordering of the wrong size");
-  cholmod_sparse A = viewLower(H);
+  cholmod_sparse A = upperView(H);
   if (m.F) cholmod_free_factor(&m.F, &m.c);
   m.c.nmethods = 1;
-  m.c.method[0].ordering = CHOLMOD_GIVEN;
-  m.c.postorder = 0;  // the ordering exactly as given: new columns go last
-  m.c.supernodal = simplicial ? CHOLMOD_SIMPLICIAL : CHOLMOD_AUTO;
-  m.F = cholmod_analyze_p(&A, const_cast<int*>(perm.data()), nullptr, 0, &m.c);
+  m.c.method[0].ordering = CHOLMOD_NATURAL;
+  m.c.postorder = 0;  // the rows as given
+  m.c.supernodal = CHOLMOD_SIMPLICIAL;
+  m.F = cholmod_analyze(&A, &m.c);
   m.c.nmethods = 0;
   m.c.postorder = 1;
   m.c.supernodal = CHOLMOD_AUTO;
   if (!m.F) throw std::runtime_error("CHOLMOD: analysis failed");
   m.analysed = false;  // factorize() analyses anew
   m.have_perm = false;
-  m.n = static_cast<int>(H.rows());
+  m.analysis_flops = m.c.fl;
+  m.analysis_nonzeros = m.c.lnz;
+  m.n = H.n;
   cholmod_factorize(&A, m.F, &m.c);
   m.ok = m.c.status == CHOLMOD_OK && m.F->minor == m.F->n;
   return m.ok;
 }
 
+bool SparseCholesky::refactorizeInOrder(const UpperTriangle& H) {
+  Impl& m = *impl_;
+  if (!m.F || H.n != m.n || m.F->is_super || m.F->ordering != CHOLMOD_NATURAL)
+    throw std::logic_error("SparseCholesky: refactorizeInOrder without factorizeInOrder");
+  m.invalidate();
+  cholmod_sparse A = upperView(H);
+  cholmod_factorize(&A, m.F, &m.c);
+  m.ok = m.c.status == CHOLMOD_OK && m.F->minor == m.F->n;
+  return m.ok;
+}
+
+std::vector<int> SparseCholesky::orderNodes(int n, const std::vector<int>& p,
+                                            const std::vector<int>& i) {
+  Impl& m = *impl_;
+  if (n <= 0) return {};
+  if (static_cast<int>(p.size()) != n + 1)
+    throw std::invalid_argument("SparseCholesky: node pattern of the wrong size");
+  // Column c's rows r < c, with the diagonal added (CHOLMOD's analysis wants it): a pattern.
+  std::vector<int> cp(static_cast<std::size_t>(n) + 1, 0), ci;
+  ci.reserve(i.size() + static_cast<std::size_t>(n));
+  for (int c = 0; c < n; ++c) {
+    for (int k = p[c]; k < p[c + 1]; ++k) ci.push_back(i[k]);
+    ci.push_back(c);
+    cp[c + 1] = static_cast<int>(ci.size());
+  }
+  cholmod_sparse A = compressedView(static_cast<std::size_t>(n), static_cast<std::size_t>(n),
+                                    ci.size(), cp.data(), ci.data(), nullptr, 1);
+  m.c.nmethods = 1;
+  m.c.method[0].ordering = CHOLMOD_AMD;
+  m.c.postorder = 1;
+  m.c.supernodal = CHOLMOD_SIMPLICIAL;
+  cholmod_factor* F = cholmod_analyze(&A, &m.c);
+  m.c.nmethods = 0;
+  m.c.supernodal = CHOLMOD_AUTO;
+  if (!F) throw std::runtime_error("CHOLMOD: ordering failed");
+  const int* P = static_cast<const int*>(F->Perm);
+  std::vector<int> order(P, P + n);
+  cholmod_free_factor(&F, &m.c);
+  return order;
+}
+
 bool SparseCholesky::ok() const { return impl_->ok; }
 int SparseCholesky::size() const { return impl_->n; }
+
+bool SparseCholesky::updateInPlace(bool update, const std::vector<int>& p,
+                                   const std::vector<int>& i, const std::vector<double>& x) {
+  Impl& m = *impl_;
+  if (!m.F || m.F->is_super) throw std::logic_error("SparseCholesky: no simplicial factor");
+  const std::size_t ncol = p.empty() ? 0 : p.size() - 1;
+  if (ncol == 0 || i.empty()) return true;
+  cholmod_sparse C = compressedView(static_cast<std::size_t>(m.n), ncol, i.size(), p.data(),
+                                    i.data(), x.data(), 0);
+  m.invalidate();
+  const int ok = cholmod_updown(update ? 1 : 0, &C, m.F, &m.c);
+  m.ok = ok && m.c.status == CHOLMOD_OK;
+  return m.ok;
+}
+
+bool SparseCholesky::deleteRowInPlace(int k) {
+  Impl& m = *impl_;
+  if (!m.F || m.F->is_super) throw std::logic_error("SparseCholesky: no simplicial factor");
+  if (k < 0 || k >= m.n) throw std::out_of_range("SparseCholesky: row out of range");
+  m.invalidate();
+  const int ok = cholmod_rowdel(static_cast<std::size_t>(k), nullptr, m.F, &m.c);
+  m.ok = ok && m.c.status == CHOLMOD_OK;
+  return m.ok;
+}
+
+bool SparseCholesky::pruneToPattern(const UpperTriangle& H) {
+  Impl& m = *impl_;
+  if (!m.F || m.F->is_super) throw std::logic_error("SparseCholesky: no simplicial factor");
+  cholmod_sparse A = upperView(H);
+  m.invalidate();
+  const int ok = cholmod_resymbol(&A, nullptr, 0, /*pack=*/0, m.F, &m.c);
+  return ok && m.c.status == CHOLMOD_OK;
+}
+
+double SparseCholesky::lastFactorizationFlops() const { return impl_->c.rowfacfl; }
 
 cholmod_factor_struct* SparseCholesky::factor() { return impl_->F; }
 cholmod_common_struct* SparseCholesky::common() { return &impl_->c; }
 void SparseCholesky::modified() { impl_->invalidate(); }
 
-int SparseCholesky::position(int c) const {
+int SparseCholesky::position(int row) const {
   impl_->extractL();
-  return impl_->iperm.at(c);
-}
-int SparseCholesky::columnAt(int k) const {
-  impl_->extractL();
-  return impl_->perm.at(k);
+  return impl_->iperm.at(row);
 }
 
 Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
@@ -561,11 +680,7 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
     const SparseColumn& c = cols[j];
     if (c.n < 1 || c.n > 3) throw std::invalid_argument("SparseCholesky: bad sparse column");
     int s = m.n;
-    for (int t = 0; t < c.n; ++t) {
-      if (c.idx[t] < 0 || c.idx[t] >= m.n)
-        throw std::out_of_range("SparseCholesky: index out of range");
-      s = std::min(s, m.iperm[c.idx[t]]);
-    }
+    for (int t = 0; t < c.n; ++t) s = std::min(s, m.positionOf(c.idx[t]));
     start_node[j] = s;
   }
   // Columns sorted by the postorder of their first node: a subtree's columns are contiguous.
@@ -641,7 +756,8 @@ Eigen::Map<const Eigen::MatrixXd> SparseCholesky::inverseGram(const std::vector<
   for (std::size_t a = 0; a < mm; ++a) std::fill(X + a * ld + lo[a], X + a * ld + hi[a], 0.0);
   for (int j = 0; j < r; ++j)
     for (int t = 0; t < cols[j].n; ++t)
-      X[static_cast<std::size_t>(w.local[m.iperm[cols[j].idx[t]]]) * ld + pos[j]] += cols[j].val[t];
+      X[static_cast<std::size_t>(w.local[m.colpos[cols[j].idx[t]]]) * ld + pos[j]] +=
+          cols[j].val[t];
   detail::forwardSubstitutePath(X, ld, nodes.data(), ms, m.Lp, m.Lnz, m.Li, m.Lx, m.ldl,
                                 w.local.data(), lo.data(), hi.data());
   // Y^T Y (lower triangle). The full-width rows just before the tail (ancestors of every column,

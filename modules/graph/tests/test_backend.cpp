@@ -142,8 +142,11 @@ TEST(GraphBackend, RemoveLandmarkDeletesItAndItsFactors) {
       if (z.id == victim && again == 0) again = k;
   }
   ASSERT_GT(again, 0u);
-  for (const LandmarkView& v : b.landmarks())
-    if (v.id == victim) EXPECT_EQ(v.first_step, again);
+  for (const LandmarkView& v : b.landmarks()) {
+    if (v.id == victim) {
+      EXPECT_EQ(v.first_step, again);
+    }
+  }
   b.finish();
   EXPECT_LT(maxDiff(b.graph(), testgraphs::denseBatchSolve(b.graph())), 1e-9);
 }

@@ -44,7 +44,6 @@ TEST(GraphOptions, IncrementalAndBoundedGraphKeys) {
   EXPECT_DOUBLE_EQ(b.options().relinearize_threshold, 0.01);
   EXPECT_DOUBLE_EQ(b.options().reorder_fill_ratio, 2.0);
   EXPECT_EQ(b.options().max_poses, 500);
-  EXPECT_DOUBLE_EQ(b.solverOrdering().refreshFill(), 2.0);
   const auto message = [](const char* text) {
     mrpt::config::CConfigFileMemory bad(text);
     try {

@@ -90,3 +90,49 @@ TEST(VariableOrdering, SameFactorAsCholmodsOwnOrderingWithVariablesTogether) {
   // No more fill than AMD on the scalar pattern, up to a few percent.
   EXPECT_LE(by_variable.analysedNonZeros(), 1.05 * own.analysedNonZeros());
 }
+
+TEST(VariableLayout, ChangesInPlaceEqualAFreshLayout) {
+  // Poses appended, landmarks added and removed (first, middle and last in id order) while the
+  // layout is current change it in place; a copy of the graph builds its layout afresh: both the
+  // same.
+  FactorGraph g = testgraphs::randomGraph(30, 10, 7);
+  const auto expectFresh = [](const FactorGraph& a, const std::string& where) {
+    const FactorGraph fresh = a;  // a copy starts with an empty layout
+    EXPECT_EQ(a.dim(), fresh.dim()) << where;
+    EXPECT_EQ(a.variableStarts(), fresh.variableStarts()) << where;
+    EXPECT_EQ(a.variableIndices(), fresh.variableIndices()) << where;
+    for (const auto& [s, p] : fresh.poses())
+      EXPECT_EQ(a.column(VariableKey::pose(s)), fresh.column(VariableKey::pose(s))) << where;
+    for (const auto& [id, l] : fresh.landmarks())
+      EXPECT_EQ(a.column(VariableKey::landmark(id)), fresh.column(VariableKey::landmark(id)))
+          << where;
+    EXPECT_EQ((a.values() - fresh.values()).norm(), 0.0) << where;
+    EXPECT_EQ((testgraphs::denseInformation(a) - testgraphs::denseInformation(fresh)).norm(), 0.0)
+        << where;
+  };
+  expectFresh(g, "start");
+  const BetweenFactor odo =
+      BetweenFactor::make(Pose2(1, 0, 0.1), Eigen::Vector3d(1e-2, 1e-2, 1e-3).asDiagonal());
+  const Eigen::Matrix2d rb_cov = Eigen::Vector2d(0.01, 1e-4).asDiagonal();
+  LandmarkId next_id = g.landmarks().rbegin()->first + 1;
+  for (StepIndex s = 30; s < 36; ++s) {
+    g.addPose(s, s, compose(g.pose(s - 1).x, Pose2(1, 0, 0.1)), odo);
+    g.addLandmark(next_id, g.pose(s).x.head<2>() + Eigen::Vector2d(1, 1));
+    g.addObservation(s, next_id, RangeBearingFactor::make(1.4, 0.7, Pose2::Zero(), rb_cov));
+    g.addObservation(s - 1, next_id, RangeBearingFactor::make(2.0, 0.5, Pose2::Zero(), rb_cov));
+    ++next_id;
+    // Oldest, a middle one and the newest leave in turn, the layout current before each.
+    const auto& lm = g.landmarks();
+    const LandmarkId gone = s % 3 == 0   ? lm.begin()->first
+                            : s % 3 == 1 ? std::next(lm.begin(), lm.size() / 2)->first
+                                         : lm.rbegin()->first;
+    g.dim();
+    g.removeLandmark(gone);
+    expectFresh(g, "step " + std::to_string(s));
+    // ... and comes back under its id (first, middle or last place in id order).
+    g.addLandmark(gone, g.pose(s).x.head<2>() + Eigen::Vector2d(-1, 2));
+    g.addObservation(s, gone, RangeBearingFactor::make(2.2, 2.0, Pose2::Zero(), rb_cov));
+    expectFresh(g, "step " + std::to_string(s) + ", back");
+    g.removeLandmark(gone);
+  }
+}

@@ -7,39 +7,45 @@
 #include "budget_slam/core/Estimates.h"
 #include "budget_slam/core/Ids.h"
 #include "budget_slam/graph/FactorGraph.h"
-#include "budget_slam/graph/IncrementalOrdering.h"
+#include "budget_slam/graph/IncrementalFactorization.h"
 #include "budget_slam/graph/SparseCholesky.h"
 
 namespace budget_slam::graph {
 
-/// The factorization of H at a graph's estimate together with the graph state it was computed for,
-/// as GTSAM's `Marginals` owns its factorization. Every covariance and information-gain query of
-/// GraphBackend goes through it: it refactorizes on demand when the graph has changed since
-/// (FactorGraph::revision(): any change of variables, factors or values), so no caller decides
-/// whether a factor is current. The landmark marginals derived from it are kept with it.
+/// The factorization of H at a graph's estimate, as GTSAM's `Marginals` owns its factorization:
+/// every covariance and information-gain query of GraphBackend goes through it. It is the held
+/// factor (IncrementalFactorization), which follows the graph's changes, so no caller decides
+/// whether a factor is current: each query first folds in whatever changed since the last one
+/// (rank updates where little changed, a refactorization where much did). The landmark marginals
+/// derived from it are kept with it until the graph changes.
 ///
-/// A copy (GraphBackend::clone()) keeps the state it was computed for and the landmark marginals
-/// but no CHOLMOD object: it refactorizes at its first query, with the same numbers.
+/// A copy (GraphBackend::clone()) copies the held factor; adopt() then ties it to the copy of the
+/// graph.
 class EstimateFactorization {
  public:
-  /// `reorder_fill_ratio`: IncrementalOrdering's fresh-ordering bound
-  /// (GraphSlamOptions::reorder_fill_ratio; 0: a fresh ordering at every structure change).
-  explicit EstimateFactorization(double reorder_fill_ratio = 0);
+  /// `reorder_fill_ratio`: IncrementalFactorization's bound for a fresh ordering.
+  explicit EstimateFactorization(double reorder_fill_ratio = 1.5);
   EstimateFactorization(const EstimateFactorization& other);
   EstimateFactorization& operator=(const EstimateFactorization&) = delete;
 
-  /// True when a factorization of `graph` as it stands now was computed, here or in the object
-  /// this one was copied from: an exact marginal now costs no more than the substitutions (after a
-  /// copy, one refactorization).
-  bool computedFor(const FactorGraph& graph) const;
-  /// True when the CHOLMOD factor held here is that of `graph` as it stands now.
+  /// This copy goes with `copy`, a copy of the graph the original followed (GraphBackend::clone()).
+  void adopt(const FactorGraph& copy);
+  /// True when the factor held here is that of `graph` as it stands now (no change to fold in): an
+  /// exact marginal now costs only the substitutions.
   bool isCurrent(const FactorGraph& graph) const;
 
-  /// The Cholesky factor of H at `graph`'s current estimate (factorizeAtEstimate when not current).
-  const SparseCholesky& factor(const FactorGraph& graph);
-  /// Joint marginal covariance of `vars`, stacked in the order given (graph::jointMarginal).
-  Eigen::MatrixXd jointMarginal(const FactorGraph& graph, const std::vector<VariableKey>& vars);
-  /// Each variable's own marginal (graph::marginals).
+  /// The Cholesky factor of H at `graph`'s current estimate, its queries addressed by `graph`'s
+  /// columns.
+  /// `at_estimate`: IncrementalFactorization::factor's (every query below but the marked ones
+  /// is at the estimate).
+  const SparseCholesky& factor(const FactorGraph& graph, bool at_estimate = false);
+  /// Joint marginal covariance of `vars`, stacked in the order given (graph::jointMarginal), at
+  /// the estimate; with `at_estimate` false at the held factor's linearization point (at most one
+  /// Gauss-Newton step behind: the latest pose's covariance after an update, the association
+  /// gate), which costs no relinearization.
+  Eigen::MatrixXd jointMarginal(const FactorGraph& graph, const std::vector<VariableKey>& vars,
+                                bool at_estimate = true);
+  /// Each variable's own marginal (graph::marginals), at the estimate.
   std::vector<Eigen::MatrixXd> marginals(const FactorGraph& graph,
                                          const std::vector<VariableKey>& vars);
   /// The 2x2 marginal of every landmark of `graph` (one shared substitution), kept until the
@@ -49,15 +55,16 @@ class EstimateFactorization {
   /// otherwise on its own. Throws std::out_of_range for an unknown id.
   Eigen::Matrix2d landmarkMarginal(const FactorGraph& graph, LandmarkId id);
 
+  /// The held factor itself: the backend's Gauss-Newton updates run on it.
+  IncrementalFactorization& held() { return held_; }
+  const IncrementalFactorization& held() const { return held_; }
+
  private:
-  IncrementalOrdering ordering_;
-  SparseCholesky chol_;
-  bool has_factor_ = false;     ///< chol_ holds a factor (never after a copy)
-  bool computed_ = false;       ///< a factor was computed for revision_
-  std::uint64_t revision_ = 0;  ///< FactorGraph::revision() it was computed for
+  IncrementalFactorization held_;
   std::map<LandmarkId, Eigen::Matrix2d> landmark_cov_;
   bool has_landmark_cov_ = false;  ///< landmark_cov_ is of landmark_cov_revision_
   std::uint64_t landmark_cov_revision_ = 0;
+  std::uint64_t landmark_cov_lineage_ = 0;
 };
 
 }  // namespace budget_slam::graph

@@ -60,6 +60,16 @@ struct RangeBearingFactor {
   Eigen::Vector2d landmarkFrom(const Pose2& x) const;
 };
 
+/// A Gaussian prior on a landmark: what remains of sightings whose poses left the graph
+/// (FactorGraph::dropFirstPoses). e = x - mean, whitened by sqrt_info (sqrt_info^T sqrt_info =
+/// cov^-1).
+struct LandmarkPrior {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();  ///< [m]
+  Eigen::Matrix2d sqrt_info = Eigen::Matrix2d::Identity();
+  /// Throws std::invalid_argument when cov is not positive definite.
+  static LandmarkPrior make(const Eigen::Vector2d& mean, const Eigen::Matrix2d& cov);
+};
+
 /// The single odometry factor that replaces a -> b (x_i -> x_j -> x_k) when x_j is marginalized:
 /// mean z_a (+) z_b, covariance by first-order propagation J_a C_a J_a^T + J_b C_b J_b^T with J the
 /// Jacobians of the composition (exact in the linearized problem, see tests).

@@ -16,10 +16,10 @@
 namespace budget_slam::graph {
 
 /// Landmark graph SLAM behind the Backend interface (`--backend graph`; docs/GRAPH.md). Full
-/// smoothing over every kept pose; covariances and information gains are evaluated at the current
-/// estimate from one CHOLMOD factorization (EstimateFactorization), rebuilt on demand after any
-/// change of the graph. Bad step data (a reading the graph cannot use) is an InputError naming the
-/// step and the reading.
+/// smoothing over every kept pose; the Cholesky factor of H is held between updates and changed
+/// where the graph changes (IncrementalFactorization, docs/GRAPH.md "Held factor"), and the
+/// covariances and information gains at the current estimate read it (EstimateFactorization). Bad
+/// step data (a reading the graph cannot use) is an InputError naming the step and the reading.
 class GraphBackend : public Backend {
  public:
   /// Reads [GraphSLAM] and the sensor noise keys of [RangeBearingKFSLAM].
@@ -50,9 +50,8 @@ class GraphBackend : public Backend {
   Eigen::MatrixXd jointCovariance(const std::vector<VariableKey>& vars) const override;
   std::size_t marginalizePosesWithoutLandmarks(std::size_t keep_last) override;
   void finish() override;
-  /// Deep copy of the graph, the estimate and the bookkeeping (sightings, fresh-id counter,
-  /// incremental schedule, latest pose covariance). The CHOLMOD factorizations are not copied:
-  /// the copy rebuilds them lazily at its first query, with the same result.
+  /// Deep copy of the graph, the estimate, the held factor and the bookkeeping (sightings,
+  /// fresh-id counter, incremental schedule, latest pose covariance).
   std::unique_ptr<Backend> clone() const override;
 
   /// Solves to convergence now (what finish() does); returns the solver's report.
@@ -64,8 +63,11 @@ class GraphBackend : public Backend {
   std::size_t updateCount() const { return updates_; }
   /// Poses removed by the bounded graph (GraphSlamOptions::max_poses) so far.
   std::size_t posesDropped() const { return poses_dropped_; }
-  /// Fresh and kept orderings of the solver's factorizations (IncrementalOrdering).
-  const IncrementalOrdering& solverOrdering() const { return solver_ordering_; }
+  /// The held factor and its queries (benchmarks and tests compare it with a fresh
+  /// factorization; a query folds in the changes since the last one, hence mutable).
+  EstimateFactorization& factorization() const { return factorization_; }
+  /// What the held factor did so far: rebuilds, fresh orderings, in-place changes.
+  const IncrementalStats& heldFactorStats() const { return factorization_.held().stats(); }
 
  private:
   /// clone(): everything but the factorization caches (CHOLMOD objects are never shared).
@@ -88,11 +90,10 @@ class GraphBackend : public Backend {
   int poses_since_update_ = 0;
   std::size_t updates_ = 0;
   std::size_t poses_dropped_ = 0;
-  SparseCholesky solver_chol_;
-  IncrementalOrdering solver_ordering_;
 
-  /// H at the current estimate, factorized on demand for every covariance and gain query; it
-  /// knows the graph state it is of (robotPose() is exact when one was computed for this state).
+  /// The held factor of H at the current estimate: the Gauss-Newton updates run on it and every
+  /// covariance and gain query reads it, folding in whatever changed since (robotPose() is exact
+  /// when it is current).
   mutable EstimateFactorization factorization_;
   /// Latest pose covariance between factorizations (GraphSlamOptions::exact_pose_covariance).
   mutable std::optional<Eigen::Matrix3d> pose_cov_;

@@ -28,16 +28,18 @@ struct GraphSlamOptions : public TabledOptions<GraphSlamOptions> {
   int relinearize_every = 10;      ///< [poses]; 0: only at finish()
   int incremental_iterations = 2;  ///< Gauss-Newton iterations of one incremental update
   double relinearize_chi2 = 16.0;  ///< [dimensionless, per 2-D reading]; 0: never early
-  /// An incremental update stops relinearizing once a Gauss-Newton step moves no variable by
-  /// more than this (max |dx|) [m, rad]: the linearization point has not moved enough to make
-  /// the next iteration worth a factorization. 0: always `incremental_iterations` iterations.
-  double relinearize_threshold = 0;
-  /// The fill-reducing ordering is kept while the structure grows (new variables eliminated
-  /// last, IncrementalOrdering) until nnz(L) / nnz(H) exceeds this factor times the one of the
-  /// last fresh ordering [dimensionless]; 0: a fresh ordering at every structure change (the
-  /// default: on Victoria Park the kept ordering's extra fill costs more than the analyses it
-  /// saves, docs/PERFORMANCE.md "Incremental graph backend").
-  double reorder_fill_ratio = 0;
+  /// Per-variable relinearization (iSAM2's threshold): in an incremental update a variable's
+  /// factors are relinearized only when its estimate has moved by more than this from their
+  /// linearization point (max |dx| over its parameters) [m, rad]; the estimate itself takes
+  /// every Gauss-Newton step (the minimizer of the held linear model). 0: every variable that
+  /// moved (full Gauss-Newton). finish() relinearizes everything that moved.
+  /// docs/GRAPH.md "Held factor".
+  double relinearize_threshold = 0.1;
+  /// The held factor keeps its fill-reducing ordering (new variables eliminated last) until
+  /// nnz(L) per row exceeds this factor times its value right after the last fresh ordering
+  /// [dimensionless]; then it is rebuilt with a fresh one. At most 1: a fresh ordering and a
+  /// full refactorization at every change (no in-place updates).
+  double reorder_fill_ratio = 1.5;
   /// Bounded graph for lifelong runs: when the graph holds more poses than this, the oldest
   /// ones leave (their sightings are dropped, their prior composed with the odometry into a prior
   /// on the next pose; a landmark left without sightings keeps its marginal as a prior). 0:

@@ -2,7 +2,6 @@
 #include <string>
 
 #include "budget_slam/graph/FactorGraph.h"
-#include "budget_slam/graph/IncrementalOrdering.h"
 #include "budget_slam/graph/SparseCholesky.h"
 
 namespace budget_slam::graph {
@@ -36,17 +35,17 @@ struct SolveReport {
   bool converged = false;
 };
 
-/// Iterates from the graph's current estimate, updating it in place. `chol` keeps CHOLMOD's
-/// analysis between calls while the graph's structure is unchanged; on return it holds a
-/// factorization of H at the last linearization point but one (call factorizeAtEstimate for
-/// marginals at the final estimate). Throws std::runtime_error if H is not positive definite
-/// (an unconstrained variable). With `ordering`, every factorization goes through it (the
-/// ordering is kept between calls while the structure grows; IncrementalOrdering).
-SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky* chol,
-                     IncrementalOrdering* ordering = nullptr);
+/// Iterates from the graph's current estimate, updating it in place, every iteration on H
+/// linearized and factorized afresh: the batch solver (the reference the held factor is tested
+/// against, and the backend's Levenberg-Marquardt solves). `chol` keeps CHOLMOD's analysis
+/// between calls while the graph's structure is unchanged; on return it holds a factorization of
+/// H at the last linearization point but one (call factorizeAtEstimate for marginals at the
+/// final estimate). Throws std::runtime_error if H is not positive definite (an unconstrained
+/// variable).
+SolveReport optimize(FactorGraph& graph, const SolverSettings& s, SparseCholesky* chol);
 
-/// Factorizes H at the current estimate (no update): the start of every covariance query.
-void factorizeAtEstimate(const FactorGraph& graph, SparseCholesky* chol,
-                         IncrementalOrdering* ordering = nullptr);
+/// Factorizes H at the current estimate from scratch (no update): the batch counterpart of the
+/// held factor's queries.
+void factorizeAtEstimate(const FactorGraph& graph, SparseCholesky* chol);
 
 }  // namespace budget_slam::graph

@@ -25,10 +25,15 @@ struct SparseColumn {
 /// inverse (inverseBlock, inverseGram).
 ///
 /// Two ways in: factorize() lets CHOLMOD choose the fill-reducing ordering (AMD or METIS) and
-/// the form (simplicial or supernodal), for batch solves; factorizeOrdered() takes the ordering
-/// and keeps a simplicial L D L^T, the form CHOLMOD's update/downdate routines modify in place
-/// (IncrementalSolver does that through factor(), then calls modified()). The partial inverses
-/// read either form in place.
+/// the form (simplicial or supernodal), for batch solves; factorizeInOrder() takes H already
+/// ordered and keeps a simplicial L D L^T, the form CHOLMOD's update/downdate routines modify in
+/// place (IncrementalFactorization does that through factor(), then calls modified()). The
+/// partial inverses read either form in place.
+///
+/// The queries (inverseBlock, inverseQuadraticForm, inverseGram, inverseDiagonalBlocks) address
+/// columns of H; with setColumnMap they address external columns instead, each mapped to a row
+/// of the factorized matrix (the held factorization keeps each variable in rows of its own,
+/// while the graph's column layout moves with every new variable).
 class SparseCholesky {
  public:
   SparseCholesky();
@@ -47,18 +52,35 @@ class SparseCholesky {
   /// Returns false when H is not positive definite.
   bool factorize(const Eigen::SparseMatrix<double>& H, std::uint64_t pattern_version = 0,
                  const std::vector<int>* variable_starts = nullptr);
-  /// Factorizes H as a simplicial L D L^T with the fill-reducing ordering `perm` (perm[k] = the
-  /// column of H eliminated k-th), exactly as given (no postordering). Returns false when H is
-  /// not positive definite.
-  /// `simplicial` = false lets CHOLMOD pick simplicial or supernodal (faster on large factors;
-  /// not updatable in place).
-  bool factorizeOrdered(const Eigen::SparseMatrix<double>& H, const std::vector<int>& perm,
-                        bool simplicial = true);
-  /// Numeric factorization of H with the previous call's symbolic analysis (H must have the
-  /// same pattern). Returns false when H is not positive definite.
-  bool refactorize(const Eigen::SparseMatrix<double>& H);
+  /// The upper triangle of a symmetric matrix in compressed columns (column c holds its rows
+  /// r <= c, ascending): a view of the caller's arrays.
+  struct UpperTriangle {
+    int n = 0;
+    const int* p = nullptr;  ///< n + 1 column starts
+    const int* i = nullptr;
+    const double* x = nullptr;
+  };
+  /// Analyses and factorizes H in the order its rows stand (no fill-reducing permutation: the
+  /// caller has ordered them), as a simplicial L D L^T, the form CHOLMOD's update routines modify
+  /// in place (factor(), modified()). Returns false when H is not positive definite.
+  bool factorizeInOrder(const UpperTriangle& H);
+  /// Numeric refactorization of H, in the same order, into the factor as it stands: its storage
+  /// and pattern are kept (after in-place updates too, which CHOLMOD's simplicial factorization
+  /// accepts), no analysis and no permutation. Throws std::logic_error without a prior
+  /// factorizeInOrder; returns false when H is not positive definite.
+  bool refactorizeInOrder(const UpperTriangle& H);
+  /// A fill-reducing ordering of a symmetric pattern on n nodes (a graph's variables), given by
+  /// its strict upper triangle (column c's rows r < c, sorted): AMD, postordered so every
+  /// elimination subtree is contiguous. order[k] = the node eliminated k-th. No factorization.
+  std::vector<int> orderNodes(int n, const std::vector<int>& p, const std::vector<int>& i);
   /// Non-zeros of L predicted by the last symbolic analysis (CHOLMOD's lnz; no extraction).
   double analysedNonZeros() const;
+  /// Floating-point operations of the numeric factorization the last analysis predicts (CHOLMOD's
+  /// fl).
+  double analysedFlops() const;
+  /// The queries' external column c is row rows[c] of the factorized matrix from now on (kept
+  /// across refactorizations; empty: the identity).
+  void setColumnMap(std::vector<int> rows);
   /// The fill-reducing ordering in use: perm[k] = the column of H eliminated k-th.
   std::vector<int> ordering() const;
   bool ok() const;
@@ -97,16 +119,26 @@ class SparseCholesky {
   std::vector<Eigen::MatrixXd> inverseDiagonalBlocks(
       const std::vector<std::vector<int>>& groups) const;
 
-  // -- in-place modification (IncrementalSolver) --
-  /// CHOLMOD's factor and workspace. Valid after factorizeOrdered(); whoever modifies the factor
-  /// calls modified() before the next query.
+  // -- in-place modification of a factorizeInOrder() factor (IncrementalFactorization) --
+  /// L D L^T +- C C^T (CHOLMOD's updown) for C given by columns: column j's rows
+  /// i[p[j] .. p[j+1]), ascending, in the factor's order (it applies no permutation), values x.
+  /// False when a downdate loses definiteness (the factor is then to be refactorized).
+  bool updateInPlace(bool update, const std::vector<int>& p, const std::vector<int>& i,
+                     const std::vector<double>& x);
+  /// Row and column k become those of the identity (CHOLMOD's rowdel). False on failure.
+  bool deleteRowInPlace(int k);
+  /// L's pattern cut to that of a factorization of H (CHOLMOD's resymbol): the entries that
+  /// downdates and row deletions leave as zeros go. No flops. False on failure.
+  bool pruneToPattern(const UpperTriangle& H);
+  /// Flops of the last numeric factorization (CHOLMOD's rowfacfl).
+  double lastFactorizationFlops() const;
+  /// CHOLMOD's factor, read-only use (its elimination tree for cost estimates).
   cholmod_factor_struct* factor();
   cholmod_common_struct* common();
   /// The factor's numbers (not its ordering) changed: the query caches are stale.
   void modified();
-  /// Position of H's column c in the factor's ordering (P^-1), and the column at position k (P).
-  int position(int c) const;
-  int columnAt(int k) const;
+  /// Position of the factorized matrix's row `row` in the factor's ordering (P^-1).
+  int position(int row) const;
 
  private:
   struct Impl;
