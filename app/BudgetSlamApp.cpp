@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <set>
@@ -16,6 +17,7 @@
 #include "Interrupt.h"
 #include "RunConfig.h"
 #include "RunDriver.h"
+#include "RunSession.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
@@ -26,6 +28,7 @@
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/RunFiles.h"
+#include "budget_slam/session/SessionState.h"
 
 namespace budget_slam::app {
 namespace {
@@ -209,6 +212,14 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
       "", "reference-trajectory",
       "with --relocalize: trajectory.tum to measure traversals without ground truth against", false,
       "", "file.tum");
+  TCLAP::ValueArg<std::string> resume(
+      "", "resume",
+      "continue the SLAM session that RUN_DIR ended (its session_state.txt): map, budget, "
+      "reducer memory, robot pose; step indices run on",
+      false, "", "RUN_DIR");
+  TCLAP::ValueArg<std::string> skip_steps(
+      "", "skip-steps", "leave the rawlog's first N steps unread (a rawlog split at step N)", false,
+      "", "N");
   TCLAP::SwitchArg offline_optimum(
       "", "offline-optimum",
       "adds the best place coverage any cap-sized map could give with hindsight (GLPK)");
@@ -216,7 +227,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
     cmd.add(reducers), cmd.add(seeds), cmd.add(threads), cmd.add(relocalize),
         cmd.add(reference_trajectory), cmd.add(offline_optimum);
   else
-    cmd.add(reducer);
+    cmd.add(reducer), cmd.add(resume), cmd.add(skip_steps);
   TCLAP::ValueArg<std::string> cap("", "cap",
                                    "landmark cap, or none for no cap (reducer none, mi in "
                                    "objective or incremental mode); overrides [LandmarkBudget] "
@@ -266,13 +277,15 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   if (compare) cli_.relocalize = splitList(relocalize.getValue());
   if (compare) cli_.reference_trajectory = reference_trajectory.getValue();
   if (compare) cli_.offline_optimum = offline_optimum.getValue();
+  if (!compare) cli_.resume = resume.getValue();
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
   // Flag values are part of the command line: a bad one exits 2 before anything is written.
   try {
     refuseEmptyValues({&config, &rawlog, &outdir, &reducer, &reducers, &seeds, &max_steps, &cap,
-                       &backend, &relocalize, &reference_trajectory});
+                       &backend, &relocalize, &reference_trajectory, &resume, &skip_steps});
     if (max_steps.isSet()) cli_.max_steps = parseMaxSteps(max_steps.getValue());
+    if (skip_steps.isSet()) cli_.skip_steps = parseSkipSteps(skip_steps.getValue());
     if (seeds.isSet()) cli_.seeds = parseSeeds(seeds.getValue());
     checkFlagValues(cli_);
   } catch (const ConfigError& e) {
@@ -382,6 +395,23 @@ int BudgetSlamApp::runRun() {
 
   for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
   given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", config_label_}};
+  // A session to continue is read and checked before the output folder is touched: a bad state
+  // file or a mismatched option is one line, exit 1, and nothing is written (docs/OUTPUTS.md).
+  const auto resume_options = resumeOptions(rc.ini);
+  std::optional<session::SessionState> resumed;
+  if (!cli_.resume.empty()) {
+    try {
+      std::error_code ec;
+      if (std::filesystem::equivalent(cli_.resume, rc.outdir, ec))
+        throw UsageError("--resume " + cli_.resume +
+                         ": the output folder must be another one (the saved session stays)");
+      resumed = loadResumeState(cli_.resume, rc.mapping.backend, resume_options);
+    } catch (const std::exception& e) {
+      *err << "budget-slam: error: " << printable(e.what()) << std::endl;
+      return 1;
+    }
+    given["resumed_from"] = cli_.resume;
+  }
   try {
     folder.emplace(rc.outdir, cli_.force);
   } catch (const Error& e) {
@@ -399,18 +429,30 @@ int BudgetSlamApp::runRun() {
   bool end_phase = false;
   try {
     report::writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
-    auto truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
-        rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
+    // Step indices run on across sessions. A resumed session on the same rawlog from the step
+    // the last one stopped at (--skip-steps = its next step) keeps the rawlog's indices and so
+    // its ground truth; on another rawlog the ground truth's rows would not match them.
+    const std::size_t first_index = resumed ? resumed->header.next_step : cli_.skip_steps;
+    const bool truth_aligned = first_index == cli_.skip_steps;
+    auto truth = std::make_shared<dataset::GroundTruth>(
+        truth_aligned ? dataset::loadGroundTruth(rc.rawlog, rc.mapping.ground_truth_file,
+                                                 rc.mapping.ground_truth_file_robot)
+                      : dataset::GroundTruth());
     driver = std::make_unique<RunDriver>(rc.ini, rc.mapping.backend, rc.budget, *folder, truth,
                                          rc.mapping.keep_history);
+    if (resumed) driver->restoreSession(*resumed);
 
     dataset::RawlogReader reader(rc.rawlog);
     // A signal ends the reading within one read of the file, even inside a large object.
     reader.setStopCheck([] { return InterruptGuard::requested(); });
+    for (std::size_t k = 0; k < cli_.skip_steps && reader.next(); ++k) {
+    }
     const std::size_t limit = rc.mapping.max_steps;
     ProgressReporter progress(*err, "run", progressSettings(rc.report));
-    while (limit == 0 || steps_read < limit) {
+    std::size_t session_steps = 0;
+    while (limit == 0 || session_steps < limit) {
       auto step = reader.next();
+      if (step) step->index = static_cast<StepIndex>(first_index + session_steps++);
       if (!step && reader.stopped()) {
         progress.finish(false);
         return fail(std::string("interrupted by ") + InterruptGuard::what() +
@@ -421,7 +463,7 @@ int BudgetSlamApp::runRun() {
       steps_read = reader.stepsRead();
       driver->process(*step);
       // With --max-steps the share of the steps to do, else of the rawlog's bytes read.
-      progress.update(limit ? double(steps_read) / double(limit) : reader.progress(), steps_read,
+      progress.update(limit ? double(session_steps) / double(limit) : reader.progress(), session_steps,
                       limit,
                       std::to_string(driver->backend().landmarkCount()) + " landmarks in the map");
       if (on_step) on_step(step->index);
@@ -434,6 +476,18 @@ int BudgetSlamApp::runRun() {
     if (reader.bearingRangeSteps() == 0)
       throw InputError("rawlog '" + rc.rawlog + "' holds no CObservationBearingRange (it holds: " +
                        joined(reader.observationClasses()) + ")");
+
+    // The state a next session continues from: after the last step's drops, before the
+    // end-of-run drops and the final solve (which a one-shot run would not make here).
+    session::SessionHeader header;
+    header.writer = std::string("budget-slam ") + kVersion;
+    header.backend = rc.mapping.backend;
+    header.rawlog = rc.rawlog;
+    header.sessions = resumed ? resumed->header.sessions + 1 : 1;
+    header.first_step = static_cast<std::int64_t>(first_index);
+    header.next_step = static_cast<std::int64_t>(first_index + session_steps);
+    header.resume_options = resume_options;
+    driver->writeSessionState(header);
 
     end_phase = true;
     if (on_end_phase) on_end_phase();
@@ -450,7 +504,7 @@ int BudgetSlamApp::runRun() {
     }
     if (!cli_.quiet) {
       const auto pose = driver->backend().robotPose().mean;
-      *out << "budget-slam run: " << steps_read << " steps, backend " << rc.mapping.backend
+      *out << "budget-slam run: " << session_steps << " steps, backend " << rc.mapping.backend
            << ", reducer " << rc.budget.reducer;
       if (driver->budget().capped()) *out << ", cap " << *rc.budget.max_landmarks;
       *out << ": " << driver->backend().landmarkCount() << " landmarks kept, "
