@@ -220,6 +220,10 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   TCLAP::ValueArg<std::string> skip_steps(
       "", "skip-steps", "leave the rawlog's first N steps unread (a rawlog split at step N)", false,
       "", "N");
+  TCLAP::SwitchArg wake_up(
+      "", "wake-up",
+      "with --resume: find the robot on the saved map from the first steps' readings ([WakeUp]) "
+      "instead of continuing where the last session stopped");
   TCLAP::SwitchArg offline_optimum(
       "", "offline-optimum",
       "adds the best place coverage any cap-sized map could give with hindsight (GLPK)");
@@ -227,7 +231,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
     cmd.add(reducers), cmd.add(seeds), cmd.add(threads), cmd.add(relocalize),
         cmd.add(reference_trajectory), cmd.add(offline_optimum);
   else
-    cmd.add(reducer), cmd.add(resume), cmd.add(skip_steps);
+    cmd.add(reducer), cmd.add(resume), cmd.add(skip_steps), cmd.add(wake_up);
   TCLAP::ValueArg<std::string> cap("", "cap",
                                    "landmark cap, or none for no cap (reducer none, mi in "
                                    "objective or incremental mode); overrides [LandmarkBudget] "
@@ -277,7 +281,9 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   if (compare) cli_.relocalize = splitList(relocalize.getValue());
   if (compare) cli_.reference_trajectory = reference_trajectory.getValue();
   if (compare) cli_.offline_optimum = offline_optimum.getValue();
-  if (!compare) cli_.resume = resume.getValue();
+  if (!compare) cli_.resume = resume.getValue(), cli_.wake_up = wake_up.getValue();
+  if (cli_.wake_up && cli_.resume.empty())
+    throw UsageError("--wake-up: needs --resume RUN_DIR (the saved map to wake up on)");
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
   // Flag values are part of the command line: a bad one exits 2 before anything is written.
@@ -399,6 +405,7 @@ int BudgetSlamApp::runRun() {
   // file or a mismatched option is one line, exit 1, and nothing is written (docs/OUTPUTS.md).
   const auto resume_options = resumeOptions(rc.ini);
   std::optional<session::SessionState> resumed;
+  std::size_t wake_up_steps = 0;  ///< steps whose readings found the robot (not mapped)
   if (!cli_.resume.empty()) {
     try {
       std::error_code ec;
@@ -411,6 +418,21 @@ int BudgetSlamApp::runRun() {
       return 1;
     }
     given["resumed_from"] = cli_.resume;
+    if (cli_.wake_up) {
+      // Before any output: a robot not found is one line, exit 1, nothing written.
+      try {
+        const WakeUpOutcome w = wakeUpOnMap(rc, *resumed, cli_.skip_steps);
+        given["wake_up"] = w.json;
+        if (!w.found) {
+          *err << "budget-slam: error: --wake-up: " << w.why << std::endl;
+          return 1;
+        }
+        wake_up_steps = w.steps;
+      } catch (const std::exception& e) {
+        *err << "budget-slam: error: " << printable(e.what()) << std::endl;
+        return 1;
+      }
+    }
   }
   try {
     folder.emplace(rc.outdir, cli_.force);
@@ -432,8 +454,9 @@ int BudgetSlamApp::runRun() {
     // Step indices run on across sessions. A resumed session on the same rawlog from the step
     // the last one stopped at (--skip-steps = its next step) keeps the rawlog's indices and so
     // its ground truth; on another rawlog the ground truth's rows would not match them.
-    const std::size_t first_index = resumed ? resumed->header.next_step : cli_.skip_steps;
-    const bool truth_aligned = first_index == cli_.skip_steps;
+    const std::size_t first_index =
+        (resumed ? resumed->header.next_step : cli_.skip_steps) + wake_up_steps;
+    const bool truth_aligned = first_index == cli_.skip_steps + wake_up_steps;
     auto truth = std::make_shared<dataset::GroundTruth>(
         truth_aligned ? dataset::loadGroundTruth(rc.rawlog, rc.mapping.ground_truth_file,
                                                  rc.mapping.ground_truth_file_robot)
@@ -445,7 +468,7 @@ int BudgetSlamApp::runRun() {
     dataset::RawlogReader reader(rc.rawlog);
     // A signal ends the reading within one read of the file, even inside a large object.
     reader.setStopCheck([] { return InterruptGuard::requested(); });
-    for (std::size_t k = 0; k < cli_.skip_steps && reader.next(); ++k) {
+    for (std::size_t k = 0; k < cli_.skip_steps + wake_up_steps && reader.next(); ++k) {
     }
     const std::size_t limit = rc.mapping.max_steps;
     ProgressReporter progress(*err, "run", progressSettings(rc.report));

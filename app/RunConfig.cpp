@@ -8,6 +8,7 @@
 
 #include "BuiltinBackends.h"
 #include "LocalizationOptions.h"
+#include "budget_slam/wakeup/WakeUpOptions.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSchema.h"
 #include "budget_slam/core/IniText.h"
@@ -35,6 +36,7 @@ IniSchema knownKeys() {
   schema.addSection(metrics::MetricsOptions::kSection, metrics::MetricsOptions::keys());
   schema.addSection(LocalizationOptions::kSection, LocalizationOptions::keys());
   schema.addSection(report::ReportOptions::kSection, report::ReportOptions::keys());
+  schema.addSection(wakeup::WakeUpOptions::kSection, wakeup::WakeUpOptions::keys());
   for (const auto* e : reducers::builtinReducers().entries())
     if (!e->section.empty()) schema.addSection(e->section, e->keys);
   // An MRPT ini shared with MRPT's other applications (simul-landmarks...) keeps their sections.

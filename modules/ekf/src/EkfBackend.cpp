@@ -173,15 +173,4 @@ void EkfBackend::restoreSession(const session::SessionState& state) {
   last_ids_.clear();
 }
 
-void EkfBackend::setRobot(const PoseEstimate& pose) {
-  Eigen::VectorXd x = kf_.mean().asEigen();
-  Eigen::MatrixXd P = kf_.covariance().asEigen();
-  x.head<3>() = Eigen::Vector3d(pose.mean.x, pose.mean.y, pose.mean.phi);
-  P.topRows(3).setZero();
-  P.leftCols(3).setZero();
-  P.topLeftCorner<3, 3>() = pose.cov;
-  kf_.restore(x, P, idsInStateOrder(), kf_.nextFreeId());
-  mi_.reset();
-}
-
 }  // namespace budget_slam::ekf

@@ -48,11 +48,9 @@ class EkfBackend : public Backend, public session::SessionStateOwner {
   /// its cross-covariance, and section `backend.ekf` (the next free id, the last step). Restored
   /// exactly: the resumed filter is the one the last session ended with.
   void saveSession(session::SessionState& state) const override;
-  /// Without a robot block (waking up), the robot starts at setRobot()'s pose, uncorrelated.
+  /// A wake-up hands over through the robot block (its pose found on the map, zero
+  /// cross-covariance; docs/ALGORITHMS.md "Waking up on a saved map").
   void restoreSession(const session::SessionState& state) override;
-  /// Replaces the robot's pose and covariance and zeroes its cross-covariance with the landmarks
-  /// (the hand-over of a wake-up on a saved map; docs/ALGORITHMS.md "Waking up on a saved map").
-  void setRobot(const PoseEstimate& pose);
 
   /// false: keep only the latest pose in trajectory() (bounded memory on lifelong runs; the
   /// per-step poses are in the run's steps.csv anyway). Default: true.

@@ -63,10 +63,8 @@ class GraphBackend : public Backend, public session::SessionStateOwner {
   /// A new graph on the saved map: each landmark with a prior from its marginal (2x2 block of the
   /// saved joint covariance; the correlations between landmarks and with the robot are not
   /// kept), and the next step's pose from the saved robot pose and its marginal composed with the
-  /// step's odometry (or, waking up, from setStart()). docs/GRAPH.md "Resuming a session".
+  /// step's odometry (waking up: the pose found). docs/GRAPH.md "Resuming a session".
   void restoreSession(const session::SessionState& state) override;
-  /// Where the next first pose starts from, in place of the origin with the [GraphSLAM] prior.
-  void setStart(const PoseEstimate& pose) { start_ = pose; }
 
   SolveReport optimize();
   const FactorGraph& graph() const { return graph_; }
