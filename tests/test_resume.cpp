@@ -228,3 +228,38 @@ TEST_F(ResumeRefused, OutputFolderIsTheSavedSession) {
 
 }  // namespace
 }  // namespace budget_slam::testing
+
+namespace budget_slam::testing {
+namespace {
+
+// --wake-up: another traversal of the same rooms, started anywhere, is found on the saved map by
+// the landmark ids of its first steps and mapped on from there; a robot not found is one line,
+// exit 1, and no output.
+TEST(ResumeWakeUp, FoundOnTheSavedMapThenMapsOn) {
+  const auto dir = freshDir("resume_wake_up");
+  const Split first{"wake", "rooms.rawlog", "ekf", "51", 0};
+  ASSERT_EQ(runApp(runArgs(first, dir / "a")).exit_code, 0);
+  Split next = first;
+  next.rawlog = "rooms_revisit.rawlog";
+  const auto r = runApp(plus(runArgs(next, dir / "b"), {"--resume", (dir / "a").string(),
+                                                         "--wake-up"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = readJson(dir / "b" / "summary.json");
+  EXPECT_EQ(j["wake_up"]["status"], "found");
+  EXPECT_TRUE(j["wake_up"]["by_ids"]);
+  EXPECT_LE(j["wake_up"]["steps"].get<int>(), 10);
+  EXPECT_EQ(j["status"], "ok");
+  EXPECT_LE(j["counts"]["landmarks_final"].get<int>(), 51);
+
+  const auto refused = runApp(plus(runArgs(next, dir / "c"),
+                                   {"--resume", (dir / "a").string(), "--wake-up", "--set",
+                                    "WakeUp.min_landmarks=1000"}));
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.err.find("--wake-up: the robot was not found on the saved map in"),
+            std::string::npos)
+      << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "c"));
+}
+
+}  // namespace
+}  // namespace budget_slam::testing
