@@ -486,8 +486,8 @@ int BudgetSlamApp::runRun() {
       steps_read = reader.stepsRead();
       driver->process(*step);
       // With --max-steps the share of the steps to do, else of the rawlog's bytes read.
-      progress.update(limit ? double(session_steps) / double(limit) : reader.progress(), session_steps,
-                      limit,
+      progress.update(limit ? double(session_steps) / double(limit) : reader.progress(),
+                      session_steps, limit,
                       std::to_string(driver->backend().landmarkCount()) + " landmarks in the map");
       if (on_step) on_step(step->index);
       if (InterruptGuard::requested()) {

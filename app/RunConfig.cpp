@@ -8,7 +8,6 @@
 
 #include "BuiltinBackends.h"
 #include "LocalizationOptions.h"
-#include "budget_slam/wakeup/WakeUpOptions.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSchema.h"
 #include "budget_slam/core/IniText.h"
@@ -20,6 +19,7 @@
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/reducers/CoverageOptions.h"
+#include "budget_slam/wakeup/WakeUpOptions.h"
 
 namespace fs = std::filesystem;
 

@@ -17,8 +17,9 @@ std::map<std::string, std::string> resumeOptions(const mrpt::config::CConfigFile
   // Per-session keys: what this session reads and writes, how long, and how it reports.
   static const std::set<std::string> kSessionSections = {"Report", "Metrics", "WakeUp"};
   static const std::set<std::string> kSessionKeys = {
-      "rawlog_file", "logOutput_dir", "max_steps", "ground_truth_file", "ground_truth_file_robot",
-      "save_3d_scene", "SAVE_3D_SCENES", "SAVE_LOG_FREQUENCY", "keep_history"};
+      "rawlog_file",       "logOutput_dir",           "max_steps",
+      "ground_truth_file", "ground_truth_file_robot", "save_3d_scene",
+      "SAVE_3D_SCENES",    "SAVE_LOG_FREQUENCY",      "keep_history"};
   std::map<std::string, std::string> out;
   std::vector<std::string> sections;
   ini.getAllSections(sections);
@@ -36,8 +37,7 @@ std::map<std::string, std::string> resumeOptions(const mrpt::config::CConfigFile
 
 session::SessionState loadResumeState(const std::string& run_dir, const std::string& backend,
                                       const std::map<std::string, std::string>& options) {
-  const std::string path =
-      (std::filesystem::path(run_dir) / session::kStateFileName).string();
+  const std::string path = (std::filesystem::path(run_dir) / session::kStateFileName).string();
   session::SessionState state = session::readSessionState(path);
   if (state.header.backend != backend)
     throw ConfigError("--resume " + run_dir + ": [MappingApplication] backend = " + backend +
@@ -45,9 +45,9 @@ session::SessionState loadResumeState(const std::string& run_dir, const std::str
   const auto diff = session::resumeMismatches(state.header.resume_options, options);
   if (!diff.empty())
     throw ConfigError("--resume " + run_dir + ": " + diff.front() +
-                      (diff.size() > 1 ? " (and " + std::to_string(diff.size() - 1) +
-                                             " more option(s) differ)"
-                                       : std::string()));
+                      (diff.size() > 1
+                           ? " (and " + std::to_string(diff.size() - 1) + " more option(s) differ)"
+                           : std::string()));
   return state;
 }
 
@@ -56,7 +56,8 @@ WakeUpOutcome wakeUpOnMap(const RunConfig& rc, session::SessionState& state, std
   options.loadFromConfigFile(rc.ini, wakeup::WakeUpOptions::kSection);
   wakeup::ReadingNoise noise;
   noise.std_range = rc.ini.read_double("RangeBearingKFSLAM", "std_sensor_range", 0.1);
-  noise.std_bearing = rc.ini.read_double("RangeBearingKFSLAM", "std_sensor_yaw_deg", 0.5) * M_PI / 180;
+  noise.std_bearing =
+      rc.ini.read_double("RangeBearingKFSLAM", "std_sensor_yaw_deg", 0.5) * M_PI / 180;
   const auto t0 = std::chrono::steady_clock::now();
   wakeup::GlobalLocalizer localizer(state.map.landmarks, options, noise);
   dataset::RawlogReader reader(rc.rawlog);
@@ -83,8 +84,9 @@ WakeUpOutcome wakeUpOnMap(const RunConfig& rc, session::SessionState& state, std
   if (!out.found) {
     out.why = std::string("the robot was not found on the saved map in ") +
               std::to_string(out.steps) + " steps (" + wakeup::statusName(r.status) +
-              (r.reason == wakeup::WakeUpReason::None ? "" : std::string(", ") +
-                                                                 wakeup::reasonName(r.reason)) +
+              (r.reason == wakeup::WakeUpReason::None
+                   ? ""
+                   : std::string(", ") + wakeup::reasonName(r.reason)) +
               "); without --wake-up the session continues where the last one stopped";
     return out;
   }

@@ -18,8 +18,9 @@ struct Split {
 };
 
 std::vector<std::string> runArgs(const Split& s, const std::filesystem::path& out) {
-  return {"run", "-c", kRoot + "/config.ini", "-i", kRoot + "/rawlogs/" + s.rawlog, "-o",
-          out.string(), "--backend", s.backend, "--cap", s.cap, "--quiet"};
+  return {"run", "-c",         kRoot + "/config.ini", "-i",      kRoot + "/rawlogs/" + s.rawlog,
+          "-o",  out.string(), "--backend",           s.backend, "--cap",
+          s.cap, "--quiet"};
 }
 
 std::vector<std::string> plus(std::vector<std::string> a, const std::vector<std::string>& b) {
@@ -89,7 +90,7 @@ SplitResult runSplit(const Split& s) {
   EXPECT_EQ(a.exit_code, 0) << a.err;
   EXPECT_TRUE(std::filesystem::exists(dir / "a" / "session_state.txt"));
   const auto b = runApp(plus(runArgs(s, dir / "b"), {"--resume", (dir / "a").string(),
-                                                      "--skip-steps", std::to_string(s.at)}));
+                                                     "--skip-steps", std::to_string(s.at)}));
   EXPECT_EQ(b.exit_code, 0) << b.err;
   const auto steps_one = numbers(dir / "one" / "steps.csv", {"x", "y", "yaw", "n_landmarks"});
   const auto steps_b = numbers(dir / "b" / "steps.csv", {"x", "y", "yaw", "n_landmarks"});
@@ -104,10 +105,11 @@ SplitResult runSplit(const Split& s) {
   for (const auto& [k, v] : lm_b) ids_b.push_back(k);
   const auto summary = readJson(dir / "b" / "summary.json");
   EXPECT_EQ(summary["resumed_from"], (dir / "a").string());
-  return {maxDiff(steps_one, steps_b), maxDiff(lm_one, lm_b),
+  return {maxDiff(steps_one, steps_b),
+          maxDiff(lm_one, lm_b),
           drops(dir / "one" / "evictions.csv", s.at) == drops(dir / "b" / "evictions.csv", 0),
-          ids_one == ids_b, maxDiff(tum(dir / "one" / "trajectory.tum"),
-                                    tum(dir / "b" / "trajectory.tum")),
+          ids_one == ids_b,
+          maxDiff(tum(dir / "one" / "trajectory.tum"), tum(dir / "b" / "trajectory.tum")),
           lm_b.size()};
 }
 
@@ -154,8 +156,8 @@ class ResumeRefused : public ::testing::Test {
   }
   /// Resumes into a fresh folder `out`: the exit code and stderr; `out` must not be made.
   AppResult resume(const std::vector<std::string>& more = {}) {
-    const auto r = runApp(plus(plus(runArgs(s, dir / "out"), {"--resume", (dir / "a").string()}),
-                               more));
+    const auto r =
+        runApp(plus(plus(runArgs(s, dir / "out"), {"--resume", (dir / "a").string()}), more));
     EXPECT_FALSE(std::filesystem::exists(dir / "out")) << "the output folder was made";
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     return r;
@@ -241,8 +243,8 @@ TEST(ResumeWakeUp, FoundOnTheSavedMapThenMapsOn) {
   ASSERT_EQ(runApp(runArgs(first, dir / "a")).exit_code, 0);
   Split next = first;
   next.rawlog = "rooms_revisit.rawlog";
-  const auto r = runApp(plus(runArgs(next, dir / "b"), {"--resume", (dir / "a").string(),
-                                                         "--wake-up"}));
+  const auto r =
+      runApp(plus(runArgs(next, dir / "b"), {"--resume", (dir / "a").string(), "--wake-up"}));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = readJson(dir / "b" / "summary.json");
   EXPECT_EQ(j["wake_up"]["status"], "found");
@@ -251,9 +253,9 @@ TEST(ResumeWakeUp, FoundOnTheSavedMapThenMapsOn) {
   EXPECT_EQ(j["status"], "ok");
   EXPECT_LE(j["counts"]["landmarks_final"].get<int>(), 51);
 
-  const auto refused = runApp(plus(runArgs(next, dir / "c"),
-                                   {"--resume", (dir / "a").string(), "--wake-up", "--set",
-                                    "WakeUp.min_landmarks=1000"}));
+  const auto refused =
+      runApp(plus(runArgs(next, dir / "c"), {"--resume", (dir / "a").string(), "--wake-up", "--set",
+                                             "WakeUp.min_landmarks=1000"}));
   EXPECT_EQ(refused.exit_code, 1);
   EXPECT_NE(refused.err.find("--wake-up: the robot was not found on the saved map in"),
             std::string::npos)

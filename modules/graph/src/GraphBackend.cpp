@@ -99,10 +99,11 @@ void GraphBackend::process(const Step& step) {
     // A resumed session starts from the saved (or woken-up) pose and its marginal instead.
     const double sxy = options_.prior_std_xy, syaw = options_.prior_std_yaw_deg * kDeg;
     const BetweenFactor start =
-        start_ ? BetweenFactor::make(Pose2(start_->mean.x, start_->mean.y, start_->mean.phi),
-                                     start_->cov)
-               : BetweenFactor::make(Pose2::Zero(),
-                                     Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
+        start_
+            ? BetweenFactor::make(Pose2(start_->mean.x, start_->mean.y, start_->mean.phi),
+                                  start_->cov)
+            : BetweenFactor::make(Pose2::Zero(),
+                                  Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
     const BetweenFactor first = composeBetween(start, odo);
     graph_.addFirstPose(step.index, step.t, first.z, PriorFactor::make(first.z, first.cov));
     pose_cov_ = first.cov;

@@ -338,8 +338,10 @@ void BudgetManager::restoreSession(const session::SessionState& state) {
   poses_marginalized_ = static_cast<std::size_t>(b.integer("poses_marginalized", 0));
   const auto& ids = b.integers("refused_ids");
   if (ids.size() > options_.refusal_memory)
-    b.fail("refused_ids", std::to_string(ids.size()) + " refusals, more than [LandmarkBudget] "
-                          "refusal_memory = " + std::to_string(options_.refusal_memory));
+    b.fail("refused_ids", std::to_string(ids.size()) +
+                              " refusals, more than [LandmarkBudget] "
+                              "refusal_memory = " +
+                              std::to_string(options_.refusal_memory));
   const auto& at = b.integers("refused_at", ids.size(), 0, kMax);
   const auto& retry = b.integers("retry_at", ids.size(), 0, kMax);
   const auto& count = b.integers("refusals", ids.size(), 1, 1 << 30);

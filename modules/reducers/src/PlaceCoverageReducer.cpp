@@ -226,8 +226,8 @@ void PlaceCoverageReducer::restoreSession(const session::SessionState& state) {
   for (std::size_t k = 0; k < seen.size(); ++k)
     places_[k].seen.assign(seen[k].begin(), seen[k].end());
   const auto& ids = s.integers("track_ids");
-  const auto places = nested(s, "track_places", ids.size(), 0,
-                             static_cast<std::int64_t>(slots_.slots()) - 1);
+  const auto places =
+      nested(s, "track_places", ids.size(), 0, static_cast<std::int64_t>(slots_.slots()) - 1);
   const auto& losses = s.reals("track_loss", ids.size());
   tracks_.clear();
   for (std::size_t i = 0; i < ids.size(); ++i) {

@@ -90,9 +90,9 @@ void PlaceSlots::restore(const session::SessionSection& s) {
     free_.push_back(static_cast<std::uint32_t>(f));
   }
   if (slot_of_key_.size() > max_places_)
-    s.fail("slot_used", std::to_string(slot_of_key_.size()) +
-                            " places, more than the reducer's max_places = " +
-                            std::to_string(max_places_));
+    s.fail("slot_used",
+           std::to_string(slot_of_key_.size()) +
+               " places, more than the reducer's max_places = " + std::to_string(max_places_));
 }
 
 }  // namespace budget_slam::reducers

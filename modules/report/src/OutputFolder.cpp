@@ -55,10 +55,10 @@ std::string stamp(fs::file_time_type t) {
 
 const std::vector<std::string>& OutputFolder::outputNames() {
   static const std::vector<std::string> names = {
-      "summary.json",   "steps.csv",       "evictions.csv",    "trajectory.tum", "landmarks.csv",
-      "map.png",        "config_used.ini", "ground_truth.tum", "map.3Dscene",    "states",
-      "comparison.csv", "comparison.md",   "comparison.png",   "reference",
-      "session_state.txt"};
+      "summary.json",   "steps.csv", "evictions.csv",    "trajectory.tum",
+      "landmarks.csv",  "map.png",   "config_used.ini",  "ground_truth.tum",
+      "map.3Dscene",    "states",    "comparison.csv",   "comparison.md",
+      "comparison.png", "reference", "session_state.txt"};
   return names;
 }
 
