@@ -28,7 +28,7 @@
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/FileWrite.h"
 #include "budget_slam/report/RunFiles.h"
-#include "budget_slam/session/SessionState.h"
+#include "budget_slam/session/SessionStateFile.h"
 
 namespace budget_slam::app {
 namespace {
@@ -510,7 +510,18 @@ int BudgetSlamApp::runRun() {
     header.first_step = static_cast<std::int64_t>(first_index);
     header.next_step = static_cast<std::int64_t>(first_index + session_steps);
     header.resume_options = resume_options;
-    driver->writeSessionState(header);
+    // A state the reader would refuse (a robot covariance that is not positive definite: a
+    // robot that has not moved yet with odometry noise in some axes only) is not written; the
+    // run itself is fine. summary.json says why; --resume on it says there is no such file.
+    try {
+      driver->writeSessionState(header);
+      given["session_state"] = {{"written", true}};
+    } catch (const Error& e) {
+      given["session_state"] = {{"written", false}, {"why", printable(e.what())}};
+      if (!cli_.quiet)
+        *err << "budget-slam: note: " << session::kStateFileName
+             << " not written: " << printable(e.what()) << std::endl;
+    }
 
     end_phase = true;
     if (on_end_phase) on_end_phase();

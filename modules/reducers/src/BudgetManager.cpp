@@ -321,9 +321,16 @@ void BudgetManager::saveSession(session::SessionState& state) const {
   b.putIntegers("refused_at", std::move(at));
   b.putIntegers("retry_at", std::move(retry));
   b.putIntegers("refusals", std::move(count));
-  if (const auto* o = session::sessionOwner(active_.get())) o->saveSession(state);
+  // One section a reducer name: a shadow of the active reducer's own name sees the same steps
+  // and decisions, so its memory is the active one's (mi's schedule runs only when active).
+  std::set<std::string> saved;
+  if (const auto* o = session::sessionOwner(active_.get())) {
+    o->saveSession(state);
+    saved.insert(active_->name());
+  }
   for (const auto& s : shadows_)
-    if (const auto* o = session::sessionOwner(s.get())) o->saveSession(state);
+    if (const auto* o = session::sessionOwner(s.get()))
+      if (saved.insert(s->name()).second) o->saveSession(state);
 }
 
 void BudgetManager::restoreSession(const session::SessionState& state) {
@@ -355,7 +362,7 @@ void BudgetManager::restoreSession(const session::SessionState& state) {
   refusals_.restore(records);
   if (auto* o = session::sessionOwner(active_.get())) o->restoreSession(state);
   for (const auto& s : shadows_)
-    if (auto* o = session::sessionOwner(s.get())) o->restoreSession(state);
+    if (auto* o = session::sessionOwner(s.get())) o->restoreSession(state);  // saved once a name
 }
 
 }  // namespace budget_slam::reducers
