@@ -131,6 +131,29 @@ TEST(Resume, SplitEqualsOneShotEkfRooms) {
   EXPECT_TRUE(r.same_ids);
 }
 
+// Every reducer that keeps memory (random's generator, mi's schedule, place-coverage's places)
+// continues it exactly.
+TEST(Resume, SplitEqualsOneShotEkfEveryReducerWithMemory) {
+  for (const std::string reducer : {"random", "place-coverage", "mi"}) {
+    Split s{"ekf_" + reducer, "kf-slam_demo.rawlog", "ekf", "10", 60};
+    const auto dir = freshDir("resume_reducer_" + reducer);
+    const std::vector<std::string> more = {"--reducer", reducer};
+    ASSERT_EQ(runApp(plus(runArgs(s, dir / "one"), more)).exit_code, 0);
+    ASSERT_EQ(runApp(plus(runArgs(s, dir / "a"), plus(more, {"--max-steps", "60"}))).exit_code, 0);
+    const auto b =
+        runApp(plus(runArgs(s, dir / "b"),
+                    plus(more, {"--resume", (dir / "a").string(), "--skip-steps", "60"})));
+    ASSERT_EQ(b.exit_code, 0) << b.err;
+    EXPECT_EQ(drops(dir / "one" / "evictions.csv", 60), drops(dir / "b" / "evictions.csv", 0))
+        << reducer;
+    const std::vector<std::string> lm = {"x", "y", "cov_xx", "cov_xy", "cov_yy"};
+    EXPECT_LE(maxDiff(numbers(dir / "one" / "landmarks.csv", lm),
+                      numbers(dir / "b" / "landmarks.csv", lm)),
+              1e-9)
+        << reducer;
+  }
+}
+
 // The graph resumes from landmark priors built from their marginals (docs/GRAPH.md "Resuming a
 // session"): the correlations are not carried over, so the two sessions are not the one-shot
 // run, nor drop for drop. Measured on the smoothed path after the final solve (docs/RESULTS.md
