@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <set>
@@ -16,6 +17,7 @@
 #include "CommandLineFlags.h"
 #include "RunConfig.h"
 #include "RunDriver.h"
+#include "RunSession.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
@@ -28,6 +30,7 @@
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/Figure.h"
 #include "budget_slam/report/RunFiles.h"
+#include "budget_slam/session/SessionStateFile.h"
 
 namespace budget_slam::app {
 namespace {
@@ -211,6 +214,18 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
       "", "reference-trajectory",
       "with --relocalize: trajectory.tum to measure traversals without ground truth against", false,
       "", "file.tum");
+  TCLAP::ValueArg<std::string> resume(
+      "", "resume",
+      "continue the SLAM session that RUN_DIR ended (its session_state.txt): map, budget, "
+      "reducer memory, robot pose; step indices run on",
+      false, "", "RUN_DIR");
+  TCLAP::ValueArg<std::string> skip_steps(
+      "", "skip-steps", "leave the rawlog's first N steps unread (a rawlog split at step N)", false,
+      "", "N");
+  TCLAP::SwitchArg wake_up(
+      "", "wake-up",
+      "with --resume: find the robot on the saved map from the first steps' readings ([WakeUp]) "
+      "instead of continuing where the last session stopped");
   TCLAP::SwitchArg offline_optimum(
       "", "offline-optimum",
       "adds the best place coverage any cap-sized map could give with hindsight (GLPK)");
@@ -218,7 +233,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
     cmd.add(reducers), cmd.add(seeds), cmd.add(threads), cmd.add(relocalize),
         cmd.add(reference_trajectory), cmd.add(offline_optimum);
   else
-    cmd.add(reducer);
+    cmd.add(reducer), cmd.add(resume), cmd.add(skip_steps), cmd.add(wake_up);
   TCLAP::ValueArg<std::string> cap("", "cap",
                                    "landmark cap, or none for no cap (reducer none, mi in "
                                    "objective or incremental mode); overrides [LandmarkBudget] "
@@ -268,13 +283,17 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   if (compare) cli_.relocalize = splitList(relocalize.getValue());
   if (compare) cli_.reference_trajectory = reference_trajectory.getValue();
   if (compare) cli_.offline_optimum = offline_optimum.getValue();
+  if (!compare) cli_.resume = resume.getValue(), cli_.wake_up = wake_up.getValue();
+  if (cli_.wake_up && cli_.resume.empty())
+    throw UsageError("--wake-up: needs --resume RUN_DIR (the saved map to wake up on)");
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
   // Flag values are part of the command line: a bad one exits 2 before anything is written.
   try {
     refuseEmptyValues({&config, &rawlog, &outdir, &reducer, &reducers, &seeds, &max_steps, &cap,
-                       &backend, &relocalize, &reference_trajectory});
+                       &backend, &relocalize, &reference_trajectory, &resume, &skip_steps});
     if (max_steps.isSet()) cli_.max_steps = parseMaxSteps(max_steps.getValue());
+    if (skip_steps.isSet()) cli_.skip_steps = parseSkipSteps(skip_steps.getValue());
     if (seeds.isSet()) cli_.seeds = parseSeeds(seeds.getValue());
     checkFlagValues(cli_);
   } catch (const ConfigError& e) {
@@ -401,6 +420,39 @@ int BudgetSlamApp::runRun() {
 
   for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
   given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", config_label_}};
+  // A session to continue is read and checked before the output folder is touched: a bad state
+  // file or a mismatched option is one line, exit 1, and nothing is written (docs/OUTPUTS.md).
+  const auto resume_options = resumeOptions(rc.ini);
+  std::optional<session::SessionState> resumed;
+  std::size_t wake_up_steps = 0;  ///< steps whose readings found the robot (not mapped)
+  if (!cli_.resume.empty()) {
+    try {
+      std::error_code ec;
+      if (std::filesystem::equivalent(cli_.resume, rc.outdir, ec))
+        throw UsageError("--resume " + cli_.resume +
+                         ": the output folder must be another one (the saved session stays)");
+      resumed = loadResumeState(cli_.resume, rc.mapping.backend, resume_options);
+    } catch (const std::exception& e) {
+      *err << "budget-slam: error: " << printable(e.what()) << std::endl;
+      return 1;
+    }
+    given["resumed_from"] = cli_.resume;
+    if (cli_.wake_up) {
+      // Before any output: a robot not found is one line, exit 1, nothing written.
+      try {
+        const WakeUpOutcome w = wakeUpOnMap(rc, *resumed, cli_.skip_steps);
+        given["wake_up"] = w.json;
+        if (!w.found) {
+          *err << "budget-slam: error: --wake-up: " << w.why << std::endl;
+          return 1;
+        }
+        wake_up_steps = w.steps;
+      } catch (const std::exception& e) {
+        *err << "budget-slam: error: " << printable(e.what()) << std::endl;
+        return 1;
+      }
+    }
+  }
   try {
     folder.emplace(rc.outdir, cli_.force);
   } catch (const Error& e) {
@@ -420,18 +472,31 @@ int BudgetSlamApp::runRun() {
   bool end_phase = false;
   try {
     writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
-    auto truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
-        rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
+    // Step indices run on across sessions. A resumed session on the same rawlog from the step
+    // the last one stopped at (--skip-steps = its next step) keeps the rawlog's indices and so
+    // its ground truth; on another rawlog the ground truth's rows would not match them.
+    const std::size_t first_index =
+        (resumed ? resumed->header.next_step : cli_.skip_steps) + wake_up_steps;
+    const bool truth_aligned = first_index == cli_.skip_steps + wake_up_steps;
+    auto truth = std::make_shared<dataset::GroundTruth>(
+        truth_aligned ? dataset::loadGroundTruth(rc.rawlog, rc.mapping.ground_truth_file,
+                                                 rc.mapping.ground_truth_file_robot)
+                      : dataset::GroundTruth());
     driver = std::make_unique<RunDriver>(rc.ini, rc.mapping.backend, rc.budget, *folder, truth,
                                          rc.mapping.keep_history);
+    if (resumed) driver->restoreSession(*resumed);
 
     dataset::RawlogReader reader(rc.rawlog);
     // A signal ends the reading within one read of the file, even inside a large object.
     reader.setStopCheck([] { return Cancellation::requested(); });
+    for (std::size_t k = 0; k < cli_.skip_steps + wake_up_steps && reader.next(); ++k) {
+    }
     const std::size_t limit = rc.mapping.max_steps;
     ProgressReporter progress(*err, "run", progressSettings(rc.report));
-    while (limit == 0 || steps_read < limit) {
+    std::size_t session_steps = 0;
+    while (limit == 0 || session_steps < limit) {
       auto step = reader.next();
+      if (step) step->index = static_cast<StepIndex>(first_index + session_steps++);
       if (!step && reader.stopped()) {
         progress.finish(false);
         return fail(std::string("interrupted by ") + Cancellation::signalName() +
@@ -442,8 +507,8 @@ int BudgetSlamApp::runRun() {
       steps_read = reader.stepsRead();
       driver->process(*step);
       // With --max-steps the share of the steps to do, else of the rawlog's bytes read.
-      progress.update(limit ? double(steps_read) / double(limit) : reader.progress(), steps_read,
-                      limit,
+      progress.update(limit ? double(session_steps) / double(limit) : reader.progress(),
+                      session_steps, limit,
                       std::to_string(driver->backend().landmarkCount()) + " landmarks in the map");
       if (on_step) on_step(step->index);
       if (Cancellation::requested()) {
@@ -455,6 +520,29 @@ int BudgetSlamApp::runRun() {
     if (reader.bearingRangeSteps() == 0)
       throw InputError("rawlog '" + rc.rawlog + "' holds no CObservationBearingRange (it holds: " +
                        joined(reader.observationClasses()) + ")");
+
+    // The state a next session continues from: after the last step's drops, before the
+    // end-of-run drops and the final solve (which a one-shot run would not make here).
+    session::SessionHeader header;
+    header.writer = std::string("budget-slam ") + kVersion;
+    header.backend = rc.mapping.backend;
+    header.rawlog = rc.rawlog;
+    header.sessions = resumed ? resumed->header.sessions + 1 : 1;
+    header.first_step = static_cast<std::int64_t>(first_index);
+    header.next_step = static_cast<std::int64_t>(first_index + session_steps);
+    header.resume_options = resume_options;
+    // A state the reader would refuse (a robot covariance that is not positive definite: a
+    // robot that has not moved yet with odometry noise in some axes only) is not written; the
+    // run itself is fine. summary.json says why; --resume on it says there is no such file.
+    try {
+      driver->writeSessionState(header);
+      given["session_state"] = {{"written", true}};
+    } catch (const Error& e) {
+      given["session_state"] = {{"written", false}, {"why", printable(e.what())}};
+      if (!cli_.quiet)
+        *err << "budget-slam: note: " << session::kStateFileName
+             << " not written: " << printable(e.what()) << std::endl;
+    }
 
     end_phase = true;
     if (on_end_phase) on_end_phase();
@@ -472,7 +560,7 @@ int BudgetSlamApp::runRun() {
     }
     if (!cli_.quiet) {
       const auto pose = driver->backend().robotPose().mean;
-      *out << "budget-slam run: " << steps_read << " steps, backend " << rc.mapping.backend
+      *out << "budget-slam run: " << session_steps << " steps, backend " << rc.mapping.backend
            << ", reducer " << rc.budget.reducer;
       if (driver->budget().capped()) *out << ", cap " << *rc.budget.max_landmarks;
       *out << ": " << driver->backend().landmarkCount() << " landmarks kept, "

@@ -33,6 +33,9 @@ struct CommandLine {
   std::optional<std::string> start_pose;  ///< localize: --start-pose x,y,yaw_deg (none: derive)
   std::string reference_trajectory;       ///< localize, compare: --reference-trajectory
   std::vector<std::string> relocalize;    ///< compare: --relocalize a.rawlog,b.rawlog
+  std::string resume;                     ///< run: --resume RUN_DIR ("" = a first session)
+  std::size_t skip_steps = 0;  ///< run: --skip-steps N (the rawlog's first N steps unread)
+  bool wake_up = false;        ///< run: --wake-up (find the robot on the resumed map)
 };
 
 /// The budget-slam application: a thin main() calls initialize() and run(); tests drive it with an

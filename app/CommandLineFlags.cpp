@@ -60,6 +60,12 @@ std::size_t parseMaxSteps(const std::string& text) {
   return static_cast<std::size_t>(n);
 }
 
+std::size_t parseSkipSteps(const std::string& text) {
+  unsigned long long n = 0;
+  if (!parseCount(text, n)) throw UsageError("--skip-steps '" + text + "': not a number of steps");
+  return static_cast<std::size_t>(n);
+}
+
 void refuseEmptyValues(const std::vector<const TCLAP::ValueArg<std::string>*>& flags) {
   for (const auto* f : flags)
     if (f->isSet() && f->getValue().empty())

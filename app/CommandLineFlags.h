@@ -17,6 +17,8 @@ constexpr std::size_t kMaxSeeds = 1000;
 std::vector<std::uint64_t> parseSeeds(const std::string& text);
 
 /// --max-steps N: a number of steps >= 0 (0: the whole rawlog).
+/// --skip-steps N: a count of steps (0 skips none).
+std::size_t parseSkipSteps(const std::string& text);
 std::size_t parseMaxSteps(const std::string& text);
 
 /// A string flag given with an empty value (`--backend ''`) is refused: it would silently mean

@@ -20,6 +20,7 @@
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/reducers/CoverageOptions.h"
+#include "budget_slam/wakeup/WakeUpOptions.h"
 
 namespace fs = std::filesystem;
 
@@ -36,6 +37,7 @@ IniSchema knownKeys() {
   schema.addSection(metrics::MetricsOptions::kSection, metrics::MetricsOptions::keys());
   schema.addSection(LocalizationOptions::kSection, LocalizationOptions::keys());
   schema.addSection(report::ReportOptions::kSection, report::ReportOptions::keys());
+  schema.addSection(wakeup::WakeUpOptions::kSection, wakeup::WakeUpOptions::keys());
   for (const auto* e : reducers::builtinReducers().entries())
     if (!e->section.empty()) schema.addSection(e->section, e->keys);
   // An MRPT ini shared with MRPT's other applications (simul-landmarks...) keeps their sections.

@@ -16,6 +16,8 @@
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/RunSummaryJson.h"
+#include "budget_slam/session/SessionStateFile.h"
+#include "budget_slam/session/SessionStateOwner.h"
 
 namespace budget_slam::app {
 namespace {
@@ -210,6 +212,25 @@ report::MapContent RunDriver::mapContent(const std::vector<TrajectoryPoint>& tra
                       (refused_ ? ", " + std::to_string(refused_) + " refused" : std::string());
   return runMapContent(std::move(title), trajectory, landmarks, coverage_, dropped_, coverage,
                        truth_.get());
+}
+
+void RunDriver::restoreSession(const session::SessionState& state) {
+  auto* owner = session::sessionOwner(backend_.get());
+  if (!owner)
+    throw ConfigError("--resume: the " + backend_->name() + " backend keeps no session state");
+  owner->restoreSession(state);
+  manager_->restoreSession(state);
+  state.checkAllRead();
+}
+
+void RunDriver::writeSessionState(const session::SessionHeader& header) {
+  const auto* owner = session::sessionOwner(backend_.get());
+  if (!owner) return;
+  session::SessionState state;
+  state.header = header;
+  owner->saveSession(state);
+  manager_->saveSession(state);
+  session::writeSessionState(outputs_.folder().file(session::kStateFileName), state);
 }
 
 void RunDriver::complete() {

@@ -22,6 +22,7 @@
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/ReportOptions.h"
 #include "budget_slam/report/RunOutputs.h"
+#include "budget_slam/session/SessionState.h"
 
 namespace budget_slam::app {
 
@@ -43,6 +44,16 @@ class RunDriver {
   /// the row cannot be written, Interrupted on a stop request inside the step; the step then does
   /// not count (lastStep() is the step before) and the outputs written so far stay.
   void process(const Step& step);
+
+  /// Continues from a saved session (`run --resume`): the backend's estimate, the budget's and
+  /// every reducer's memory. Every section of the state must be taken (SessionState::
+  /// checkAllRead). Throws InputError naming the file, section and field, or ConfigError when the
+  /// backend keeps no session state.
+  void restoreSession(const session::SessionState& state);
+  /// Writes session_state.txt into the output folder (atomically) with `header` and the state
+  /// now: call after the last step, before complete() (whose end-of-run drops and final solve a
+  /// one-shot run would not have made at this step). Throws Error when it cannot be written.
+  void writeSessionState(const session::SessionHeader& header);
 
   /// Runs the reducer's and the backend's end-of-run work (active minimization, the graph's final
   /// solve) once; finish("ok") calls it too. Throws Interrupted on a stop request.
@@ -69,6 +80,7 @@ class RunDriver {
   }
 
   const Backend& backend() const { return *backend_; }
+  Backend& backend() { return *backend_; }
   const reducers::BudgetManager& budget() const { return *manager_; }
   const report::OutputFolder& folder() const { return outputs_.folder(); }
   std::size_t stepsDone() const { return steps_done_; }

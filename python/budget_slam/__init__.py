@@ -256,7 +256,7 @@ def _message(err):
 
 
 def run(config, rawlog=None, overrides=None, outdir=None, *, reducer=None, cap=None, backend=None,
-        max_steps=None, force=False, progress=None):
+        max_steps=None, force=False, progress=None, resume=None, skip_steps=None, wake_up=False):
     """`budget-slam run` in this process. config: an ini file path, or a dict
     {section: {key: value}} used as the in-memory ini; rawlog: -i (default: the ini's rawlog_file);
     overrides: {"Section.key": value} or {"Section": {"key": value}} (--set); reducer, backend,
@@ -265,8 +265,16 @@ def run(config, rawlog=None, overrides=None, outdir=None, *, reducer=None, cap=N
     (task, fraction, steps_done, steps_total, elapsed_s, steps_per_s, eta_s, detail, finished) at most
     5 times a second and once at the end. Returns read_run() of the folder (outdir None if
     temporary). Raises ConfigError / Error with the application's message, KeyboardInterrupt on
-    Ctrl-C, and whatever progress raised (which stops the run as Ctrl-C does)."""
+    Ctrl-C, and whatever progress raised (which stops the run as Ctrl-C does).
+    resume: a run folder whose session_state.txt this run continues (--resume); skip_steps: leave
+    the rawlog's first N steps unread (--skip-steps); wake_up: with resume, find the robot on the
+    saved map from its first readings (--wake-up). docs/OUTPUTS.md "Session state"."""
     flags = _cap_flag(cap) + _count_flag("--max-steps", max_steps)
+    flags += _count_flag("--skip-steps", skip_steps)
+    if resume is not None:
+        flags += ["--resume", os.fspath(resume)]
+    if wake_up:
+        flags += ["--wake-up"]
     if reducer is not None:
         flags += ["--reducer", str(reducer)]
     if backend is not None:

@@ -115,6 +115,21 @@ class RunMatchesTheCommandLine(unittest.TestCase):
         self.assertEqual(sorted(states), sorted(os.listdir(os.path.join(self.cli_dir, "states"))))
         self.assertGreater(len(states), 10)
 
+    def test_two_sessions_with_resume_equal_one_run(self):
+        with tempfile.TemporaryDirectory() as d:
+            one = budget_slam.run(CONFIG, DEMO, outdir=os.path.join(d, "one"), cap=10)
+            budget_slam.run(CONFIG, DEMO, outdir=os.path.join(d, "a"), cap=10, max_steps=60)
+            b = budget_slam.run(CONFIG, DEMO, outdir=os.path.join(d, "b"), cap=10,
+                                resume=os.path.join(d, "a"), skip_steps=60)
+            self.assertEqual(b["summary"]["resumed_from"], os.path.join(d, "a"))
+            self.assertEqual(list(b["landmarks"]["id"]), list(one["landmarks"]["id"]))
+            self.assertEqual(float(np.max(np.abs(b["landmarks"]["x"] - one["landmarks"]["x"]))), 0.0)
+            with self.assertRaises(budget_slam.Error) as e:
+                budget_slam.run(CONFIG, DEMO, outdir=os.path.join(d, "c"), cap=12,
+                                resume=os.path.join(d, "a"))
+            self.assertIn("[LandmarkBudget] max_landmarks = 12, the saved session had 10", str(e.exception))
+            self.assertFalse(os.path.exists(os.path.join(d, "c")))
+
     def test_in_memory_config_and_temporary_folder(self):
         # config as a dict (BudgetSlamApp::params), no output folder: the same map as the CLI with
         # the same ini as a file, and nothing left in the temporary folder.

@@ -126,4 +126,51 @@ Eigen::MatrixXd EkfBackend::jointCovariance(const std::vector<VariableKey>& vars
   return out;
 }
 
+void EkfBackend::saveSession(session::SessionState& state) const {
+  const auto& P = kf_.covariance().asEigen();
+  const Eigen::Index m = P.rows() - 3;
+  state.map.landmarks = landmarks();
+  state.map.covariance = P.bottomRightCorner(m, m);
+  session::RobotBlock robot;
+  robot.pose = robotPose();
+  robot.cross_covariance = P.topRightCorner(3, m);
+  state.robot = robot;
+  session::SessionSection& s = state.section("backend.ekf");
+  s.putInteger("next_free_id", kf_.nextFreeId());
+  s.putInteger("last_step", static_cast<std::int64_t>(last_step_));
+}
+
+void EkfBackend::restoreSession(const session::SessionState& state) {
+  const session::SessionSection& s = state.take("backend.ekf");
+  const auto& lm = state.map.landmarks;
+  const auto n = static_cast<Eigen::Index>(3 + 2 * lm.size());
+  Eigen::VectorXd x(n);
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(n, n);
+  std::vector<LandmarkId> ids;
+  for (std::size_t i = 0; i < lm.size(); ++i) {
+    ids.push_back(lm[i].id);
+    x.segment<2>(3 + 2 * static_cast<Eigen::Index>(i)) = lm[i].mean;
+  }
+  P.bottomRightCorner(n - 3, n - 3) = state.map.covariance;
+  const PoseEstimate pose = state.robot ? state.robot->pose : robotPose();
+  x.head<3>() = Eigen::Vector3d(pose.mean.x, pose.mean.y, pose.mean.phi);
+  P.topLeftCorner<3, 3>() = pose.cov;
+  if (state.robot) {
+    P.topRightCorner(3, n - 3) = state.robot->cross_covariance;
+    P.bottomLeftCorner(n - 3, 3) = state.robot->cross_covariance.transpose();
+  }
+  const LandmarkId next = s.integer("next_free_id", 0);
+  last_step_ = static_cast<StepIndex>(s.integer("last_step", 0));
+  try {
+    kf_.restore(x, P, ids, next);
+  } catch (const std::invalid_argument& e) {
+    s.failSection(e.what());
+  }
+  tracks_ = LandmarkTracks();
+  for (const auto& l : lm) tracks_.restore(l);
+  trajectory_.clear();
+  mi_.reset();
+  last_ids_.clear();
+}
+
 }  // namespace budget_slam::ekf

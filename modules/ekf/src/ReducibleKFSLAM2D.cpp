@@ -90,4 +90,25 @@ void ReducibleKFSLAM2D::removeLandmark(LandmarkId id) {
   }
 }
 
+void ReducibleKFSLAM2D::restore(const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov,
+                                const std::vector<LandmarkId>& ids, LandmarkId next_free_id) {
+  const auto n = static_cast<Eigen::Index>(3 + 2 * ids.size());
+  if (mean.size() != n || cov.rows() != n || cov.cols() != n)
+    throw std::invalid_argument("ReducibleKFSLAM2D::restore: sizes do not agree");
+  mrpt::containers::bimap<mrpt::maps::CLandmark::TLandmarkID, unsigned int> map;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (ids[i] < 0 || map.hasKey(ids[i]))
+      throw std::invalid_argument("ReducibleKFSLAM2D::restore: landmark id " +
+                                  std::to_string(ids[i]) + " is negative or repeated");
+    map.insert(ids[i], static_cast<unsigned int>(i));
+  }
+  m_xkk.resize(n);
+  m_xkk.asEigen() = mean;
+  m_pkk.setSize(n, n);
+  m_pkk.asEigen() = cov;
+  m_IDs = map;
+  next_free_id_ = static_cast<mrpt::maps::CLandmark::TLandmarkID>(next_free_id);
+  last_association_.clear();
+}
+
 }  // namespace budget_slam::ekf

@@ -94,9 +94,14 @@ void GraphBackend::process(const Step& step) {
     // Step 0's action moves the robot from the start pose (the origin, as MRPT's filter) to pose 0.
     // The start pose sees nothing, so it is marginalized at once: prior on pose 0 = origin (+) odo,
     // covariance J_a C_prior J_a^T + J_b C_odo J_b^T (composeBetween).
+    // A resumed session starts from the saved (or woken-up) pose and its marginal instead.
     const double sxy = options_.prior_std_xy, syaw = options_.prior_std_yaw_deg * kDeg;
-    const BetweenFactor start = BetweenFactor::make(
-        Pose2::Zero(), Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
+    const BetweenFactor start =
+        start_
+            ? BetweenFactor::make(Pose2(start_->mean.x, start_->mean.y, start_->mean.phi),
+                                  start_->cov)
+            : BetweenFactor::make(Pose2::Zero(),
+                                  Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
     const BetweenFactor first = composeBetween(start, odo);
     graph_.addFirstPose(step.index, step.t, first.z, PriorFactor::make(first.z, first.cov));
     pose_cov_ = first.cov;
@@ -343,5 +348,52 @@ SolveReport GraphBackend::optimize() {
 }
 
 void GraphBackend::finish() { optimize(); }
+
+void GraphBackend::saveSession(session::SessionState& state) const {
+  state.map.landmarks = landmarks();
+  std::vector<VariableKey> vars;
+  if (!graph_.poses().empty()) vars.push_back(VariableKey::pose(graph_.poses().rbegin()->first));
+  for (const auto& [id, l] : graph_.landmarks()) vars.push_back(VariableKey::landmark(id));
+  const Eigen::Index m = static_cast<Eigen::Index>(2 * graph_.landmarks().size());
+  if (graph_.poses().empty()) {
+    state.map.covariance = jointCovariance(vars);
+    if (m == 0) state.map.covariance = Eigen::MatrixXd(0, 0);
+  } else {
+    const Eigen::MatrixXd joint = jointCovariance(vars);
+    state.map.covariance = joint.bottomRightCorner(m, m);
+    session::RobotBlock robot;
+    const auto& x = graph_.poses().rbegin()->second.x;
+    robot.pose.mean = mrpt::math::TPose2D(x.x(), x.y(), x.z());
+    robot.pose.cov = joint.topLeftCorner<3, 3>();
+    robot.cross_covariance = joint.topRightCorner(3, m);
+    state.robot = robot;
+  }
+  state.section("backend.graph").putInteger("next_fresh_id", next_fresh_id_);
+}
+
+void GraphBackend::restoreSession(const session::SessionState& state) {
+  const session::SessionSection& s = state.take("backend.graph");
+  graph_ = FactorGraph();
+  tracks_ = LandmarkTracks();
+  const auto& lm = state.map.landmarks;
+  LandmarkId next = s.integer("next_fresh_id", 0);
+  for (std::size_t i = 0; i < lm.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(2 * i);
+    const Eigen::Matrix2d cov = state.map.covariance.block<2, 2>(k, k);
+    graph_.addLandmark(lm[i].id, lm[i].mean);
+    try {
+      graph_.setLandmarkPrior(lm[i].id, LandmarkPrior::make(lm[i].mean, cov));
+    } catch (const std::invalid_argument& e) {
+      s.failSection("landmark " + std::to_string(lm[i].id) + ": " + e.what());
+    }
+    tracks_.restore(lm[i]);
+    next = std::max(next, lm[i].id + 1);
+  }
+  next_fresh_id_ = next;
+  if (state.robot) start_ = state.robot->pose;
+  last_ids_.clear();
+  poses_since_update_ = 0;
+  pose_cov_.reset();
+}
 
 }  // namespace budget_slam::graph

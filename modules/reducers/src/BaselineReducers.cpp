@@ -1,5 +1,8 @@
 #include "budget_slam/reducers/BaselineReducers.h"
 
+#include <sstream>
+
+#include "ReducerSession.h"
 #include "budget_slam/reducers/InformationContent.h"
 
 namespace budget_slam::reducers {
@@ -64,6 +67,21 @@ ReducerRegistry::Entry InfoContentReducer::entry() {
           [](const mrpt::config::CConfigFileBase&, std::uint64_t) {
             return std::make_unique<InfoContentReducer>();
           }};
+}
+
+void RandomReducer::saveSession(session::SessionState& state) const {
+  std::ostringstream o;
+  o << rng_;
+  state.section(reducerSection(name())).putText("rng_state", o.str());
+}
+
+void RandomReducer::restoreSession(const session::SessionState& state) {
+  const session::SessionSection& s = state.take(reducerSection(name()));
+  std::istringstream in(s.text("rng_state"));
+  std::mt19937_64 rng;
+  in >> rng;
+  if (in.fail()) s.fail("rng_state", "not the state of a mt19937_64 generator");
+  rng_ = rng;
 }
 
 }  // namespace budget_slam::reducers

@@ -305,4 +305,64 @@ std::vector<Eviction> BudgetManager::finish(Backend& backend, StepIndex last_ste
 
 std::vector<Agreement> BudgetManager::agreements() const { return agreements_; }
 
+void BudgetManager::saveSession(session::SessionState& state) const {
+  session::SessionSection& b = state.section("budget");
+  b.putIntegers("evicted_ids", std::vector<std::int64_t>(evicted_.begin(), evicted_.end()));
+  b.putInteger("poses_marginalized", static_cast<std::int64_t>(poses_marginalized_));
+  const auto records = refusals_.records();  // oldest first
+  std::vector<std::int64_t> ids, at, retry, count;
+  for (const auto& r : records) {
+    ids.push_back(r.id);
+    at.push_back(static_cast<std::int64_t>(r.refused_at));
+    retry.push_back(static_cast<std::int64_t>(r.retry_at));
+    count.push_back(r.refusals);
+  }
+  b.putIntegers("refused_ids", std::move(ids));
+  b.putIntegers("refused_at", std::move(at));
+  b.putIntegers("retry_at", std::move(retry));
+  b.putIntegers("refusals", std::move(count));
+  // One section a reducer name: a shadow of the active reducer's own name sees the same steps
+  // and decisions, so its memory is the active one's (mi's schedule runs only when active).
+  std::set<std::string> saved;
+  if (const auto* o = session::sessionOwner(active_.get())) {
+    o->saveSession(state);
+    saved.insert(active_->name());
+  }
+  for (const auto& s : shadows_)
+    if (const auto* o = session::sessionOwner(s.get()))
+      if (saved.insert(s->name()).second) o->saveSession(state);
+}
+
+void BudgetManager::restoreSession(const session::SessionState& state) {
+  const session::SessionSection& b = state.take("budget");
+  constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();
+  const auto& evicted = b.integers("evicted_ids");
+  evicted_.clear();
+  for (const auto id : evicted) {
+    if (id < 0) b.fail("evicted_ids", "negative landmark id " + std::to_string(id));
+    evicted_.insert(id);
+  }
+  poses_marginalized_ = static_cast<std::size_t>(b.integer("poses_marginalized", 0));
+  const auto& ids = b.integers("refused_ids");
+  if (ids.size() > options_.refusal_memory)
+    b.fail("refused_ids", std::to_string(ids.size()) +
+                              " refusals, more than [LandmarkBudget] "
+                              "refusal_memory = " +
+                              std::to_string(options_.refusal_memory));
+  const auto& at = b.integers("refused_at", ids.size(), 0, kMax);
+  const auto& retry = b.integers("retry_at", ids.size(), 0, kMax);
+  const auto& count = b.integers("refusals", ids.size(), 1, 1 << 30);
+  std::vector<RefusalMemory::Record> records;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (ids[i] < 0) b.fail("refused_ids", "negative landmark id " + std::to_string(ids[i]));
+    if (i > 0 && at[i] < at[i - 1]) b.fail("refused_at", "not oldest first");
+    records.push_back({ids[i], static_cast<StepIndex>(at[i]), static_cast<StepIndex>(retry[i]),
+                       static_cast<std::uint32_t>(count[i])});
+  }
+  refusals_.restore(records);
+  if (auto* o = session::sessionOwner(active_.get())) o->restoreSession(state);
+  for (const auto& s : shadows_)
+    if (auto* o = session::sessionOwner(s.get())) o->restoreSession(state);  // saved once a name
+}
+
 }  // namespace budget_slam::reducers

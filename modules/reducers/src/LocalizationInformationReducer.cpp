@@ -8,6 +8,7 @@
 #include <tuple>
 #include <vector>
 
+#include "ReducerSession.h"
 #include "budget_slam/core/IniSection.h"
 #include "budget_slam/core/RangeBearingModel.h"
 
@@ -297,6 +298,103 @@ ReducerRegistry::Entry LocalizationInformationReducer::entry() {
             return std::make_unique<LocalizationInformationReducer>(
                 o, std::max(std_range, 1e-12), std::max(std_yaw_deg * kDeg, 1e-12));
           }};
+}
+
+void LocalizationInformationReducer::saveSession(session::SessionState& state) const {
+  session::SessionSection& s = state.section(reducerSection(name()));
+  putGrid(s, grid_);
+  s.putReals("prior", std::vector<double>(prior_.data(), prior_.data() + 9));
+  slots_.save(s);
+  // Every place's entries in turn (exact values, the cached ones included, so that a resumed run
+  // refreshes the same places at the same steps).
+  std::vector<std::vector<LandmarkId>> entry_ids;
+  std::vector<double> info, readings, without, lambda, logdet;
+  std::vector<std::int64_t> active, dirty;
+  for (const Place& p : places_) {
+    std::vector<LandmarkId> ids;
+    for (const Entry& e : p.entries) {
+      ids.push_back(e.id);
+      info.insert(info.end(), e.info_sum.data(), e.info_sum.data() + 9);
+      readings.push_back(e.readings);
+      without.push_back(e.without);
+      active.push_back(e.active ? 1 : 0);
+    }
+    entry_ids.push_back(std::move(ids));
+    lambda.insert(lambda.end(), p.lambda.data(), p.lambda.data() + 9);
+    logdet.push_back(p.logdet);
+    dirty.push_back(p.dirty ? 1 : 0);
+  }
+  putNested(s, "entry_ids", entry_ids);
+  s.putReals("entry_info", std::move(info));
+  s.putReals("entry_readings", std::move(readings));
+  s.putReals("entry_without", std::move(without));
+  s.putIntegers("entry_active", std::move(active));
+  s.putReals("place_lambda", std::move(lambda));
+  s.putReals("place_logdet", std::move(logdet));
+  s.putIntegers("place_dirty", std::move(dirty));
+  s.putIntegers("dirty_slots", std::vector<std::int64_t>(dirty_.begin(), dirty_.end()));
+  std::vector<LandmarkId> ids;
+  for (const auto& [id, slots] : places_of_) ids.push_back(id);
+  std::sort(ids.begin(), ids.end());
+  std::vector<std::vector<std::uint32_t>> slots_of;
+  for (const LandmarkId id : ids) slots_of.push_back(places_of_.at(id));
+  s.putIntegers("landmark_ids", std::vector<std::int64_t>(ids.begin(), ids.end()));
+  putNested(s, "landmark_places", slots_of);
+  s.putIntegers("dropped_ids", std::vector<std::int64_t>(dropped_.begin(), dropped_.end()));
+}
+
+void LocalizationInformationReducer::restoreSession(const session::SessionState& state) {
+  const session::SessionSection& s = state.take(reducerSection(name()));
+  constexpr std::int64_t kMaxId = std::numeric_limits<std::int64_t>::max();
+  grid_ = readGrid(s);
+  const auto& prior = s.reals("prior", 9);
+  prior_ = Eigen::Map<const Eigen::Matrix3d>(prior.data());
+  slots_.restore(s);
+  const std::size_t n = slots_.slots();
+  const auto ids = nested(s, "entry_ids", n, 0, kMaxId);
+  std::size_t entries = 0;
+  for (const auto& l : ids) entries += l.size();
+  const auto& info = s.reals("entry_info", 9 * entries);
+  const auto& readings = s.reals("entry_readings", entries);
+  const auto& without = s.reals("entry_without", entries);
+  const auto& active = s.integers("entry_active", entries, 0, 1);
+  const auto& lambda = s.reals("place_lambda", 9 * n);
+  const auto& logdet = s.reals("place_logdet", n);
+  const auto& dirty = s.integers("place_dirty", n, 0, 1);
+  places_.assign(n, Place());
+  std::size_t e = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    Place& p = places_[k];
+    for (const auto id : ids[k]) {
+      Entry x;
+      x.id = id;
+      x.info_sum = Eigen::Map<const Eigen::Matrix3d>(info.data() + 9 * e);
+      x.readings = readings[e];
+      x.without = without[e];
+      x.active = active[e] != 0;
+      p.entries.push_back(x);
+      ++e;
+    }
+    p.lambda = Eigen::Map<const Eigen::Matrix3d>(lambda.data() + 9 * k);
+    p.logdet = logdet[k];
+    p.dirty = dirty[k] != 0;
+  }
+  const auto& dirty_slots = s.integers("dirty_slots", s.integers("dirty_slots").size(), 0,
+                                       static_cast<std::int64_t>(n) - 1);
+  dirty_.assign(dirty_slots.begin(), dirty_slots.end());
+  const auto& lm = s.integers("landmark_ids");
+  const auto lm_places =
+      nested(s, "landmark_places", lm.size(), 0, static_cast<std::int64_t>(n) - 1);
+  places_of_.clear();
+  for (std::size_t i = 0; i < lm.size(); ++i)
+    places_of_[lm[i]].assign(lm_places[i].begin(), lm_places[i].end());
+  dropped_.clear();
+  dropped_at_.clear();
+  for (const auto id : s.integers("dropped_ids")) {
+    if (dropped_at_.count(id)) s.fail("dropped_ids", "landmark " + std::to_string(id) + " twice");
+    dropped_.push_back(id);
+    dropped_at_[id] = std::prev(dropped_.end());
+  }
 }
 
 }  // namespace budget_slam::reducers

@@ -1,5 +1,6 @@
 #include "budget_slam/reducers/MutualInformationReducer.h"
 
+#include "ReducerSession.h"
 #include "budget_slam/reducers/ActiveMinimization.h"
 
 namespace budget_slam::reducers {
@@ -55,6 +56,17 @@ ReducerRegistry::Entry MutualInformationReducer::entry() {
             o.loadFromConfigFile(ini, MutualInformationOptions::kSection);
             return std::make_unique<MutualInformationReducer>(o);
           }};
+}
+
+void MutualInformationReducer::saveSession(session::SessionState& state) const {
+  state.section(reducerSection(name()))
+      .putInteger("steps_since_minimization", static_cast<std::int64_t>(steps_since_minimization_));
+}
+
+void MutualInformationReducer::restoreSession(const session::SessionState& state) {
+  const session::SessionSection& s = state.take(reducerSection(name()));
+  steps_since_minimization_ = static_cast<std::size_t>(
+      s.integer("steps_since_minimization", 0, static_cast<std::int64_t>(options_.psi)));
 }
 
 }  // namespace budget_slam::reducers

@@ -5,6 +5,7 @@
 #include <limits>
 #include <ostream>
 
+#include "ReducerSession.h"
 #include "budget_slam/core/IniSection.h"
 
 namespace budget_slam::reducers {
@@ -191,6 +192,49 @@ ReducerRegistry::Entry PlaceCoverageReducer::entry() {
             o.loadFromConfigFile(ini, PlaceCoverageOptions::kSection);
             return std::make_unique<PlaceCoverageReducer>(o);
           }};
+}
+
+void PlaceCoverageReducer::saveSession(session::SessionState& state) const {
+  session::SessionSection& s = state.section(reducerSection(name()));
+  putGrid(s, grid_);
+  slots_.save(s);
+  std::vector<std::vector<LandmarkId>> seen;
+  for (const auto& p : places_) seen.push_back(p.seen);
+  putNested(s, "place_seen", seen);
+  // The tracks in id order (the map's order carries no meaning).
+  std::vector<LandmarkId> ids;
+  for (const auto& [id, t] : tracks_) ids.push_back(id);
+  std::sort(ids.begin(), ids.end());
+  std::vector<std::vector<std::uint32_t>> places;
+  std::vector<double> losses;
+  for (const LandmarkId id : ids) {
+    places.push_back(tracks_.at(id).places);
+    losses.push_back(tracks_.at(id).loss);
+  }
+  s.putIntegers("track_ids", std::vector<std::int64_t>(ids.begin(), ids.end()));
+  putNested(s, "track_places", places);
+  s.putReals("track_loss", std::move(losses));
+}
+
+void PlaceCoverageReducer::restoreSession(const session::SessionState& state) {
+  const session::SessionSection& s = state.take(reducerSection(name()));
+  grid_ = readGrid(s);
+  slots_.restore(s);
+  constexpr std::int64_t kMaxId = std::numeric_limits<std::int64_t>::max();
+  const auto seen = nested(s, "place_seen", slots_.slots(), 0, kMaxId);
+  places_.assign(slots_.slots(), Place());
+  for (std::size_t k = 0; k < seen.size(); ++k)
+    places_[k].seen.assign(seen[k].begin(), seen[k].end());
+  const auto& ids = s.integers("track_ids");
+  const auto places =
+      nested(s, "track_places", ids.size(), 0, static_cast<std::int64_t>(slots_.slots()) - 1);
+  const auto& losses = s.reals("track_loss", ids.size());
+  tracks_.clear();
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    Track& t = tracks_[ids[i]];
+    t.places.assign(places[i].begin(), places[i].end());
+    t.loss = losses[i];
+  }
 }
 
 }  // namespace budget_slam::reducers

@@ -53,4 +53,29 @@ StepIndex RefusalMemory::retryAt(LandmarkId id) const {
   return it == entries_.end() ? 0 : it->second.retry_at;
 }
 
+std::vector<RefusalMemory::Record> RefusalMemory::records() const {
+  std::vector<Record> out;
+  out.reserve(by_age_.size());
+  for (const auto& [at, id] : by_age_) {
+    const Entry& e = entries_.at(id);
+    out.push_back({id, e.refused_at, e.retry_at, e.refusals});
+  }
+  return out;
+}
+
+void RefusalMemory::restore(const std::vector<Record>& records) {
+  entries_.clear();
+  by_age_.clear();
+  for (const Record& r : records) {
+    if (entries_.count(r.id)) by_age_.erase({entries_[r.id].refused_at, r.id});
+    entries_[r.id] = {r.refused_at, r.retry_at, r.refusals};
+    by_age_.insert({r.refused_at, r.id});
+  }
+  while (entries_.size() > capacity_) {
+    const auto oldest = by_age_.begin();
+    entries_.erase(oldest->second);
+    by_age_.erase(oldest);
+  }
+}
+
 }  // namespace budget_slam::reducers

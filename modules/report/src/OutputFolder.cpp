@@ -108,12 +108,13 @@ struct OutputFolder::Hold {
 
 const std::vector<std::string>& OutputFolder::outputNames() {
   static const std::vector<std::string> names = {
-      "summary.json",    "steps.csv",          "evictions.csv",
-      "trajectory.tum",  "landmarks.csv",      "map.png",
-      "config_used.ini", "ground_truth.tum",   "map.3Dscene",
-      "states",          "comparison.csv",     "comparison.md",
-      "comparison.png",  "reference",          "reference.tum",
-      "relocalize",      "relocalization.csv", "offline_optimum.csv"};
+      "summary.json",     "steps.csv",          "evictions.csv",
+      "trajectory.tum",   "landmarks.csv",      "map.png",
+      "config_used.ini",  "ground_truth.tum",   "map.3Dscene",
+      "states",           "comparison.csv",     "comparison.md",
+      "comparison.png",   "reference",          "reference.tum",
+      "relocalize",       "relocalization.csv", "offline_optimum.csv",
+      "session_state.txt"};
   return names;
 }
 

@@ -43,6 +43,14 @@ class LandmarkTracks {
     it->second.addSighting(robot, step);
   }
   void erase(LandmarkId id) { tracks_.erase(id); }
+  /// Takes a landmark's record back from its view (a resumed session: LandmarkView carries it).
+  void restore(const LandmarkView& v) {
+    LandmarkTrack& t = tracks_[v.id];
+    t.n = v.n_obs;
+    t.obs_mean = v.obs_mean;
+    t.first_step = v.first_step;
+    t.last_step = v.last_step;
+  }
   /// The track of `id`, or nullptr when it has none.
   const LandmarkTrack* find(LandmarkId id) const {
     const auto it = tracks_.find(id);

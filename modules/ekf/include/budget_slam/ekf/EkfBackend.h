@@ -8,12 +8,13 @@
 #include "budget_slam/core/LandmarkTracks.h"
 #include "budget_slam/ekf/ReducibleKFSLAM2D.h"
 #include "budget_slam/gaussian/BlockMutualInformation.h"
+#include "budget_slam/session/SessionStateOwner.h"
 
 namespace budget_slam::ekf {
 
 /// The Backend over MRPT's EKF (docs/ARCHITECTURE.md "EKF backend"). Options come from MRPT's own
 /// ini sections [RangeBearingKFSLAM] and [RangeBearingKFSLAM_KalmanFilter], as kf-slam loads them.
-class EkfBackend : public Backend {
+class EkfBackend : public Backend, public session::SessionStateOwner {
  public:
   static constexpr const char* kName = "ekf";
 
@@ -42,6 +43,14 @@ class EkfBackend : public Backend {
   /// A copy of the filter (mean, covariance, id map, MRPT options), the sightings and the
   /// trajectory. MRPT's filter copies by value; the sensory frames it keeps are shared read-only.
   std::unique_ptr<Backend> clone() const override;
+
+  /// The whole filter: the landmarks' joint mean and covariance block (the map), the robot with
+  /// its cross-covariance, and section `backend.ekf` (the next free id, the last step). Restored
+  /// exactly: the resumed filter is the one the last session ended with.
+  void saveSession(session::SessionState& state) const override;
+  /// A wake-up hands over through the robot block (its pose found on the map, zero
+  /// cross-covariance; docs/ALGORITHMS.md "Waking up on a saved map").
+  void restoreSession(const session::SessionState& state) override;
 
   /// false: keep only the latest pose in trajectory() (bounded memory on lifelong runs; the
   /// per-step poses are in the run's steps.csv anyway). Default: true.

@@ -28,6 +28,14 @@ class ReducibleKFSLAM2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   /// columns of the covariance and its id, shifting the state indices above it.
   void removeLandmark(LandmarkId id);
 
+  /// Puts the filter in a saved state (`run --resume`): the whole mean (robot, then landmarks),
+  /// its covariance, the landmark ids in state order, and the next id for an ID-less landmark.
+  /// Throws std::invalid_argument when the sizes do not agree or an id repeats.
+  void restore(const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov,
+               const std::vector<LandmarkId>& ids, LandmarkId next_free_id);
+  /// The next id an ID-less landmark gets (the session state keeps it).
+  LandmarkId nextFreeId() const { return static_cast<LandmarkId>(next_free_id_); }
+
   const KFVector& mean() const { return m_xkk; }
   const KFMatrix& covariance() const { return m_pkk; }
 

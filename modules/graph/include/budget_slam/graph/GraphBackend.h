@@ -12,6 +12,7 @@
 #include "budget_slam/graph/GraphOptions.h"
 #include "budget_slam/graph/Solver.h"
 #include "budget_slam/graph/SparseCholesky.h"
+#include "budget_slam/session/SessionStateOwner.h"
 
 namespace budget_slam::graph {
 
@@ -20,7 +21,7 @@ namespace budget_slam::graph {
 /// where the graph changes (IncrementalFactorization, docs/GRAPH.md "Held factor"), and the
 /// covariances and information gains at the current estimate read it (EstimateFactorization). Bad
 /// step data (a reading the graph cannot use) is an InputError naming the step and the reading.
-class GraphBackend : public Backend {
+class GraphBackend : public Backend, public session::SessionStateOwner {
  public:
   /// Reads [GraphSLAM] and the sensor noise keys of [RangeBearingKFSLAM].
   explicit GraphBackend(const mrpt::config::CConfigFileBase& ini);
@@ -55,6 +56,15 @@ class GraphBackend : public Backend {
   std::unique_ptr<Backend> clone() const override;
 
   /// Solves to convergence now (what finish() does); returns the solver's report.
+  /// The map as the joint marginal of every landmark and the latest pose at the current estimate
+  /// (the robot with its cross-covariance), and section `backend.graph` (the next fresh id).
+  void saveSession(session::SessionState& state) const override;
+  /// A new graph on the saved map: each landmark with a prior from its marginal (2x2 block of the
+  /// saved joint covariance; the correlations between landmarks and with the robot are not
+  /// kept), and the next step's pose from the saved robot pose and its marginal composed with the
+  /// step's odometry (waking up: the pose found). docs/GRAPH.md "Resuming a session".
+  void restoreSession(const session::SessionState& state) override;
+
   SolveReport optimize();
   const FactorGraph& graph() const { return graph_; }
   const GraphSlamOptions& options() const { return options_; }
@@ -97,6 +107,7 @@ class GraphBackend : public Backend {
   mutable EstimateFactorization factorization_;
   /// Latest pose covariance between factorizations (GraphSlamOptions::exact_pose_covariance).
   mutable std::optional<Eigen::Matrix3d> pose_cov_;
+  std::optional<PoseEstimate> start_;  ///< a resumed session's start (restoreSession, setStart)
 };
 
 }  // namespace budget_slam::graph

@@ -2,16 +2,21 @@
 #include <random>
 
 #include "budget_slam/core/ReducerRegistry.h"
+#include "budget_slam/session/SessionStateOwner.h"
 
 namespace budget_slam::reducers {
 
 /// `random`: a uniformly random candidate from a seeded generator (score: 0).
-class RandomReducer : public Reducer {
+class RandomReducer : public Reducer, public session::SessionStateOwner {
  public:
   explicit RandomReducer(std::uint64_t seed) : rng_(seed) {}
   std::string name() const override { return "random"; }
   ReducerChoice choose(const DropContext& ctx) override;
   static ReducerRegistry::Entry entry();
+  /// Section `reducer.random`: the generator's state (its standard text form), so that a resumed
+  /// run draws what the one-shot run would have drawn next.
+  void saveSession(session::SessionState& state) const override;
+  void restoreSession(const session::SessionState& state) override;
 
  private:
   std::mt19937_64 rng_;  ///< mt19937_64 output is fixed by the standard: same seed, same run

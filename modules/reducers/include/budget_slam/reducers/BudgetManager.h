@@ -9,6 +9,7 @@
 #include "budget_slam/core/Reducer.h"
 #include "budget_slam/reducers/BudgetOptions.h"
 #include "budget_slam/reducers/RefusalMemory.h"
+#include "budget_slam/session/SessionStateOwner.h"
 
 namespace budget_slam::reducers {
 
@@ -57,8 +58,10 @@ struct Agreement {
 void checkCap(const BudgetOptions& options, const Reducer* active);
 
 /// Keeps the map within [LandmarkBudget] max_landmarks after every step (docs/ALGORITHMS.md
-/// "Common to every reducer").
-class BudgetManager {
+/// "Common to every reducer"). Its memory (ids dropped for good, refusals, poses marginalized)
+/// and that of every reducer that keeps one (session::SessionStateOwner) go into a session state
+/// and come back on `run --resume`.
+class BudgetManager : public session::SessionStateOwner {
  public:
   /// `active` may be null: reducer `none`, the unreduced reference run (nothing is dropped).
   /// Throws ConfigError when the cap and the reducer cannot go together (checkCap).
@@ -100,6 +103,11 @@ class BudgetManager {
 
   /// Newcomers refused so far and remembered now (admission = compete).
   const RefusalMemory& refusals() const { return refusals_; }
+
+  /// Section `budget`, then the section of every reducer (active, shadows) that keeps memory.
+  void saveSession(session::SessionState& state) const override;
+  /// The same back. Agreement counts and shadow failures are per session (summary.json).
+  void restoreSession(const session::SessionState& state) override;
 
   /// Agreement of every pair among the active and shadow reducers.
   std::vector<Agreement> agreements() const;

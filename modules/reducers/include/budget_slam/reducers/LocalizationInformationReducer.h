@@ -9,6 +9,7 @@
 #include "budget_slam/core/PlaceGrid.h"
 #include "budget_slam/core/ReducerRegistry.h"
 #include "budget_slam/reducers/PlaceSlots.h"
+#include "budget_slam/session/SessionStateOwner.h"
 
 namespace budget_slam::reducers {
 
@@ -61,7 +62,7 @@ struct LocalizationInformationOptions : public TabledOptions<LocalizationInforma
 /// readings of landmarks it does not keep (refused newcomers, withheld while they wait, and
 /// dropped ones): they stay on record, outside every Lambda_p, so that a landmark that enters
 /// (again) is valued by all the places the robot read it from, not by the last one alone.
-class LocalizationInformationReducer : public Reducer {
+class LocalizationInformationReducer : public Reducer, public session::SessionStateOwner {
  public:
   /// `std_range` [m] and `std_bearing` [rad]: the sensor noise the filter assumes.
   LocalizationInformationReducer(const LocalizationInformationOptions& options, double std_range,
@@ -73,6 +74,10 @@ class LocalizationInformationReducer : public Reducer {
   void observe(const StepObservation& seen) override;
   void forget(LandmarkId id) override;
   static ReducerRegistry::Entry entry();
+  /// Section `reducer.localization-information`: the grid and prior, the place slots, every
+  /// place's readings and cached numbers, the landmarks on record off the map.
+  void saveSession(session::SessionState& state) const override;
+  void restoreSession(const session::SessionState& state) override;
 
   /// Lambda_p of the place of `robot` (the prior alone for a place not visited) [1/m^2, 1/rad^2].
   Eigen::Matrix3d placeInformation(const mrpt::math::TPose2D& robot) const;

@@ -1,6 +1,7 @@
 #pragma once
 #include "budget_slam/core/ReducerRegistry.h"
 #include "budget_slam/reducers/MutualInformationOptions.h"
+#include "budget_slam/session/SessionStateOwner.h"
 
 namespace budget_slam::reducers {
 
@@ -8,7 +9,7 @@ namespace budget_slam::reducers {
 /// candidate with the lowest information gain Backend::informationGain [bits] (Alg. 4), ties to the
 /// lowest id; score = that gain. Modes `objective` and `incremental` add the drop events of Alg. 3
 /// and Alg. 5 through Reducer::scheduled (see MutualInformationOptions).
-class MutualInformationReducer : public Reducer {
+class MutualInformationReducer : public Reducer, public session::SessionStateOwner {
  public:
   explicit MutualInformationReducer(const MutualInformationOptions& options);
 
@@ -31,6 +32,9 @@ class MutualInformationReducer : public Reducer {
 
   const MutualInformationOptions& options() const { return options_; }
   static ReducerRegistry::Entry entry();
+  /// Section `reducer.mi`: the steps since the last minimization (Alg. 5's schedule).
+  void saveSession(session::SessionState& state) const override;
+  void restoreSession(const session::SessionState& state) override;
 
  private:
   MutualInformationOptions options_;

@@ -8,6 +8,7 @@
 #include "budget_slam/core/PlaceGrid.h"
 #include "budget_slam/core/ReducerRegistry.h"
 #include "budget_slam/reducers/PlaceSlots.h"
+#include "budget_slam/session/SessionStateOwner.h"
 
 namespace budget_slam::reducers {
 
@@ -57,7 +58,7 @@ struct PlaceCoverageOptions : public TabledOptions<PlaceCoverageOptions> {
 ///
 /// Memory: O(places + sightings of kept landmarks by place), bounded by the area visited (and by
 /// max_places), not by the length of the run; a landmark that leaves the map is forgotten.
-class PlaceCoverageReducer : public Reducer {
+class PlaceCoverageReducer : public Reducer, public session::SessionStateOwner {
  public:
   explicit PlaceCoverageReducer(const PlaceCoverageOptions& options)
       : options_(options), slots_(options.max_places) {}
@@ -68,6 +69,10 @@ class PlaceCoverageReducer : public Reducer {
   void observe(const StepObservation& seen) override;
   void forget(LandmarkId id) override;
   static ReducerRegistry::Entry entry();
+  /// Section `reducer.place-coverage`: the grid, the place slots, what each place saw, the
+  /// landmarks' losses.
+  void saveSession(session::SessionState& state) const override;
+  void restoreSession(const session::SessionState& state) override;
 
   /// The place of a robot pose (after the first observe() has fixed size and sectors; a 1 m
   /// cell and one sector before).

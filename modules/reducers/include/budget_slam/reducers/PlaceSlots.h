@@ -9,6 +9,7 @@
 
 #include "budget_slam/core/Ids.h"
 #include "budget_slam/core/PlaceGrid.h"
+#include "budget_slam/session/SessionSection.h"
 
 namespace budget_slam::reducers {
 
@@ -31,6 +32,12 @@ class PlaceSlots {
   /// Slots handed out so far (used or free): the size the per-slot records need.
   std::size_t slots() const { return keys_.size(); }
   bool used(std::uint32_t slot) const { return slot < used_.size() && used_[slot]; }
+
+  /// Writes every slot (key, last visit, in use) and the free list into `s` (fields `slot_*`,
+  /// `free_slots`), so that restore() gives back the same slot numbers.
+  void save(session::SessionSection& s) const;
+  /// The same back; InputError naming the field on a value out of range.
+  void restore(const session::SessionSection& s);
 
  private:
   std::size_t max_places_;

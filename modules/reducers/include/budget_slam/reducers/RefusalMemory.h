@@ -3,6 +3,7 @@
 #include <set>
 #include <unordered_map>
 #include <utility>
+#include <vector>
 
 #include "budget_slam/core/Ids.h"
 
@@ -31,6 +32,18 @@ class RefusalMemory {
   std::uint32_t refusals(LandmarkId id) const;
   /// First step at which `id` may compete again (0 when unknown).
   StepIndex retryAt(LandmarkId id) const;
+
+  /// One remembered refusal, for the session state (docs/OUTPUTS.md "Session state").
+  struct Record {
+    LandmarkId id = kNoLandmarkId;
+    StepIndex refused_at = 0, retry_at = 0;
+    std::uint32_t refusals = 0;
+  };
+  /// Every refusal remembered, oldest first.
+  std::vector<Record> records() const;
+  /// Replaces the memory by `records` (oldest first, as records() gives them); beyond capacity()
+  /// the oldest are forgotten, as refused() would.
+  void restore(const std::vector<Record>& records);
 
  private:
   struct Entry {

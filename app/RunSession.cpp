@@ -1,0 +1,102 @@
+#include "RunSession.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <vector>
+
+#include "budget_slam/core/Error.h"
+#include "budget_slam/dataset/RawlogReader.h"
+#include "budget_slam/session/SessionStateFile.h"
+#include "budget_slam/wakeup/GlobalLocalizer.h"
+
+namespace budget_slam::app {
+
+std::map<std::string, std::string> resumeOptions(const mrpt::config::CConfigFileBase& ini) {
+  // Per-session keys: what this session reads and writes, how long, and how it reports.
+  static const std::set<std::string> kSessionSections = {"Report", "Metrics", "WakeUp"};
+  static const std::set<std::string> kSessionKeys = {
+      "rawlog_file",       "logOutput_dir",           "max_steps",
+      "ground_truth_file", "ground_truth_file_robot", "save_3d_scene",
+      "SAVE_3D_SCENES",    "SAVE_LOG_FREQUENCY",      "keep_history"};
+  std::map<std::string, std::string> out;
+  std::vector<std::string> sections;
+  ini.getAllSections(sections);
+  for (const auto& section : sections) {
+    if (kSessionSections.count(section)) continue;
+    std::vector<std::string> keys;
+    ini.getAllKeys(section, keys);
+    for (const auto& key : keys) {
+      if (section == "MappingApplication" && kSessionKeys.count(key)) continue;
+      out[section + "." + key] = ini.read_string(section, key, "");
+    }
+  }
+  return out;
+}
+
+session::SessionState loadResumeState(const std::string& run_dir, const std::string& backend,
+                                      const std::map<std::string, std::string>& options) {
+  const std::string path = (std::filesystem::path(run_dir) / session::kStateFileName).string();
+  session::SessionState state = session::readSessionState(path);
+  if (state.header.backend != backend)
+    throw ConfigError("--resume " + run_dir + ": [MappingApplication] backend = " + backend +
+                      ", the saved session had " + state.header.backend);
+  const auto diff = session::resumeMismatches(state.header.resume_options, options);
+  if (!diff.empty())
+    throw ConfigError("--resume " + run_dir + ": " + diff.front() +
+                      (diff.size() > 1
+                           ? " (and " + std::to_string(diff.size() - 1) + " more option(s) differ)"
+                           : std::string()));
+  return state;
+}
+
+WakeUpOutcome wakeUpOnMap(const RunConfig& rc, session::SessionState& state, std::size_t skip) {
+  wakeup::WakeUpOptions options;
+  options.loadFromConfigFile(rc.ini, wakeup::WakeUpOptions::kSection);
+  wakeup::ReadingNoise noise;
+  noise.std_range = rc.ini.read_double("RangeBearingKFSLAM", "std_sensor_range", 0.1);
+  noise.std_bearing =
+      rc.ini.read_double("RangeBearingKFSLAM", "std_sensor_yaw_deg", 0.5) * M_PI / 180;
+  const auto t0 = std::chrono::steady_clock::now();
+  wakeup::GlobalLocalizer localizer(state.map.landmarks, options, noise);
+  dataset::RawlogReader reader(rc.rawlog);
+  for (std::size_t k = 0; k < skip && reader.next(); ++k) {
+  }
+  WakeUpOutcome out;
+  while (!localizer.finished()) {
+    auto step = reader.next();
+    if (!step) break;
+    localizer.add(*step);
+    ++out.steps;
+  }
+  const double ms =
+      1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const wakeup::WakeUpResult& r = localizer.result();
+  out.found = r.status == wakeup::WakeUpStatus::Found;
+  out.json = {{"status", wakeup::statusName(r.status)},
+              {"reason", wakeup::reasonName(r.reason)},
+              {"by_ids", r.by_ids},
+              {"steps", out.steps},
+              {"landmarks", r.landmarks},
+              {"inliers", r.inliers},
+              {"time_ms", ms}};
+  if (!out.found) {
+    out.why = std::string("the robot was not found on the saved map in ") +
+              std::to_string(out.steps) + " steps (" + wakeup::statusName(r.status) +
+              (r.reason == wakeup::WakeUpReason::None
+                   ? ""
+                   : std::string(", ") + wakeup::reasonName(r.reason)) +
+              "); without --wake-up the session continues where the last one stopped";
+    return out;
+  }
+  out.json["pose"] = {r.pose.mean.x, r.pose.mean.y, r.pose.mean.phi * 180 / M_PI};
+  session::RobotBlock robot;
+  robot.pose = r.pose;
+  robot.cross_covariance =
+      Eigen::MatrixXd::Zero(3, static_cast<Eigen::Index>(2 * state.map.landmarks.size()));
+  state.robot = robot;
+  return out;
+}
+
+}  // namespace budget_slam::app
