@@ -59,6 +59,7 @@ class ThroughTheBinaries(unittest.TestCase):
                 self.assertGreater(r["always"]["ne_drops"], 0)
                 self.assertEqual(r["always"]["ne_right"], 1.0)  # none of a landmark still there
                 self.assertGreaterEqual(r["always"]["share_existing"], r["off"]["share_existing"])
+                self.assertLessEqual(r["always"]["share_in_place"], r["always"]["share_existing"])
                 self.assertEqual(r["always"]["status"], "ok")
             with open(os.path.join(out, "seed1", "always", "evictions.csv")) as f:
                 self.assertIn(",negative_evidence,", f.read())
