@@ -69,6 +69,25 @@ class ThroughTheBinaries(unittest.TestCase):
             self.assertIn("| `always` − `off` | share_existing |", text)
             self.assertTrue(text.rstrip().endswith("<!-- changing_world:end -->"))
 
+    def test_a_world_that_does_not_change_loses_nothing_to_negative_evidence(self):
+        # rooms has walls and rooms: landmarks in range and in the field of view behind a wall,
+        # never seen from where the robot stands, must not count as missed.
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "work")
+            p = subprocess.run(["/usr/bin/python3", SCRIPT, "--seeds", "3", "--sessions", "2",
+                                "--change", "0", "--modes", "off,always", "-o", out,
+                                "--budget-slam", BUDGET_SLAM, "--budget-simulate", BUDGET_SIMULATE],
+                               capture_output=True, text=True, timeout=600)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            with open(os.path.join(out, "changing_world.json")) as f:
+                r = json.load(f)[0]
+            self.assertEqual(r["always"]["ne_drops"], 0)
+            self.assertEqual(r["always"]["share_existing"], 1.0)
+            with open(os.path.join(out, "seed3", "always", "landmarks.csv")) as f:
+                rows = f.read().splitlines()
+            self.assertTrue(rows[0].endswith(",last_step,last_confirmed_step,misses"))
+            self.assertEqual([row.split(",")[-1] for row in rows[1:]], ["0"] * (len(rows) - 1))
+
 
 if __name__ == "__main__":
     BUDGET_SLAM, BUDGET_SIMULATE, argv = scripttest.parse_binaries(__doc__)
