@@ -3,7 +3,11 @@
 #include <map>
 #include <sstream>
 
+#include <mrpt/config/CConfigFileMemory.h>
+
 #include "TestUtil.h"
+#include "budget_slam/core/Error.h"
+#include "budget_slam/dataset/Sessions.h"
 
 using namespace budget_slam::dataset::test;
 
@@ -237,4 +241,24 @@ TEST(Tools, SimulateSessionsJoinedIsOneTraversalEndingInTheLastWorld) {
             0);
   EXPECT_EQ(readFile(tmp.file("j_changes.csv")), readFile(tmp.file("s_changes.csv")));
   EXPECT_EQ(truthOf(tmp.file("j_ground_truth.txt")), truthOf(tmp.file("s_s03_ground_truth.txt")));
+}
+
+TEST(Tools, SessionChangeOptionsLoadFromAnIniWithTheirChecks) {
+  mrpt::config::CConfigFileMemory ini;
+  ini.write("SimulationSessions", "sessions", "20");
+  ini.write("SimulationSessions", "change", "0.05");
+  ini.write("SimulationSessions", "share_move", "0");
+  budget_slam::dataset::SessionChangeOptions o;
+  o.loadFromConfigFile(ini, "SimulationSessions");
+  EXPECT_EQ(o.sessions, 20);
+  EXPECT_EQ(o.change, 0.05);
+  EXPECT_EQ(o.share_move, 0);
+  EXPECT_EQ(o.share_appear, 1);
+  ini.write("SimulationSessions", "change", "2");
+  try {
+    o.loadFromConfigFile(ini, "SimulationSessions");
+    ADD_FAILURE() << "change = 2 accepted";
+  } catch (const budget_slam::ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "[SimulationSessions] change = 2: must be at most 1");
+  }
 }

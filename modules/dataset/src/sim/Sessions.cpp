@@ -198,6 +198,21 @@ std::size_t writeOne(const SimulationOptions& options, const sim::Scenario& scen
 
 }  // namespace
 
+const OptionTable<SessionChangeOptions>& SessionChangeOptions::table() {
+  using O = SessionChangeOptions;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  static const OptionTable<O> t = {
+      option::integer("sessions", &O::sessions, 1, kMaxSessions, "N"),
+      option::real("change", &O::change, 0, 1, "share of the landmarks a session"),
+      option::real("share_disappear", &O::share_disappear, 0, 1e9, "relative share"),
+      option::real("share_move", &O::share_move, 0, 1e9, "relative share"),
+      option::real("share_appear", &O::share_appear, 0, 1e9, "relative share"),
+      option::real("move_distance", &O::move_distance, 1e-9, kInf, "[m]"),
+      option::flag("joined", &O::joined),
+  };
+  return t;
+}
+
 const char* LandmarkChange::name(Kind k) {
   switch (k) {
     case Kind::Disappeared:

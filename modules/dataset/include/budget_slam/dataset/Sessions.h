@@ -4,13 +4,17 @@
 #include <vector>
 
 #include "budget_slam/core/Ids.h"
+#include "budget_slam/core/OptionTable.h"
 #include "budget_slam/dataset/Simulator.h"
 
 namespace budget_slam::dataset {
 
 /// A series of sessions in one world that changes between them (budget-simulate --sessions N
-/// --change F; docs/DATASETS.md "Sessions in a changing world").
-struct SessionChangeOptions {
+/// --change F; docs/DATASETS.md "Sessions in a changing world"). MRPT's options pattern with every
+/// key in table(); budget-simulate takes them from its command line, and
+/// simulateSessionsToFiles() checks them again (the same ranges) whoever filled them.
+struct SessionChangeOptions : public TabledOptions<SessionChangeOptions> {
+  static constexpr const char* kSection = "SimulationSessions";
   static constexpr int kMaxSessions = 999;
   int sessions = 1;  ///< N, 1 .. kMaxSessions
   /// F: before each session after the first, round(F x landmarks of the previous session) of them
@@ -26,6 +30,9 @@ struct SessionChangeOptions {
   /// One traversal instead of one rawlog a session: the route is driven once a session, back to
   /// back, and the world changes as the robot starts each session's first lap.
   bool joined = false;
+
+  /// Every key: name, field, check and unit (the defaults are the initializers above).
+  static const OptionTable<SessionChangeOptions>& table();
 };
 
 /// One change between two sessions (a row of `<stem>_changes.csv`).
