@@ -268,11 +268,19 @@ RunResult RunDriver::finish(const std::string& status, const std::string& error,
       files.trajectory.push_back(p);
   }
   std::size_t landmarks_not_finite = 0;
+  const reducers::NegativeEvidence* negative = manager_->negativeEvidence();
   for (const auto& l : backend_->landmarks()) {
-    if (finite(l))
-      files.landmarks.push_back(l);
-    else
+    if (!finite(l)) {
       ++landmarks_not_finite;
+      continue;
+    }
+    files.landmarks.push_back(l);
+    if (!negative) continue;
+    const auto r = negative->records().find(l.id);
+    files.confirmations.push_back(r == negative->records().end()
+                                      ? report::LandmarkConfirmation{l.last_step, 0}
+                                      : report::LandmarkConfirmation{r->second.last_confirmed_step,
+                                                                     r->second.misses});
   }
   const std::vector<TrajectoryPoint>& trajectory = files.trajectory;
   const std::vector<LandmarkView>& landmarks = files.landmarks;

@@ -12,6 +12,7 @@
 #include "budget_slam/core/StopSignals.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/DatasetFiles.h"
+#include "budget_slam/dataset/Sessions.h"
 #include "budget_slam/dataset/Simulator.h"
 
 namespace {
@@ -25,6 +26,19 @@ double noiseFlag(const TCLAP::ValueArg<double>& flag) {
     throw budget_slam::UsageError(text.str());
   }
   return v;
+}
+
+/// --change-split D:M:A, three shares >= 0 (not all 0).
+void parseSplit(const std::string& text, budget_slam::dataset::SessionChangeOptions& o) {
+  double v[3];
+  char end = 0;
+  if (std::sscanf(text.c_str(), "%lf:%lf:%lf%c", &v[0], &v[1], &v[2], &end) != 3 ||
+      !(std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])) || v[0] < 0 ||
+      v[1] < 0 || v[2] < 0 || v[0] + v[1] + v[2] <= 0)
+    throw budget_slam::UsageError("--change-split '" + text +
+                                  "': expected three shares D:M:A (disappear, move, appear), "
+                                  "each >= 0, not all 0");
+  o.share_disappear = v[0], o.share_move = v[1], o.share_appear = v[2];
 }
 
 }  // namespace
@@ -42,6 +56,10 @@ int main(int argc, char** argv) {
       "      the same world along another route: a traversal to relocalize on\n"
       "   budget-simulate --scenario lifelong --laps 10 --no-ids -o long.rawlog\n"
       "      10 laps of a changing world, readings without landmark IDs\n"
+      "   budget-simulate --scenario rooms --sessions 20 --change 0.05 -o life.rawlog\n"
+      "      20 sessions in one world, 5% of its landmarks disappearing, moving or appearing\n"
+      "      before each session after the first: life_s01.rawlog .. life_s20.rawlog, their\n"
+      "      ground truth and sidecars, and life_changes.csv\n"
       "   budget-slam run -c config.ini -i my_rooms.rawlog -o OUT\n"
       "      then SLAM on it (the sidecar my_rooms.ini is read after config.ini)\n");
   try {
@@ -75,6 +93,28 @@ int main(int argc, char** argv) {
         "revisit (rooms, park, corridors, clusters): the same world from another start along "
         "another route through every room or region, other noise (default: default)",
         false, "default", &route_values, cmd);
+    TCLAP::ValueArg<int> sessions(
+        "", "sessions",
+        "N sessions in one world that changes between them: one rawlog a session, "
+        "<out>_s01.rawlog ..., and <out>_changes.csv (1 to 999)",
+        false, 0, "N", cmd);
+    TCLAP::ValueArg<double> change("", "change",
+                                   "with --sessions: share of the landmarks that change before "
+                                   "each session after the first, in [0, 1] (default 0.05)",
+                                   false, 0.05, "F", cmd);
+    TCLAP::ValueArg<std::string> change_split(
+        "", "change-split",
+        "with --sessions: shares of the changes that disappear, move and appear (default 1:1:1)",
+        false, "1:1:1", "D:M:A", cmd);
+    TCLAP::ValueArg<double> move_distance(
+        "", "move-distance",
+        "with --sessions: how far a landmark moves, and how far from a landmark a new one "
+        "appears [m] (default 1)",
+        false, 1.0, "M", cmd);
+    TCLAP::SwitchArg joined("", "joined",
+                            "with --sessions: one traversal, <out> itself, driving the sessions "
+                            "back to back (the world changes as each begins)",
+                            cmd);
     TCLAP::SwitchArg zero_noise("", "zero-noise", "no odometry or sensor noise at all", cmd);
     TCLAP::ValueArg<std::string> out("o", "out", "output rawlog (name ends in .rawlog)", true, "",
                                      "out.rawlog", cmd);
@@ -105,6 +145,25 @@ int main(int argc, char** argv) {
       dataset::checkRawlogName(out.getValue());
     } catch (const Error& e) {
       throw UsageError(e.what());
+    }
+    if (!sessions.isSet()) {
+      for (const TCLAP::Arg* a : std::initializer_list<const TCLAP::Arg*>{&change, &change_split,
+                                                                          &move_distance, &joined})
+        if (a->isSet()) throw UsageError("--" + a->getName() + " needs --sessions N");
+    } else {
+      dataset::SessionChangeOptions so;
+      so.sessions = sessions.getValue();
+      so.change = change.getValue();
+      parseSplit(change_split.getValue(), so);
+      so.move_distance = move_distance.getValue();
+      so.joined = joined.getValue();
+      for (const auto& w : dataset::simulateSessionsToFiles(o, so, out.getValue()))
+        std::cout << w.path
+                  << (w.steps ? ": " + std::to_string(w.steps) + " steps of scenario " +
+                                    o.scenarioName()
+                              : std::string(": the changes"))
+                  << "\n";
+      return 0;
     }
     dataset::checkOutputFiles(out.getValue(), {}, force.getValue());  // before the simulation
     const auto steps = dataset::simulateToFiles(o, out.getValue(), force.getValue());

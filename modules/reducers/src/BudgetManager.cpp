@@ -80,6 +80,15 @@ BudgetManager::BudgetManager(const BudgetOptions& options, std::unique_ptr<Reduc
       shadows_(std::move(shadows)),
       refusals_(options_.refusal_memory, options_.retry_after_steps) {
   checkCap(options_, active_.get());
+  if (active_ && options_.negative_evidence != BudgetOptions::NegativeEvidenceMode::Off) {
+    NegativeEvidence::Settings ne;
+    ne.misses_to_distrust = options_.misses_to_distrust;
+    ne.min_pass_steps = options_.miss_min_view_steps;
+    ne.viewpoint_cell = options_.viewpoint_cell;
+    ne.range_margin = options_.view_margin_range;
+    ne.fov_margin = options_.view_margin_deg * M_PI / 180;
+    negative_ = std::make_unique<NegativeEvidence>(ne);
+  }
   if (active_ && active_->wantsObservations()) observers_.push_back(active_.get());
   for (const auto& s : shadows_)
     if (s->wantsObservations()) observers_.push_back(s.get());
@@ -148,7 +157,50 @@ Eviction BudgetManager::dropLandmark(Backend& backend, const DropContext& ctx,
   e.n_after = backend.landmarkCount();
   if (!options_.readmit_evicted) evicted_.insert(victim.id);  // only needed to filter
   for (Reducer* r : observers_) r->forget(victim.id);
+  if (negative_) negative_->forget(victim.id);
   return e;
+}
+
+Eviction BudgetManager::dropDistrusted(Backend& backend, const std::vector<LandmarkView>& landmarks,
+                                       LandmarkId id, StepIndex step) {
+  Eviction e;
+  e.step = step;
+  e.id = id;
+  e.reducer = active_->name();
+  e.score = negative_->records().at(id).misses;  // the misses that condemned it
+  e.n_before = backend.landmarkCount();
+  const auto it = std::find_if(landmarks.begin(), landmarks.end(),
+                               [&](const LandmarkView& l) { return l.id == id; });
+  if (it != landmarks.end()) e.mean = it->mean;
+  e.reason = "negative_evidence";
+  backend.removeLandmark(id);
+  e.n_after = backend.landmarkCount();
+  if (!options_.readmit_evicted) evicted_.insert(id);
+  for (Reducer* r : observers_) r->forget(id);
+  negative_->forget(id);
+  return e;
+}
+
+std::vector<Eviction> BudgetManager::weighNegativeEvidence(Backend& backend, StepIndex step,
+                                                           const Step* processed) {
+  std::vector<Eviction> out;
+  if (!negative_ || !processed || !processed->scan) return out;
+  const auto& scan = *processed->scan;
+  SensorView sensor;
+  sensor.pose_on_robot = mrpt::math::TPose2D(
+      scan.sensor_pose_on_robot.x, scan.sensor_pose_on_robot.y, scan.sensor_pose_on_robot.yaw);
+  sensor.min_range = scan.min_range;
+  sensor.max_range = scan.max_range;
+  sensor.fov = scan.fov_yaw;
+  const std::vector<LandmarkView> landmarks = backend.landmarks();
+  negative_->update(step, backend.robotPose().mean, sensor, landmarks, backend.observedAt(step));
+  if (options_.negative_evidence != BudgetOptions::NegativeEvidenceMode::Always) return out;
+  for (const LandmarkId id : negative_->distrusted()) {
+    if (stopBetweenDrops(out)) break;
+    if (out.empty() && before_drop_event_) before_drop_event_(backend, step);
+    out.push_back(dropDistrusted(backend, landmarks, id, step));
+  }
+  return out;
 }
 
 void BudgetManager::tellObservations(const Backend& backend, StepIndex step, const Step* processed,
@@ -258,7 +310,8 @@ std::vector<Eviction> BudgetManager::enforceAt(Backend& backend, StepIndex step,
   std::vector<Eviction> out;
   if (!active_) return out;
   tellObservations(backend, step, processed, raw);
-  out = runScheduled(backend, step, false);
+  out = weighNegativeEvidence(backend, step, processed);
+  for (auto& e : runScheduled(backend, step, false)) out.push_back(std::move(e));
   const bool compete = options_.admission == BudgetOptions::Admission::Compete;
   bool event_started = false;
   std::vector<LandmarkId> newcomers;  // compete: those that entered at this step
@@ -272,6 +325,14 @@ std::vector<Eviction> BudgetManager::enforceAt(Backend& backend, StepIndex step,
       for (const auto& l : landmarks)
         if (l.first_step == step) newcomers.push_back(l.id);
     event_started = true;
+    // Over the cap, a distrusted landmark goes before the reducer is asked (negative evidence).
+    if (negative_) {
+      const auto distrusted = negative_->distrusted();
+      if (!distrusted.empty()) {
+        out.push_back(dropDistrusted(backend, landmarks, distrusted.front(), step));
+        continue;
+      }
+    }
     bool all_protected = false;
     const auto candidates = dropCandidates(landmarks, step, options_, &all_protected);
     const DropContext ctx{backend, landmarks, candidates, step};

@@ -19,6 +19,12 @@ const EnumNames<BudgetOptions::Admission>& admissionNames() {
   return n;
 }
 
+const EnumNames<BudgetOptions::NegativeEvidenceMode>& negativeEvidenceNames() {
+  using M = BudgetOptions::NegativeEvidenceMode;
+  static const EnumNames<M> n = {{"off", M::Off}, {"over_cap", M::OverCap}, {"always", M::Always}};
+  return n;
+}
+
 /// `max_landmarks`: a count >= 1, or `none` for no cap.
 OptionKey<BudgetOptions> capKey() {
   return {"max_landmarks",
@@ -55,6 +61,12 @@ const OptionTable<BudgetOptions>& BudgetOptions::table() {
       option::list("shadow_reducers", &O::shadow_reducers, "comma-separated registry names"),
       option::integer("seed", &O::seed, 0),
       option::flag("dump_states", &O::dump_states),
+      option::choice("negative_evidence", &O::negative_evidence, negativeEvidenceNames()),
+      option::integer("misses_to_distrust", &O::misses_to_distrust, 1, 1000000, "[passes]"),
+      option::integer("miss_min_view_steps", &O::miss_min_view_steps, 1, 1000000, "[steps]"),
+      option::real("viewpoint_cell", &O::viewpoint_cell, 1e-3, 1e6, "[m]"),
+      option::real("view_margin_range", &O::view_margin_range, 0, 1e6, "[m]"),
+      option::real("view_margin_deg", &O::view_margin_deg, 0, 180, "[deg]"),
   };
   return t;
 }
@@ -62,6 +74,10 @@ const OptionTable<BudgetOptions>& BudgetOptions::table() {
 std::string BudgetOptions::toString(Protect p) { return nameOf(protectNames(), p); }
 
 std::string BudgetOptions::toString(Admission a) { return nameOf(admissionNames(), a); }
+
+std::string BudgetOptions::toString(NegativeEvidenceMode m) {
+  return nameOf(negativeEvidenceNames(), m);
+}
 
 std::string BudgetOptions::capText(const std::optional<std::size_t>& cap) {
   return cap ? std::to_string(*cap) : "none";

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
+#include <stdexcept>
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
@@ -27,12 +28,18 @@ void writeTrajectoryTum(const std::string& path, const std::vector<TrajectoryPoi
   writeFileAtomically(path, text);
 }
 
-void writeLandmarksCsv(const std::string& path, const std::vector<LandmarkView>& landmarks) {
+void writeLandmarksCsv(const std::string& path, const std::vector<LandmarkView>& landmarks,
+                       const std::vector<LandmarkConfirmation>& confirmations) {
+  if (!confirmations.empty() && confirmations.size() != landmarks.size())
+    throw std::logic_error("writeLandmarksCsv: one confirmation a landmark");
   CsvWriter csv(path,
                 {"id", "x", "y", "cov_xx", "cov_xy", "cov_yy", "n_obs", "obs_mean_x", "obs_mean_y",
-                 "first_step", "last_step"},
+                 "first_step", "last_step", "last_confirmed_step", "misses"},
                 CsvWriter::Mode::WholeFile);
-  for (const auto& l : landmarks) {
+  for (std::size_t i = 0; i < landmarks.size(); ++i) {
+    const LandmarkView& l = landmarks[i];
+    const LandmarkConfirmation c =
+        confirmations.empty() ? LandmarkConfirmation{l.last_step, 0} : confirmations[i];
     if (!l.mean.allFinite() || !l.cov.allFinite() || !l.obs_mean.allFinite())
       throw Error("cannot write '" + path + "': landmark " + std::to_string(l.id) +
                   " has a non-finite estimate");
@@ -46,7 +53,9 @@ void writeLandmarksCsv(const std::string& path, const std::vector<LandmarkView>&
         .cell(l.obs_mean.x())
         .cell(l.obs_mean.y())
         .cell(l.first_step)
-        .cell(l.last_step);
+        .cell(l.last_step)
+        .cell(c.last_confirmed_step)
+        .cell(c.misses);
     csv.endRow();
   }
   csv.close();

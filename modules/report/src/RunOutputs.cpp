@@ -124,8 +124,9 @@ RunOutputs::EndFilesResult RunOutputs::writeEndFiles(const RunEndFiles& files) {
   attempt("evictions.csv", [&] { evictions_csv_.close(); });
   attempt("trajectory.tum",
           [&] { writeTrajectoryTum(folder_.file("trajectory.tum"), files.trajectory); });
-  attempt("landmarks.csv",
-          [&] { writeLandmarksCsv(folder_.file("landmarks.csv"), files.landmarks); });
+  attempt("landmarks.csv", [&] {
+    writeLandmarksCsv(folder_.file("landmarks.csv"), files.landmarks, files.confirmations);
+  });
   // One map content (its k-means included) for both pictures of the final map.
   std::optional<MapContent> map;
   const auto finalMap = [&]() -> const MapContent& {

@@ -14,6 +14,7 @@
 #include "budget_slam/core/Error.h"
 #include "budget_slam/dataset/DatasetFiles.h"
 #include "budget_slam/dataset/RawlogWriter.h"
+#include "budget_slam/dataset/Sessions.h"
 #include "budget_slam/dataset/SidecarIni.h"
 #include "budget_slam/dataset/StepToMrpt.h"
 
@@ -37,6 +38,7 @@ std::string num(double v) {
 struct Simulator::Impl {
   SimulationOptions options;
   sim::Scenario scenario;
+  EpochSchedule epochs;
   SensorNoise noise;
   double odo_std_xy = 0, odo_std_yaw = 0;
   GroundTruth gt;
@@ -44,18 +46,29 @@ struct Simulator::Impl {
   double length = 0;
 };
 
-Simulator::Simulator(const SimulationOptions& options) : impl_(std::make_unique<Impl>()) {
+Simulator::Simulator(const SimulationOptions& options)
+    : Simulator(options,
+                sim::makeScenario(options.scenario, options.seed, options.laps, options.route),
+                EpochSchedule()) {}
+
+Simulator::Simulator(const SimulationOptions& options, const sim::Scenario& scenario,
+                     const EpochSchedule& epochs)
+    : impl_(std::make_unique<Impl>()) {
   auto& m = *impl_;
   m.options = options;
   if (!(options.dt > 0)) throw ConfigError("dt must be positive");
-  m.scenario = sim::makeScenario(options.scenario, options.seed, options.laps, options.route);
+  m.scenario = scenario;
+  m.epochs = epochs;
   m.noise = m.scenario.sensor;
   if (options.sensor_std_range >= 0) m.noise.std_range = options.sensor_std_range;
   if (options.sensor_std_yaw_deg >= 0) m.noise.std_yaw = options.sensor_std_yaw_deg * kDeg;
   m.odo_std_xy = options.odo_std_xy >= 0 ? options.odo_std_xy : m.scenario.odo_std_xy;
   m.odo_std_yaw =
       options.odo_std_yaw_deg >= 0 ? options.odo_std_yaw_deg * kDeg : m.scenario.odo_std_yaw;
-  for (const auto& l : m.scenario.world.landmarks) m.gt.landmarks[l.id] = l.p;
+  // A session of a changing world: the landmarks of its epoch; else every landmark that ever is.
+  for (const auto& l : m.scenario.world.landmarks)
+    if (epochs.fixed < 0 || (l.first_lap <= epochs.fixed && epochs.fixed <= l.last_lap))
+      m.gt.landmarks[l.id] = l.p;
 }
 
 Simulator::~Simulator() = default;
@@ -69,7 +82,9 @@ void Simulator::run(const std::function<void(const Step&)>& sink) {
   const auto& world = sc.world;
   // Its own stream for the noise, so that the world does not depend on the noise settings; the
   // revisit route has another one (the same world, other noise).
-  const std::uint64_t stream = m.options.route == SimulationOptions::Route::Revisit ? 2 : 1;
+  const std::uint64_t stream = m.epochs.noise_stream
+                                   ? m.epochs.noise_stream
+                                   : (m.options.route == SimulationOptions::Route::Revisit ? 2 : 1);
   sim::Random rng(m.options.seed * 0x9E3779B97F4A7C15ULL + stream);
   const CPose2D sensor_on_robot(m.noise.sensor_pose_on_robot.x, m.noise.sensor_pose_on_robot.y,
                                 m.noise.sensor_pose_on_robot.yaw);
@@ -108,7 +123,8 @@ void Simulator::run(const std::function<void(const Step&)>& sink) {
         world.regions.empty() ? -1 : world.regionOf(Eigen::Vector2d(pose.x(), pose.y()));
     for (const auto i : world.near(sp, m.noise.max_range)) {
       const auto& l = world.landmarks[i];
-      if (lap < l.first_lap || lap > l.last_lap) continue;
+      const int epoch = m.epochs.epochOf(lap);
+      if (epoch < l.first_lap || epoch > l.last_lap) continue;
       if (l.region >= 0 && l.region != region) continue;
       const Eigen::Vector2d d = l.p - sp;
       const double range = d.norm();
@@ -191,6 +207,7 @@ ConvertedDataset simulate(const SimulationOptions& options) {
 std::size_t simulateToFiles(const SimulationOptions& options, const std::string& rawlog,
                             bool force) {
   checkRawlogName(rawlog);
+  checkNotForeign(rawlog);
   Simulator sim(options);
   RawlogWriter writer(rawlog);
   sim.run([&](const Step& s) {

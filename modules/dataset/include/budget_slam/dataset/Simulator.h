@@ -14,6 +14,25 @@
 
 namespace budget_slam::dataset {
 
+namespace sim {
+struct Scenario;
+}
+
+/// Which landmarks of a world exist when (sim::Landmark::first_lap .. last_lap count epochs): by
+/// default the epoch is the lap (the lifelong scenario's changes between laps); a session of a
+/// changing world (Sessions.h) stays in one epoch, and a joined traversal of sessions moves to the
+/// next epoch every `laps_per_epoch` laps.
+struct EpochSchedule {
+  int fixed = -1;          ///< >= 0: every lap is in this epoch
+  int laps_per_epoch = 0;  ///< > 0: epoch = lap / laps_per_epoch (when fixed < 0)
+  /// Noise stream of the run: 0 = the route's (default 1, revisit 2); sessions after the first
+  /// take their own so that no two sessions share noise.
+  std::uint64_t noise_stream = 0;
+  int epochOf(int lap) const {
+    return fixed >= 0 ? fixed : laps_per_epoch > 0 ? lap / laps_per_epoch : lap;
+  }
+};
+
 /// Options of the scenario simulator (budget-simulate), MRPT's CLoadableOptions pattern with every
 /// key defined once in table() (loading, the dump and keys() follow from it). Noise values below
 /// 0 mean "the scenario's default" (docs/DATASETS.md lists them).
@@ -57,6 +76,10 @@ class Simulator {
  public:
   /// ConfigError for a bad option (a revisit route the scenario does not have, dt <= 0).
   explicit Simulator(const SimulationOptions& options);
+  /// Drives `scenario` (made by makeScenario with `options`, then changed: Sessions.cpp) under
+  /// `epochs`.
+  Simulator(const SimulationOptions& options, const sim::Scenario& scenario,
+            const EpochSchedule& epochs);
   ~Simulator();
 
   /// Simulates every step, handing each to `sink` (streaming: lifelong runs are long). The

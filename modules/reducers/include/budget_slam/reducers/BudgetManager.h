@@ -8,6 +8,7 @@
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/core/Reducer.h"
 #include "budget_slam/reducers/BudgetOptions.h"
+#include "budget_slam/reducers/NegativeEvidence.h"
 #include "budget_slam/reducers/RefusalMemory.h"
 #include "budget_slam/session/SessionStateOwner.h"
 
@@ -108,6 +109,10 @@ class BudgetManager : public session::SessionStateOwner {
   void saveSession(session::SessionState& state) const override;
   /// The same back. Agreement counts and shadow failures are per session (summary.json).
   void restoreSession(const session::SessionState& state) override;
+  /// The negative-evidence record of every kept landmark (its misses and last confirmation; a
+  /// session saves it), null when [LandmarkBudget] negative_evidence = off or no reducer is active.
+  const NegativeEvidence* negativeEvidence() const { return negative_.get(); }
+  NegativeEvidence* negativeEvidence() { return negative_.get(); }
 
   /// Agreement of every pair among the active and shadow reducers.
   std::vector<Agreement> agreements() const;
@@ -139,6 +144,16 @@ class BudgetManager : public session::SessionStateOwner {
   RefusalMemory refusals_;
   std::vector<Reducer*> observers_;  ///< the active and shadow reducers that want observations
   std::vector<ShadowFailures> shadow_failures_;  ///< one a shadow, in shadow order
+  std::unique_ptr<NegativeEvidence> negative_;   ///< null when negative_evidence = off
+
+  /// Updates the negative evidence with the step (a step with readings), then, in mode always,
+  /// drops every distrusted landmark (reason negative_evidence).
+  std::vector<Eviction> weighNegativeEvidence(Backend& backend, StepIndex step,
+                                              const Step* processed);
+  /// Removes `id` (of `landmarks`) for the negative evidence against it, without asking any
+  /// reducer or shadow.
+  Eviction dropDistrusted(Backend& backend, const std::vector<LandmarkView>& landmarks,
+                          LandmarkId id, StepIndex step);
 
   std::vector<Eviction> enforceAt(Backend& backend, StepIndex step, const Step* processed,
                                   const Step* raw = nullptr);

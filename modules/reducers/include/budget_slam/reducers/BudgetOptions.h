@@ -26,6 +26,14 @@ struct BudgetOptions : public TabledOptions<BudgetOptions> {
               ///< reducer would rather drop a kept landmark; refused ids wait before a retry
   };
 
+  /// What the budget does with a landmark it distrusts: one missed in view, pass after pass
+  /// (NegativeEvidence.h; docs/ALGORITHMS.md "Negative evidence").
+  enum class NegativeEvidenceMode {
+    Off,      ///< off: no record, no effect
+    OverCap,  ///< over_cap: over the cap, a distrusted landmark goes before the reducer is asked
+    Always,   ///< always: a distrusted landmark goes at once, under the cap too
+  };
+
   std::string reducer = "none";  ///< active reducer by registry name; none = no cap
   /// The cap: landmarks in the map after every step, >= 1 [landmarks]. Empty (ini and --cap:
   /// `none`) = unbounded, valid only for reducer `none` and for reducers that decide the map's
@@ -43,6 +51,15 @@ struct BudgetOptions : public TabledOptions<BudgetOptions> {
   std::vector<std::string> shadow_reducers;  ///< asked at every drop, only logged
   std::uint64_t seed = 1;                    ///< seed of every randomized reducer
   bool dump_states = false;                  ///< write states/step_<k>.txt before each drop event
+  NegativeEvidenceMode negative_evidence = NegativeEvidenceMode::Off;  ///< off | over_cap | always
+  std::size_t misses_to_distrust = 2;   ///< K: passes through view without a sighting that make a
+                                        ///< landmark distrusted [passes], >= 1
+  std::size_t miss_min_view_steps = 2;  ///< steps of a pass in view without a sighting that make
+                                        ///< the pass a miss [steps], >= 1
+  double viewpoint_cell = 0.5;     ///< side of the place cells a landmark is expected from [m], > 0
+  double view_margin_range = 0.5;  ///< a landmark is in view this far inside the sensor's range
+                                   ///< limits [m], >= 0
+  double view_margin_deg = 5;      ///< ... and this far inside its field of view's edges [deg]
 
   /// Every key: name, field, check and unit (the defaults are the initializers above).
   static const OptionTable<BudgetOptions>& table();
@@ -51,6 +68,7 @@ struct BudgetOptions : public TabledOptions<BudgetOptions> {
 
   static std::string toString(Protect p);
   static std::string toString(Admission a);
+  static std::string toString(NegativeEvidenceMode m);
 };
 
 }  // namespace budget_slam::reducers

@@ -13,10 +13,19 @@ namespace budget_slam::report {
 /// Written atomically (FileWrite.h); a non-finite pose is an Error, never written.
 void writeTrajectoryTum(const std::string& path, const std::vector<TrajectoryPoint>& trajectory);
 
+/// When a landmark was last confirmed and the passes through its view it has missed since
+/// (the budget's negative evidence, reducers/NegativeEvidence.h).
+struct LandmarkConfirmation {
+  StepIndex last_confirmed_step = 0;
+  std::size_t misses = 0;
+};
+
 /// landmarks.csv: id, x, y, cov_xx, cov_xy, cov_yy, n_obs, obs_mean_x, obs_mean_y, first_step,
-/// last_step — one row a landmark in the final map. Written atomically; a landmark with a
-/// non-finite mean or covariance is an Error.
-void writeLandmarksCsv(const std::string& path, const std::vector<LandmarkView>& landmarks);
+/// last_step, last_confirmed_step, misses — one row a landmark in the final map. `confirmations`
+/// holds one entry a landmark, in the same order; empty: last_step and 0 for every landmark.
+/// Written atomically; a landmark with a non-finite mean or covariance is an Error.
+void writeLandmarksCsv(const std::string& path, const std::vector<LandmarkView>& landmarks,
+                       const std::vector<LandmarkConfirmation>& confirmations = {});
 
 /// summary.json, pretty-printed, written atomically (temporary file, fsync, rename) so that a
 /// reader never sees half a file; bytes of strings that are not UTF-8 are written as U+FFFD, so

@@ -14,6 +14,7 @@
 #include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/report/OutputFolder.h"
 #include "budget_slam/report/Pictures.h"
+#include "budget_slam/report/RunFiles.h"
 
 namespace budget_slam::report {
 
@@ -52,6 +53,8 @@ struct EvictionRow {
 struct RunEndFiles {
   std::vector<TrajectoryPoint> trajectory;
   std::vector<LandmarkView> landmarks;
+  /// landmarks.csv's last two columns, one a landmark (writeLandmarksCsv); empty: from last_step.
+  std::vector<LandmarkConfirmation> confirmations;
   /// What the map figure and map.3Dscene show; called at most once (the k-means it runs is not
   /// cheap).
   std::function<MapContent()> map;
