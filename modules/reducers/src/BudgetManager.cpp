@@ -366,6 +366,73 @@ std::vector<Eviction> BudgetManager::finish(Backend& backend, StepIndex last_ste
 
 std::vector<Agreement> BudgetManager::agreements() const { return agreements_; }
 
+namespace {
+
+/// Section `negative_evidence`: every kept landmark's confirmation record (docs/ALGORITHMS.md
+/// "Negative evidence"), one entry a landmark in id order; the viewpoint cells of all landmarks
+/// one after another, `viewpoint_counts` saying how many are whose.
+void saveNegativeEvidence(const NegativeEvidence& ne, session::SessionSection& s) {
+  std::vector<std::int64_t> ids, confirmed, misses, in_pass, counted, unseen, counts, cells;
+  for (const auto& [id, r] : ne.records()) {
+    ids.push_back(id);
+    confirmed.push_back(static_cast<std::int64_t>(r.last_confirmed_step));
+    misses.push_back(r.misses);
+    in_pass.push_back(r.in_pass ? 1 : 0);
+    counted.push_back(r.counted ? 1 : 0);
+    unseen.push_back(r.pass_unseen);
+    counts.push_back(static_cast<std::int64_t>(r.viewpoints.size()));
+    cells.insert(cells.end(), r.viewpoints.begin(), r.viewpoints.end());
+  }
+  s.putIntegers("ids", std::move(ids));
+  s.putIntegers("last_confirmed_step", std::move(confirmed));
+  s.putIntegers("misses", std::move(misses));
+  s.putIntegers("in_pass", std::move(in_pass));
+  s.putIntegers("counted", std::move(counted));
+  s.putIntegers("pass_unseen", std::move(unseen));
+  s.putIntegers("viewpoint_counts", std::move(counts));
+  s.putIntegers("viewpoints", std::move(cells));
+}
+
+void restoreNegativeEvidence(const session::SessionSection& s, NegativeEvidence& ne) {
+  constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();
+  constexpr std::int64_t kMax32 = std::numeric_limits<std::uint32_t>::max();
+  const auto& ids = s.integers("ids");
+  const std::size_t n = ids.size();
+  const auto& confirmed = s.integers("last_confirmed_step", n, 0, kMax);
+  const auto& misses = s.integers("misses", n, 0, kMax32);
+  const auto& in_pass = s.integers("in_pass", n, 0, 1);
+  const auto& counted = s.integers("counted", n, 0, 1);
+  const auto& unseen = s.integers("pass_unseen", n, 0, kMax32);
+  const auto max_cells = static_cast<std::int64_t>(ne.settings().max_viewpoints);
+  const auto& counts = s.integers("viewpoint_counts", n, 0, max_cells);
+  std::size_t total = 0;
+  for (const auto c : counts) total += static_cast<std::size_t>(c);
+  const auto& cells =
+      s.integers("viewpoints", total, std::numeric_limits<std::int64_t>::min(), kMax);
+  std::map<LandmarkId, ConfirmationRecord> records;
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (ids[i] < 0) s.fail("ids", "negative landmark id " + std::to_string(ids[i]));
+    if (i > 0 && ids[i] <= ids[i - 1]) s.fail("ids", "not in increasing order");
+    ConfirmationRecord r;
+    r.last_confirmed_step = static_cast<StepIndex>(confirmed[i]);
+    r.misses = static_cast<std::uint32_t>(misses[i]);
+    r.in_pass = in_pass[i] == 1;
+    r.counted = counted[i] == 1;
+    r.pass_unseen = static_cast<std::uint32_t>(unseen[i]);
+    const auto c = static_cast<std::size_t>(counts[i]);
+    r.viewpoints.assign(cells.begin() + static_cast<std::ptrdiff_t>(next),
+                        cells.begin() + static_cast<std::ptrdiff_t>(next + c));
+    if (!std::is_sorted(r.viewpoints.begin(), r.viewpoints.end()))
+      s.fail("viewpoints", "cells of landmark " + std::to_string(ids[i]) + " not sorted");
+    next += c;
+    records.emplace(ids[i], std::move(r));
+  }
+  ne.restore(std::move(records));
+}
+
+}  // namespace
+
 void BudgetManager::saveSession(session::SessionState& state) const {
   session::SessionSection& b = state.section("budget");
   b.putIntegers("evicted_ids", std::vector<std::int64_t>(evicted_.begin(), evicted_.end()));
@@ -382,6 +449,7 @@ void BudgetManager::saveSession(session::SessionState& state) const {
   b.putIntegers("refused_at", std::move(at));
   b.putIntegers("retry_at", std::move(retry));
   b.putIntegers("refusals", std::move(count));
+  if (negative_) saveNegativeEvidence(*negative_, state.section("negative_evidence"));
   // One section a reducer name: a shadow of the active reducer's own name sees the same steps
   // and decisions, so its memory is the active one's (mi's schedule runs only when active).
   std::set<std::string> saved;
@@ -421,6 +489,9 @@ void BudgetManager::restoreSession(const session::SessionState& state) {
                        static_cast<std::uint32_t>(count[i])});
   }
   refusals_.restore(records);
+  if (negative_)
+    if (const auto* n = state.takeIfPresent("negative_evidence"))
+      restoreNegativeEvidence(*n, *negative_);
   if (auto* o = session::sessionOwner(active_.get())) o->restoreSession(state);
   for (const auto& s : shadows_)
     if (auto* o = session::sessionOwner(s.get())) o->restoreSession(state);  // saved once a name

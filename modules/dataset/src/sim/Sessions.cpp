@@ -11,6 +11,7 @@
 
 #include "Random.h"
 #include "Scenario.h"
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
 #include "budget_slam/dataset/DatasetFiles.h"
@@ -186,13 +187,18 @@ std::size_t writeOne(const SimulationOptions& options, const sim::Scenario& scen
                      const std::vector<std::string>& extra_notes) {
   Simulator sim(options, scenario, epochs);
   RawlogWriter writer(rawlog);
-  sim.run([&](const Step& s) { writer.write(s); });
-  writer.close();
-  saveGroundTruthLandmarks(groundTruthLandmarksPathFor(rawlog), truth);
-  saveGroundTruthPath(groundTruthRobotPathFor(rawlog), sim.groundTruth().path);
+  sim.run([&](const Step& s) {
+    Cancellation::check();
+    writer.write(s);
+  });
+  GroundTruth session_truth;
+  session_truth.landmarks = truth;
+  session_truth.path = sim.groundTruth().path;
   std::vector<std::string> notes = sim.notes();
   notes.insert(notes.begin() + 1, extra_notes.begin(), extra_notes.end());
-  writeSidecarIni(sidecarIniPathFor(rawlog), sim.noise(), notes);
+  // Every target was checked to be ours or free before the first session (checkNotForeign); one
+  // of ours from an earlier series is kept as a numbered backup, never replaced.
+  saveDatasetFiles(writer, session_truth, sim.noise(), notes, /*force=*/true);
   return writer.stepsWritten();
 }
 

@@ -207,7 +207,6 @@ ConvertedDataset simulate(const SimulationOptions& options) {
 std::size_t simulateToFiles(const SimulationOptions& options, const std::string& rawlog,
                             bool force) {
   checkRawlogName(rawlog);
-  checkNotForeign(rawlog);
   Simulator sim(options);
   RawlogWriter writer(rawlog);
   sim.run([&](const Step& s) {
