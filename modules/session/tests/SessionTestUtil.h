@@ -8,6 +8,7 @@
 #include <random>
 #include <string>
 
+#include "TempFiles.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/session/SessionState.h"
 #include "budget_slam/session/SessionStateFile.h"
@@ -101,13 +102,6 @@ inline std::string readError(const std::string& bytes, const SessionLimits& limi
   return "no error";
 }
 
-inline std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using budget_slam::test::errorOf;  // the Error a call throws (core's test helpers)
 
 }  // namespace budget_slam::session::test
