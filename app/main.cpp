@@ -5,6 +5,7 @@
 #include "ProcessProbes.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/HeapRelease.h"
 #include "budget_slam/core/StopSignals.h"
 #include "budget_slam/core/Text.h"
 
@@ -12,6 +13,7 @@ int main(int argc, char** argv) {
   // For the life of the process: a signal during start-up or exit ends it like one during a run.
   const budget_slam::StopSignals signals(false);
   budget_slam::app::fitMallocToAddressSpaceLimit();
+  budget_slam::holdMemoryReserve(std::size_t{16} << 20);  // for ending well when memory runs out
   budget_slam::app::BudgetSlamApp app;
   try {
     app.initialize(argc, argv);

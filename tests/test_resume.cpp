@@ -198,7 +198,9 @@ TEST(Resume, SplitStaysNearOneShotGraph) {
 class ResumeRefused : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir = freshDir("resume_refused");
+    // A folder a test: ctest runs the tests of this fixture at the same time.
+    dir = freshDir(std::string("resume_refused_") +
+                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
     const auto a = runApp(plus(runArgs(s, dir / "a"), {"--max-steps", "40"}));
     ASSERT_EQ(a.exit_code, 0) << a.err;
     state = dir / "a" / "session_state.txt";

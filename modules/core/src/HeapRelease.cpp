@@ -1,5 +1,7 @@
 #include "budget_slam/core/HeapRelease.h"
 
+#include <atomic>
+#include <new>
 #include <utility>
 
 #if defined(__GLIBC__)
@@ -17,6 +19,17 @@ bool releaseFreeHeapPages() {
   return false;
 #endif
 }
+
+namespace {
+std::atomic<char*> reserve{nullptr};
+}  // namespace
+
+void holdMemoryReserve(std::size_t bytes) {
+  char* block = new (std::nothrow) char[bytes];  // none: no reserve, nothing else changes
+  delete[] reserve.exchange(block);
+}
+
+void releaseMemoryReserve() noexcept { delete[] reserve.exchange(nullptr); }
 
 HeapRelease::HeapRelease(std::size_t every_steps, std::function<bool()> release)
     : every_steps_(every_steps), release_(std::move(release)) {}

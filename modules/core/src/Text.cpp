@@ -4,6 +4,7 @@
 #include <new>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/HeapRelease.h"
 
 namespace budget_slam {
 namespace {
@@ -129,10 +130,19 @@ std::string exceptionLine(std::string_view what) {
 std::string exceptionLine(const std::exception& e) { return exceptionLine(e.what()); }
 
 std::string failureLine(const std::exception& e) {
-  if (dynamic_cast<const Error*>(&e)) return exceptionLine(e);
-  if (dynamic_cast<const std::bad_alloc*>(&e))
-    return "out of memory (" + exceptionLine(e) + "; an address-space limit, ulimit -v?)";
-  return "internal error: " + exceptionLine(e);
+  // Called in catch handlers, often of an allocation that failed: the line itself may not fit in
+  // memory either, and a throw from a worker thread's handler would end the process. "out of
+  // memory" fits std::string's inline buffer (15 characters), so returning it allocates nothing.
+  try {
+    if (dynamic_cast<const Error*>(&e)) return exceptionLine(e);
+    if (dynamic_cast<const std::bad_alloc*>(&e)) {
+      releaseMemoryReserve();  // what follows this line (summary.json) runs in the reserve
+      return "out of memory (" + exceptionLine(e) + "; an address-space limit, ulimit -v?)";
+    }
+    return "internal error: " + exceptionLine(e);
+  } catch (const std::bad_alloc&) {
+    return "out of memory";
+  }
 }
 
 std::string withAlso(const std::string& why, const std::string& also) {

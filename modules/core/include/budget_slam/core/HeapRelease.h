@@ -15,6 +15,15 @@ namespace budget_slam {
 /// stays at 10 MiB while the heap's resident size keeps growing (docs/RESULTS.md).
 bool releaseFreeHeapPages();
 
+/// Sets `bytes` of address space aside (allocated, never touched: no resident memory) until
+/// releaseMemoryReserve(). Why: under an address-space limit (ulimit -v) the allocation that
+/// fails is followed by the work of ending well (the one line, summary.json), which allocates
+/// too; the reserve is what that work runs in. Called once by the executables' main().
+void holdMemoryReserve(std::size_t bytes);
+/// Frees the reserve (once; later calls do nothing). failureLine() calls it for a
+/// std::bad_alloc. Safe from any thread.
+void releaseMemoryReserve() noexcept;
+
 /// Releases the heap's free pages (releaseFreeHeapPages) once every `every_steps` steps, so
 /// that the resident memory of a run is its live memory plus the holes reused within that many
 /// steps and the partly used pages around free chunks, however long the run. The heap's address

@@ -26,7 +26,8 @@ std::string exceptionLine(std::string_view what);
 
 /// The one line a program ends with for an exception that escaped its work: an Error's own text
 /// (it names the file, step or key), "out of memory (...)" for std::bad_alloc (an address-space
-/// limit, ulimit -v), "internal error: <exceptionLine>" for anything else (a bug).
+/// limit, ulimit -v; just "out of memory" when even the line cannot be made), "internal error:
+/// <exceptionLine>" for anything else (a bug). Throws nothing.
 std::string failureLine(const std::exception& e);
 
 /// `why`, and `also` after it ("why; also") when `also` says something more: the one line that
