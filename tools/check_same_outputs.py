@@ -1,71 +1,328 @@
 #!/usr/bin/python3
-"""Check that two `budget-slam compare` folders hold the same results.
+"""Check that two budget-slam binaries write the same outputs on every shipped rawlog.
 
-    tools/check_same_outputs.py BEFORE_DIR AFTER_DIR
+    tools/check_same_outputs.py --before BUILD_DIR_OR_BIN --after BUILD_DIR_OR_BIN
+        [--out DIR] [--rawlogs NAME,...] [--commands run,compare-ekf,compare-graph,localize]
+        [--quick] [-j N] [--max-steps N] [--source DIR]
 
-Compares comparison.csv and, for every run folder listed in it, landmarks.csv and steps.csv,
-byte for byte after dropping the columns that measure the machine rather than the estimate
-(wall and CPU time, resident memory). A refactoring that must not change behaviour passes this
-check on every shipped rawlog. Exit code 0 when everything matches, 1 with one line per
-difference otherwise, 2 on bad arguments or a missing file.
+For every rawlog of `rawlogs/*.rawlog` (its sidecar `.ini` and ground truth are found by
+budget-slam itself) both binaries run the same command lines, from the source tree, into
+`OUT/before/<rawlog>/<command>/` and `OUT/after/<rawlog>/<command>/`:
+
+    run            budget-slam run -c config.ini -i rawlogs/R.rawlog -o DIR
+    compare-ekf    budget-slam compare -c config.ini -i rawlogs/R.rawlog --backend ekf -o DIR
+    compare-graph  budget-slam compare -c config.ini -i rawlogs/R.rawlog --backend graph -o DIR
+    localize       budget-slam localize -c config.ini --map RUN_DIR -i rawlogs/R.rawlog -o DIR
+                   (+ --reference-trajectory RUN_DIR/trajectory.tum without ground truth)
+
+Then every file both sides wrote, each command's stdout and stderr and its exit code are
+compared byte for byte after NORMALIZATION (below): the fields that differ between two runs of
+one binary (timings, memory, the output folder's own path, progress lines), found by running one
+binary twice. Exit 0 and "N files identical over M command lines" when everything matches; 1
+with one line a differing file (its path, the first differing line, key or column); 2 on a bad
+command line or a binary that cannot be run. docs/ARCHITECTURE.md, "Checking that a refactoring
+changes no output".
 """
+import argparse
+import concurrent.futures
 import csv
 import io
+import json
 import os
+import re
+import shutil
+import subprocess
 import sys
+import tempfile
+import time
 
-# Columns whose values depend on the machine and its load, not on the run's arithmetic.
-MACHINE_COLUMNS = {"time_s", "step_ms", "step_cpu_ms", "rss_bytes"}
+HERE = os.path.dirname(os.path.abspath(__file__))
+SOURCE = os.path.dirname(HERE)
+COMMANDS = ["run", "compare-ekf", "compare-graph", "localize"]
+# --quick: every command on the rawlogs that take seconds each, and no rawlog's --max-steps cut.
+QUICK_RAWLOGS = ["kf-slam_demo", "paper_synthetic", "rooms", "mrclam7_robot1"]
+OUT_TOKEN = "<OUT>"
+NORMALIZED = "<normalized>"
+
+# ---- Normalization: exactly the fields that differ between two runs of the same binary. ----
+# CSV columns (by file name) that measure the machine, not the estimate.
+CSV_COLUMNS = {
+    "steps.csv": {"step_ms", "step_cpu_ms", "rss_bytes"},  # run, compare's runs, localize
+    "comparison.csv": {"time_s"},  # wall time of the SLAM steps
+}
+# Markdown table columns (by file name and header cell); compare prints comparison.md's tables on
+# stdout too.
+MD_COLUMNS = {"comparison.md": {"time (s)"}, "compare-ekf.stdout": {"time (s)"},
+              "compare-graph.stdout": {"time (s)"}}
+# summary.json keys (dotted paths from the top) whose values are timings or memory.
+JSON_KEYS = {"summary.json": ["timings"]}
+# Lines of stdout / stderr: progress reports (every [Report] progress_every_s seconds) are
+# dropped; the seconds of SLAM the closing line reports are replaced.
+PROGRESS_LINE = re.compile(r"^budget-slam: (run|compare|localize|reading|relocaliz\w*) .*\d+%")
+SECONDS_OF_SLAM = re.compile(r"\([0-9.]+ s of SLAM\)")
 
 
-def stripped(path):
-    """The CSV at `path` with the machine columns removed, as text."""
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+def norm_text(text, out_root):
+    """Every text file: the side's own output folder (an absolute path) becomes <OUT>."""
+    return text.replace(out_root, OUT_TOKEN)
+
+
+def norm_csv(text, columns):
+    rows = list(csv.reader(io.StringIO(text)))
     if not rows:
-        return ""
-    keep = [i for i, name in enumerate(rows[0]) if name not in MACHINE_COLUMNS]
+        return text
+    idx = {i for i, name in enumerate(rows[0]) if name in columns}
+    if not idx:
+        return text
     out = io.StringIO()
     w = csv.writer(out, lineterminator="\n")
-    for row in rows:
-        w.writerow([row[i] for i in keep if i < len(row)])
+    w.writerow(rows[0])
+    for row in rows[1:]:
+        w.writerow([NORMALIZED if i in idx else v for i, v in enumerate(row)])
     return out.getvalue()
 
 
+def norm_md(text, columns):
+    lines, cols = text.split("\n"), set()
+    for n, line in enumerate(lines):
+        if not line.startswith("|"):
+            cols = set()
+            continue
+        cells = line.split("|")
+        if not cols and n + 1 < len(lines) and lines[n + 1].startswith("|---"):
+            cols = {i for i, c in enumerate(cells) if c.strip() in columns}
+            continue
+        if cols and not line.startswith("|---"):
+            lines[n] = "|".join(NORMALIZED if i in cols else c for i, c in enumerate(cells))
+    return "\n".join(lines)
+
+
+def norm_json(text, keys):
+    try:
+        doc = json.loads(text)
+    except ValueError:
+        return text
+    for key in keys:
+        node, parts = doc, key.split(".")
+        for p in parts[:-1]:
+            node = node.get(p) if isinstance(node, dict) else None
+        if isinstance(node, dict) and parts[-1] in node:
+            node[parts[-1]] = NORMALIZED
+    return json.dumps(doc, indent=2, sort_keys=True) + "\n"
+
+
+def norm_stream(text):
+    lines = [SECONDS_OF_SLAM.sub("(<normalized> s of SLAM)", l) for l in text.split("\n")
+             if not PROGRESS_LINE.match(l)]
+    return "\n".join(lines)
+
+
+def normalized(path, rel, out_root):
+    """The file's content as compared: bytes for binary files, normalized text else."""
+    with open(path, "rb") as f:
+        data = f.read()
+    name = os.path.basename(rel)
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        return data
+    text = norm_text(text, out_root)
+    if name in CSV_COLUMNS:
+        text = norm_csv(text, CSV_COLUMNS[name])
+    if name in MD_COLUMNS:
+        text = norm_md(text, MD_COLUMNS[name])
+    if name in JSON_KEYS:
+        text = norm_json(text, JSON_KEYS[name])
+    if name.endswith((".stdout", ".stderr")):
+        text = norm_stream(text)
+    return text
+
+
 def first_difference(a, b):
-    for n, (la, lb) in enumerate(zip(a.splitlines(), b.splitlines()), start=1):
-        if la != lb:
-            return f"line {n}: {la!r} != {lb!r}"
-    return f"{len(a.splitlines())} lines != {len(b.splitlines())} lines"
+    """Where two normalized contents first differ, as a short phrase."""
+    if isinstance(a, bytes) or isinstance(b, bytes):
+        a = a if isinstance(a, bytes) else a.encode()
+        b = b if isinstance(b, bytes) else b.encode()
+        n = next((i for i, (x, y) in enumerate(zip(a, b)) if x != y), min(len(a), len(b)))
+        return f"byte {n} ({len(a)} bytes before, {len(b)} after)"
+    la, lb = a.split("\n"), b.split("\n")
+    for n, (x, y) in enumerate(zip(la, lb), start=1):
+        if x != y:
+            c = next((i for i, (p, q) in enumerate(zip(x, y)) if p != q), min(len(x), len(y)))
+            lo = max(0, c - 30)
+            return (f"line {n}{json_key_at(la, n)}: "
+                    f"{x[lo:c + 40]!r} != {y[lo:c + 40]!r}")
+    return f"{len(la)} lines before, {len(lb)} after"
 
 
-def run_folders(comparison_csv):
-    with open(comparison_csv, newline="") as f:
-        return [row["run"] for row in csv.DictReader(f)]
+def json_key_at(lines, n):
+    """The dotted key of line n of an indented JSON dump (norm_json's), else empty."""
+    path = []
+    for line in lines[:n]:
+        m = re.match(r'^( +)"([^"]*)":', line)
+        if m:
+            depth = len(m.group(1)) // 2
+            path = path[:depth - 1] + [m.group(2)]
+    if not path or not re.match(r'^ +"', lines[n - 1]):
+        return ""
+    return f" (key {'.'.join(path)})"
+
+
+# ---- The command lines. ----
+def has_ground_truth(source, stem):
+    return os.path.exists(os.path.join(source, "rawlogs", stem + "_ground_truth_robot_path.txt"))
+
+
+def command_line(binary, command, stem, side_dir, source, max_steps, extra):
+    rawlog = f"rawlogs/{stem}.rawlog"
+    out = os.path.join(side_dir, stem, command)
+    if command == "run":
+        args = ["run", "-c", "config.ini", "-i", rawlog, "-o", out]
+    elif command.startswith("compare-"):
+        args = ["compare", "-c", "config.ini", "-i", rawlog, "--backend",
+                command[len("compare-"):], "-o", out]
+    elif command == "localize":
+        run_dir = os.path.join(side_dir, stem, "run")
+        args = ["localize", "-c", "config.ini", "--map", run_dir, "-i", rawlog, "-o", out]
+        if not has_ground_truth(source, stem):
+            args += ["--reference-trajectory", os.path.join(run_dir, "trajectory.tum")]
+    else:
+        raise ValueError(command)
+    if max_steps:
+        args += ["--max-steps", str(max_steps)]
+    return [binary] + args + extra
+
+
+def run_one(cmd, log_base, source):
+    """Runs one command line (niced) with its stdout, stderr and exit code beside its folder."""
+    with open(log_base + ".stdout", "wb") as o, open(log_base + ".stderr", "wb") as e:
+        rc = subprocess.call(["nice", "-n", "10"] + cmd, cwd=source, stdout=o, stderr=e,
+                             stdin=subprocess.DEVNULL)
+    with open(log_base + ".exit", "w") as f:
+        f.write(f"{rc}\n")
+    return rc
+
+
+def jobs(sides, stems, commands, source, max_steps):
+    """Independent chains of command lines (localize follows its run)."""
+    chains = []
+    for side, (binary, side_dir, extra) in sides.items():
+        for stem in stems:
+            os.makedirs(os.path.join(side_dir, stem), exist_ok=True)
+            line = lambda c: command_line(binary, c, stem, side_dir, source, max_steps, extra)
+            for c in commands:
+                if c == "localize" and "run" in commands:
+                    continue
+                if c == "run":
+                    chain = [line("run")] + ([line("localize")] if "localize" in commands else [])
+                    chains.append([(cmd, os.path.join(side_dir, stem, n))
+                                   for cmd, n in zip(chain, ["run", "localize"])])
+                else:
+                    chains.append([(line(c), os.path.join(side_dir, stem, c))])
+    return chains
+
+
+def all_files(root):
+    found = set()
+    for d, _, files in os.walk(root):
+        for f in files:
+            found.add(os.path.relpath(os.path.join(d, f), root))
+    return found
+
+
+def compare_trees(before, after):
+    """(number of files compared, [one line a differing file])."""
+    fa, fb = all_files(before), all_files(after)
+    lines = [f"{rel}: only before" for rel in sorted(fa - fb)]
+    lines += [f"{rel}: only after" for rel in sorted(fb - fa)]
+    for rel in sorted(fa & fb):
+        a = normalized(os.path.join(before, rel), rel, before)
+        b = normalized(os.path.join(after, rel), rel, after)
+        if a != b:
+            lines.append(f"{rel}: {first_difference(a, b)}")
+    return len(fa | fb), lines
+
+
+def binary_of(path):
+    p = os.path.join(path, "bin", "budget-slam") if os.path.isdir(path) else path
+    if not (os.path.isfile(p) and os.access(p, os.X_OK)):
+        raise ValueError(f"{path}: no budget-slam executable (a build folder or the binary)")
+    return os.path.abspath(p)
 
 
 def main(argv):
-    if len(argv) != 3:
-        print("usage: check_same_outputs.py BEFORE_DIR AFTER_DIR", file=sys.stderr)
-        return 2
-    before, after = argv[1], argv[2]
-    files = ["comparison.csv"]
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--before", required=True, help="build folder (its bin/budget-slam) or binary")
+    ap.add_argument("--after", required=True, help="build folder (its bin/budget-slam) or binary")
+    ap.add_argument("--out", help="a new or empty folder for both sides' outputs "
+                    "(default: a temporary one, removed when everything matches)")
+    ap.add_argument("--rawlogs", help="comma-separated rawlog names (default: every rawlogs/*.rawlog)")
+    ap.add_argument("--commands", default=",".join(COMMANDS),
+                    help="comma-separated, of " + ",".join(COMMANDS) + " (default: all)")
+    ap.add_argument("--quick", action="store_true",
+                    help="only the rawlogs " + ",".join(QUICK_RAWLOGS))
+    ap.add_argument("-j", "--jobs", type=int, default=2, help="command lines at once (default 2)")
+    ap.add_argument("--max-steps", type=int, default=0, help="--max-steps N for every command")
+    ap.add_argument("--source", default=SOURCE,
+                    help="tree holding config.ini and rawlogs/ (default: this tool's)")
+    ap.add_argument("--after-set", action="append", default=[], metavar="Section.key=value",
+                    help="an extra --set for the after side only: a change the check must catch "
+                    "(the checker's own test)")
+    a = ap.parse_args(argv[1:])
     try:
-        for run in run_folders(os.path.join(before, "comparison.csv")):
-            files += [os.path.join(run, "landmarks.csv"), os.path.join(run, "steps.csv")]
-        differences = []
-        for rel in files:
-            a = stripped(os.path.join(before, rel))
-            b = stripped(os.path.join(after, rel))
-            if a != b:
-                differences.append(f"{rel}: {first_difference(a, b)}")
-    except (OSError, KeyError) as e:
+        before_bin, after_bin = binary_of(a.before), binary_of(a.after)
+    except ValueError as e:
         print(f"check_same_outputs: {e}", file=sys.stderr)
         return 2
-    for d in differences:
+    source = os.path.abspath(a.source)
+    available = sorted(f[:-len(".rawlog")] for f in os.listdir(os.path.join(source, "rawlogs"))
+                       if f.endswith(".rawlog"))
+    stems = a.rawlogs.split(",") if a.rawlogs else (QUICK_RAWLOGS if a.quick else available)
+    commands = a.commands.split(",")
+    for bad in [s for s in stems if s not in available]:
+        print(f"check_same_outputs: --rawlogs: no rawlogs/{bad}.rawlog", file=sys.stderr)
+        return 2
+    for bad in [c for c in commands if c not in COMMANDS]:
+        print(f"check_same_outputs: --commands: unknown '{bad}' (one of {','.join(COMMANDS)})",
+              file=sys.stderr)
+        return 2
+    if "localize" in commands and "run" not in commands:
+        print("check_same_outputs: --commands: localize needs run (its map)", file=sys.stderr)
+        return 2
+    if a.out:
+        out = os.path.abspath(a.out)
+        if os.path.exists(out) and os.listdir(out):
+            print(f"check_same_outputs: --out {a.out}: not empty", file=sys.stderr)
+            return 2
+        os.makedirs(out, exist_ok=True)
+    else:
+        out = tempfile.mkdtemp(prefix="check_same_outputs.")
+    extra_after = [x for s in a.after_set for x in ("--set", s)]
+    sides = {"before": (before_bin, os.path.join(out, "before"), []),
+             "after": (after_bin, os.path.join(out, "after"), extra_after)}
+    start = time.monotonic()
+    chains = jobs(sides, stems, commands, source, a.max_steps)
+    n_lines = sum(len(c) for c in chains)
+
+    def run_chain(chain):
+        for cmd, base in chain:
+            run_one(cmd, base, source)
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
+        for f in [pool.submit(run_chain, c) for c in chains]:
+            f.result()
+    n_files, diffs = compare_trees(sides["before"][1], sides["after"][1])
+    elapsed = time.monotonic() - start
+    for d in diffs:
         print(d)
-    print(f"{len(files)} files compared, {len(differences)} differ")
-    return 1 if differences else 0
+    if diffs:
+        print(f"{len(diffs)} of {n_files} files differ over {n_lines // 2} command lines "
+              f"({elapsed:.0f} s); outputs in {out}")
+        return 1
+    print(f"{n_files} files identical over {n_lines // 2} command lines ({elapsed:.0f} s)")
+    if not a.out:
+        shutil.rmtree(out)
+    return 0
 
 
 if __name__ == "__main__":
