@@ -140,6 +140,10 @@ def normalized(path, rel, out_root):
 
 def first_difference(a, b):
     """Where two normalized contents first differ, as a short phrase."""
+    try:
+        return "key " + json_difference(json.loads(a), json.loads(b))
+    except (TypeError, ValueError):
+        pass
     if isinstance(a, bytes) or isinstance(b, bytes):
         a = a if isinstance(a, bytes) else a.encode()
         b = b if isinstance(b, bytes) else b.encode()
@@ -150,22 +154,28 @@ def first_difference(a, b):
         if x != y:
             c = next((i for i, (p, q) in enumerate(zip(x, y)) if p != q), min(len(x), len(y)))
             lo = max(0, c - 30)
-            return (f"line {n}{json_key_at(la, n)}: "
-                    f"{x[lo:c + 40]!r} != {y[lo:c + 40]!r}")
+            return f"line {n} col {c + 1}: {x[lo:c + 40]!r} != {y[lo:c + 40]!r}"
     return f"{len(la)} lines before, {len(lb)} after"
 
 
-def json_key_at(lines, n):
-    """The dotted key of line n of an indented JSON dump (norm_json's), else empty."""
-    path = []
-    for line in lines[:n]:
-        m = re.match(r'^( +)"([^"]*)":', line)
-        if m:
-            depth = len(m.group(1)) // 2
-            path = path[:depth - 1] + [m.group(2)]
-    if not path or not re.match(r'^ +"', lines[n - 1]):
-        return ""
-    return f" (key {'.'.join(path)})"
+def json_difference(a, b, path=""):
+    """The first key path (a.b[2].c) at which two parsed JSON documents differ, or None."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b)):
+            sub = f"{path}.{k}" if path else k
+            if k not in a or k not in b:
+                return f"{sub} only {'after' if k not in a else 'before'}"
+            d = json_difference(a[k], b[k], sub)
+            if d:
+                return d
+        return None
+    if isinstance(a, list) and isinstance(b, list):
+        for i, (x, y) in enumerate(zip(a, b)):
+            d = json_difference(x, y, f"{path}[{i}]")
+            if d:
+                return d
+        return None if len(a) == len(b) else f"{path}: {len(a)} items before, {len(b)} after"
+    return None if a == b else f"{path}: {json.dumps(a)[:60]} != {json.dumps(b)[:60]}"
 
 
 # ---- The command lines. ----
