@@ -34,6 +34,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -204,7 +205,10 @@ def command_line(binary, command, stem, side_dir, source, max_steps, extra):
 
 
 def run_one(cmd, log_base, source):
-    """Runs one command line (niced) with its stdout, stderr and exit code beside its folder."""
+    """Runs one command line (niced) with its stdout, stderr and exit code beside its folder, and
+    the line itself (`.cmd`, the binary named budget-slam), so that the lines are compared too."""
+    with open(log_base + ".cmd", "w") as f:
+        f.write(" ".join(["budget-slam"] + cmd[1:]) + "\n")
     with open(log_base + ".stdout", "wb") as o, open(log_base + ".stderr", "wb") as e:
         rc = subprocess.call(["nice", "-n", "10"] + cmd, cwd=source, stdout=o, stderr=e,
                              stdin=subprocess.DEVNULL)
@@ -213,36 +217,48 @@ def run_one(cmd, log_base, source):
     return rc
 
 
-def jobs(sides, stems, commands, source, max_steps):
-    """Independent chains of command lines (localize follows its run)."""
+# Rough cost of a command line, to start the longest first (the graph backend's compare runs
+# every reducer with a factorization a step; Victoria Park is the longest rawlog).
+COST = {"compare-graph": 100, "compare-ekf": 10, "run": 2, "localize": 1}
+
+
+def chains_of(sides, stems, commands, source, max_steps):
+    """Independent chains of (side, name, command line, log base); localize follows its run."""
     chains = []
-    for side, (binary, side_dir, extra) in sides.items():
-        for stem in stems:
+    for stem in stems:
+        size = os.path.getsize(os.path.join(source, "rawlogs", stem + ".rawlog"))
+        for side, (binary, side_dir, extra) in sides.items():
             os.makedirs(os.path.join(side_dir, stem), exist_ok=True)
-            line = lambda c: command_line(binary, c, stem, side_dir, source, max_steps, extra)
+
+            def link(c):
+                return (side, f"{stem} {c}",
+                        command_line(binary, c, stem, side_dir, source, max_steps, extra),
+                        os.path.join(side_dir, stem, c))
+
             for c in commands:
-                if c == "localize" and "run" in commands:
-                    continue
-                if c == "run":
-                    chain = [line("run")] + ([line("localize")] if "localize" in commands else [])
-                    chains.append([(cmd, os.path.join(side_dir, stem, n))
-                                   for cmd, n in zip(chain, ["run", "localize"])])
-                else:
-                    chains.append([(line(c), os.path.join(side_dir, stem, c))])
-    return chains
+                if c == "localize":
+                    continue  # after its run
+                chain = [link(c)] + ([link("localize")] if c == "run" and "localize" in commands
+                                     else [])
+                chains.append((size * sum(COST[x[1].split()[1]] for x in chain), chain))
+    return [c for _, c in sorted(chains, key=lambda x: -x[0])]
 
 
-def all_files(root):
+def all_files(root, stems, commands):
+    """The files of the given rawlogs' command lines under one side's folder, relative to it."""
     found = set()
-    for d, _, files in os.walk(root):
-        for f in files:
-            found.add(os.path.relpath(os.path.join(d, f), root))
+    for stem in stems:
+        for c in commands:
+            found |= {f"{stem}/{c}{ext}" for ext in (".cmd", ".stdout", ".stderr", ".exit")
+                      if os.path.exists(os.path.join(root, stem, c + ext))}
+            for d, _, files in os.walk(os.path.join(root, stem, c)):
+                found |= {os.path.relpath(os.path.join(d, f), root) for f in files}
     return found
 
 
-def compare_trees(before, after):
+def compare_trees(before, after, stems, commands):
     """(number of files compared, [one line a differing file])."""
-    fa, fb = all_files(before), all_files(after)
+    fa, fb = all_files(before, stems, commands), all_files(after, stems, commands)
     lines = [f"{rel}: only before" for rel in sorted(fa - fb)]
     lines += [f"{rel}: only after" for rel in sorted(fb - fa)]
     for rel in sorted(fa & fb):
@@ -262,7 +278,7 @@ def binary_of(path):
 
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--before", required=True, help="build folder (its bin/budget-slam) or binary")
+    ap.add_argument("--before", help="build folder (its bin/budget-slam) or binary")
     ap.add_argument("--after", required=True, help="build folder (its bin/budget-slam) or binary")
     ap.add_argument("--out", help="a new or empty folder for both sides' outputs "
                     "(default: a temporary one, removed when everything matches)")
@@ -275,12 +291,19 @@ def main(argv):
     ap.add_argument("--max-steps", type=int, default=0, help="--max-steps N for every command")
     ap.add_argument("--source", default=SOURCE,
                     help="tree holding config.ini and rawlogs/ (default: this tool's)")
+    ap.add_argument("--reuse-before", metavar="DIR",
+                    help="the --out folder of an earlier check with the same rawlogs, commands and "
+                    "--max-steps: its before/ side is compared again instead of being rerun "
+                    "(--before is then only a label)")
     ap.add_argument("--after-set", action="append", default=[], metavar="Section.key=value",
                     help="an extra --set for the after side only: a change the check must catch "
                     "(the checker's own test)")
     a = ap.parse_args(argv[1:])
     try:
-        before_bin, after_bin = binary_of(a.before), binary_of(a.after)
+        if not a.before and not a.reuse_before:
+            raise ValueError("--before or --reuse-before is needed")
+        before_bin = binary_of(a.before) if a.before else None
+        after_bin = binary_of(a.after)
     except ValueError as e:
         print(f"check_same_outputs: {e}", file=sys.stderr)
         return 2
@@ -310,26 +333,45 @@ def main(argv):
     extra_after = [x for s in a.after_set for x in ("--set", s)]
     sides = {"before": (before_bin, os.path.join(out, "before"), []),
              "after": (after_bin, os.path.join(out, "after"), extra_after)}
+    reuse = set()
+    if a.reuse_before:
+        old = os.path.join(os.path.abspath(a.reuse_before), "before")
+        missing = [f"{s}/{c}" for s in stems for c in commands
+                   if not os.path.isfile(os.path.join(old, s, c + ".exit"))]
+        if missing:
+            print(f"check_same_outputs: --reuse-before {a.reuse_before}: no outputs of "
+                  f"{', '.join(missing[:3])}{' ...' if len(missing) > 3 else ''}", file=sys.stderr)
+            return 2
+        sides["before"] = (before_bin, old, [])
+        reuse.add("before")
     start = time.monotonic()
-    chains = jobs(sides, stems, commands, source, a.max_steps)
-    n_lines = sum(len(c) for c in chains)
+    chains = chains_of({k: v for k, v in sides.items() if k not in reuse}, stems, commands, source,
+                       a.max_steps)
+    n_lines = len(stems) * len(commands)
+    total, done = sum(len(c) for c in chains), [0]
+    lock = threading.Lock()
 
     def run_chain(chain):
-        for cmd, base in chain:
-            run_one(cmd, base, source)
+        for side, what, cmd, base in chain:
+            t0 = time.monotonic()
+            rc = run_one(cmd, base, source)
+            with lock:
+                done[0] += 1
+                print(f"check_same_outputs: [{done[0]}/{total}] {side} {what}: exit {rc}, "
+                      f"{time.monotonic() - t0:.0f} s", file=sys.stderr, flush=True)
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
         for f in [pool.submit(run_chain, c) for c in chains]:
             f.result()
-    n_files, diffs = compare_trees(sides["before"][1], sides["after"][1])
+    n_files, diffs = compare_trees(sides["before"][1], sides["after"][1], stems, commands)
     elapsed = time.monotonic() - start
     for d in diffs:
         print(d)
     if diffs:
-        print(f"{len(diffs)} of {n_files} files differ over {n_lines // 2} command lines "
+        print(f"{len(diffs)} of {n_files} files differ over {n_lines} command lines "
               f"({elapsed:.0f} s); outputs in {out}")
         return 1
-    print(f"{n_files} files identical over {n_lines // 2} command lines ({elapsed:.0f} s)")
+    print(f"{n_files} files identical over {n_lines} command lines ({elapsed:.0f} s)")
     if not a.out:
         shutil.rmtree(out)
     return 0
