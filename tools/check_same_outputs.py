@@ -210,11 +210,13 @@ def run_one(cmd, log_base, source):
     with open(log_base + ".cmd", "w") as f:
         f.write(" ".join(["budget-slam"] + cmd[1:]) + "\n")
     with open(log_base + ".stdout", "wb") as o, open(log_base + ".stderr", "wb") as e:
-        rc = subprocess.call(["nice", "-n", "10"] + cmd, cwd=source, stdout=o, stderr=e,
+        p = subprocess.Popen(["nice", "-n", "10"] + cmd, cwd=source, stdout=o, stderr=e,
                              stdin=subprocess.DEVNULL)
+        _, status, usage = os.wait4(p.pid, 0)
+        p.returncode = os.waitstatus_to_exitcode(status)
     with open(log_base + ".exit", "w") as f:
-        f.write(f"{rc}\n")
-    return rc
+        f.write(f"{p.returncode}\n")
+    return p.returncode, usage.ru_utime + usage.ru_stime
 
 
 # Rough cost of a command line, to start the longest first (the graph backend's compare runs
@@ -348,30 +350,33 @@ def main(argv):
     chains = chains_of({k: v for k, v in sides.items() if k not in reuse}, stems, commands, source,
                        a.max_steps)
     n_lines = len(stems) * len(commands)
-    total, done = sum(len(c) for c in chains), [0]
+    total, done, cpu = sum(len(c) for c in chains), [0], [0.0]
     lock = threading.Lock()
 
     def run_chain(chain):
         for side, what, cmd, base in chain:
             t0 = time.monotonic()
-            rc = run_one(cmd, base, source)
+            rc, seconds = run_one(cmd, base, source)
             with lock:
                 done[0] += 1
+                cpu[0] += seconds
                 print(f"check_same_outputs: [{done[0]}/{total}] {side} {what}: exit {rc}, "
-                      f"{time.monotonic() - t0:.0f} s", file=sys.stderr, flush=True)
+                      f"{time.monotonic() - t0:.0f} s, {seconds:.0f} s CPU", file=sys.stderr,
+                      flush=True)
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
         for f in [pool.submit(run_chain, c) for c in chains]:
             f.result()
     n_files, diffs = compare_trees(sides["before"][1], sides["after"][1], stems, commands)
     elapsed = time.monotonic() - start
+    took = f"{elapsed:.0f} s, {cpu[0]:.0f} s CPU"
     for d in diffs:
         print(d)
     if diffs:
         print(f"{len(diffs)} of {n_files} files differ over {n_lines} command lines "
-              f"({elapsed:.0f} s); outputs in {out}")
+              f"({took}); outputs in {out}")
         return 1
-    print(f"{n_files} files identical over {n_lines} command lines ({elapsed:.0f} s)")
+    print(f"{n_files} files identical over {n_lines} command lines ({took})")
     if not a.out:
         shutil.rmtree(out)
     return 0
