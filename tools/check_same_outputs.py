@@ -40,8 +40,11 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE = os.path.dirname(HERE)
 COMMANDS = ["run", "compare-ekf", "compare-graph", "localize"]
-# --quick: every command on the rawlogs that take seconds each, and no rawlog's --max-steps cut.
-QUICK_RAWLOGS = ["kf-slam_demo", "paper_synthetic", "rooms", "mrclam7_robot1"]
+# --quick: every command on four small rawlogs (MRPT's demo, the paper's world, the README's
+# simulated rooms, real MRCLAM data), and run and localize on one without ground truth
+# (localize's --reference-trajectory path); whole rawlogs, no --max-steps cut.
+QUICK = {"kf-slam_demo": COMMANDS, "paper_synthetic": COMMANDS, "rooms": COMMANDS,
+         "mrclam7_robot1": COMMANDS, "victoria_park_from3500": ["run", "localize"]}
 OUT_TOKEN = "<OUT>"
 NORMALIZED = "<normalized>"
 
@@ -99,27 +102,28 @@ def norm_md(text, columns):
 
 
 def norm_json(text, keys):
-    try:
-        doc = json.loads(text)
-    except ValueError:
-        return text
+    """Each key's object or value replaced in the text itself: key order, spacing and every
+    other value stay as written (a flat object or a scalar; no key of JSON_KEYS holds more)."""
     for key in keys:
-        node, parts = doc, key.split(".")
-        for p in parts[:-1]:
-            node = node.get(p) if isinstance(node, dict) else None
-        if isinstance(node, dict) and parts[-1] in node:
-            node[parts[-1]] = NORMALIZED
-    return json.dumps(doc, indent=2, sort_keys=True) + "\n"
+        text = re.sub(r'("' + re.escape(key) + r'":\s*)(\{[^{}]*\}|[^,{}\[\]\n]+)',
+                      lambda m: m.group(1) + '"' + NORMALIZED + '"', text)
+    return text
 
 
-def norm_stream(text):
-    lines = [SECONDS_OF_SLAM.sub("(<normalized> s of SLAM)", l) for l in text.split("\n")
-             if not PROGRESS_LINE.match(l)]
+def norm_stream(text, progress=True, seconds=True):
+    lines = [l for l in text.split("\n") if not (progress and PROGRESS_LINE.match(l))]
+    if seconds:
+        lines = [SECONDS_OF_SLAM.sub("(<normalized> s of SLAM)", l) for l in lines]
     return "\n".join(lines)
 
 
-def normalized(path, rel, out_root):
-    """The file's content as compared: bytes for binary files, normalized text else."""
+RULES = ["output_path", "csv_columns", "md_columns", "json_keys", "progress_lines",
+         "seconds_of_slam"]
+
+
+def normalized(path, rel, out_root, off=()):
+    """The file's content as compared: bytes for binary files, normalized text else (`off`:
+    rules of RULES left out, to show what each one hides)."""
     with open(path, "rb") as f:
         data = f.read()
     name = os.path.basename(rel)
@@ -127,15 +131,16 @@ def normalized(path, rel, out_root):
         text = data.decode("utf-8")
     except UnicodeDecodeError:
         return data
-    text = norm_text(text, out_root)
-    if name in CSV_COLUMNS:
+    if "output_path" not in off:
+        text = norm_text(text, out_root)
+    if name in CSV_COLUMNS and "csv_columns" not in off:
         text = norm_csv(text, CSV_COLUMNS[name])
-    if name in MD_COLUMNS:
+    if name in MD_COLUMNS and "md_columns" not in off:
         text = norm_md(text, MD_COLUMNS[name])
-    if name in JSON_KEYS:
+    if name in JSON_KEYS and "json_keys" not in off:
         text = norm_json(text, JSON_KEYS[name])
     if name.endswith((".stdout", ".stderr")):
-        text = norm_stream(text)
+        text = norm_stream(text, "progress_lines" not in off, "seconds_of_slam" not in off)
     return text
 
 
@@ -224,10 +229,10 @@ def run_one(cmd, log_base, source):
 COST = {"compare-graph": 100, "compare-ekf": 10, "run": 2, "localize": 1}
 
 
-def chains_of(sides, stems, commands, source, max_steps):
+def chains_of(sides, plan, source, max_steps):
     """Independent chains of (side, name, command line, log base); localize follows its run."""
     chains = []
-    for stem in stems:
+    for stem, commands in plan.items():
         size = os.path.getsize(os.path.join(source, "rawlogs", stem + ".rawlog"))
         for side, (binary, side_dir, extra) in sides.items():
             os.makedirs(os.path.join(side_dir, stem), exist_ok=True)
@@ -246,10 +251,10 @@ def chains_of(sides, stems, commands, source, max_steps):
     return [c for _, c in sorted(chains, key=lambda x: -x[0])]
 
 
-def all_files(root, stems, commands):
-    """The files of the given rawlogs' command lines under one side's folder, relative to it."""
+def all_files(root, plan):
+    """The files of the plan's command lines under one side's folder, relative to it."""
     found = set()
-    for stem in stems:
+    for stem, commands in plan.items():
         for c in commands:
             found |= {f"{stem}/{c}{ext}" for ext in (".cmd", ".stdout", ".stderr", ".exit")
                       if os.path.exists(os.path.join(root, stem, c + ext))}
@@ -258,14 +263,14 @@ def all_files(root, stems, commands):
     return found
 
 
-def compare_trees(before, after, stems, commands):
+def compare_trees(before, after, plan, off=()):
     """(number of files compared, [one line a differing file])."""
-    fa, fb = all_files(before, stems, commands), all_files(after, stems, commands)
+    fa, fb = all_files(before, plan), all_files(after, plan)
     lines = [f"{rel}: only before" for rel in sorted(fa - fb)]
     lines += [f"{rel}: only after" for rel in sorted(fb - fa)]
     for rel in sorted(fa & fb):
-        a = normalized(os.path.join(before, rel), rel, before)
-        b = normalized(os.path.join(after, rel), rel, after)
+        a = normalized(os.path.join(before, rel), rel, before, off)
+        b = normalized(os.path.join(after, rel), rel, after, off)
         if a != b:
             lines.append(f"{rel}: {first_difference(a, b)}")
     return len(fa | fb), lines
@@ -284,11 +289,13 @@ def main(argv):
     ap.add_argument("--after", required=True, help="build folder (its bin/budget-slam) or binary")
     ap.add_argument("--out", help="a new or empty folder for both sides' outputs "
                     "(default: a temporary one, removed when everything matches)")
-    ap.add_argument("--rawlogs", help="comma-separated rawlog names (default: every rawlogs/*.rawlog)")
+    ap.add_argument("--rawlogs",
+                    help="comma-separated rawlog names (default: every rawlogs/*.rawlog)")
     ap.add_argument("--commands", default=",".join(COMMANDS),
                     help="comma-separated, of " + ",".join(COMMANDS) + " (default: all)")
     ap.add_argument("--quick", action="store_true",
-                    help="only the rawlogs " + ",".join(QUICK_RAWLOGS))
+                    help="a subset: every command on kf-slam_demo, paper_synthetic, rooms and "
+                    "mrclam7_robot1; run and localize on victoria_park_from3500")
     ap.add_argument("-j", "--jobs", type=int, default=2, help="command lines at once (default 2)")
     ap.add_argument("--max-steps", type=int, default=0, help="--max-steps N for every command")
     ap.add_argument("--source", default=SOURCE,
@@ -312,7 +319,7 @@ def main(argv):
     source = os.path.abspath(a.source)
     available = sorted(f[:-len(".rawlog")] for f in os.listdir(os.path.join(source, "rawlogs"))
                        if f.endswith(".rawlog"))
-    stems = a.rawlogs.split(",") if a.rawlogs else (QUICK_RAWLOGS if a.quick else available)
+    stems = a.rawlogs.split(",") if a.rawlogs else (list(QUICK) if a.quick else available)
     commands = a.commands.split(",")
     for bad in [s for s in stems if s not in available]:
         print(f"check_same_outputs: --rawlogs: no rawlogs/{bad}.rawlog", file=sys.stderr)
@@ -324,6 +331,9 @@ def main(argv):
     if "localize" in commands and "run" not in commands:
         print("check_same_outputs: --commands: localize needs run (its map)", file=sys.stderr)
         return 2
+    # rawlog -> its command lines; --quick's own lists unless --rawlogs or --commands says
+    plan = {st: [c for c in (QUICK.get(st, COMMANDS) if a.quick else COMMANDS) if c in commands]
+            for st in stems}
     if a.out:
         out = os.path.abspath(a.out)
         if os.path.exists(out) and os.listdir(out):
@@ -338,7 +348,7 @@ def main(argv):
     reuse = set()
     if a.reuse_before:
         old = os.path.join(os.path.abspath(a.reuse_before), "before")
-        missing = [f"{s}/{c}" for s in stems for c in commands
+        missing = [f"{s}/{c}" for s, cs in plan.items() for c in cs
                    if not os.path.isfile(os.path.join(old, s, c + ".exit"))]
         if missing:
             print(f"check_same_outputs: --reuse-before {a.reuse_before}: no outputs of "
@@ -347,9 +357,9 @@ def main(argv):
         sides["before"] = (before_bin, old, [])
         reuse.add("before")
     start = time.monotonic()
-    chains = chains_of({k: v for k, v in sides.items() if k not in reuse}, stems, commands, source,
+    chains = chains_of({k: v for k, v in sides.items() if k not in reuse}, plan, source,
                        a.max_steps)
-    n_lines = len(stems) * len(commands)
+    n_lines = sum(len(cs) for cs in plan.values())
     total, done, cpu = sum(len(c) for c in chains), [0], [0.0]
     lock = threading.Lock()
 
@@ -367,7 +377,7 @@ def main(argv):
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
         for f in [pool.submit(run_chain, c) for c in chains]:
             f.result()
-    n_files, diffs = compare_trees(sides["before"][1], sides["after"][1], stems, commands)
+    n_files, diffs = compare_trees(sides["before"][1], sides["after"][1], plan)
     elapsed = time.monotonic() - start
     took = f"{elapsed:.0f} s, {cpu[0]:.0f} s CPU"
     for d in diffs:

@@ -33,7 +33,8 @@ class SameBinary(unittest.TestCase):
     def test_one_binary_against_itself_matches(self):
         rc, out, err = check(*SMALL)
         self.assertEqual(rc, 0, "\n".join(out) + err)
-        self.assertRegex(out[-1], r"^\d+ files identical over 3 command lines \(\d+ s, \d+ s CPU\)$")
+        self.assertRegex(out[-1],
+                         r"^\d+ files identical over 3 command lines \(\d+ s, \d+ s CPU\)$")
 
     def test_a_lower_cap_on_the_after_side_fails_naming_the_files(self):
         with tempfile.TemporaryDirectory() as d:
