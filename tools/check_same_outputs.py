@@ -276,6 +276,16 @@ def compare_trees(before, after, plan, off=()):
     return len(fa | fb), lines
 
 
+def has_outputs(side_dir, plan, what):
+    """True when every command line of the plan ran into `side_dir`, else one error line."""
+    missing = [f"{s}/{c}" for s, cs in plan.items() for c in cs
+               if not os.path.isfile(os.path.join(side_dir, s, c + ".exit"))]
+    if missing:
+        print(f"check_same_outputs: {what}: no outputs of {', '.join(missing[:3])}"
+              f"{' ...' if len(missing) > 3 else ''} in {side_dir}", file=sys.stderr)
+    return not missing
+
+
 def binary_of(path):
     p = os.path.join(path, "bin", "budget-slam") if os.path.isdir(path) else path
     if not (os.path.isfile(p) and os.access(p, os.X_OK)):
@@ -286,7 +296,7 @@ def binary_of(path):
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--before", help="build folder (its bin/budget-slam) or binary")
-    ap.add_argument("--after", required=True, help="build folder (its bin/budget-slam) or binary")
+    ap.add_argument("--after", help="build folder (its bin/budget-slam) or binary")
     ap.add_argument("--out", help="a new or empty folder for both sides' outputs "
                     "(default: a temporary one, removed when everything matches)")
     ap.add_argument("--rawlogs",
@@ -304,15 +314,23 @@ def main(argv):
                     help="the --out folder of an earlier check with the same rawlogs, commands and "
                     "--max-steps: its before/ side is compared again instead of being rerun "
                     "(--before is then only a label)")
+    ap.add_argument("--compare-only", metavar="DIR",
+                    help="run nothing: compare DIR/before with DIR/after (an earlier --out)")
+    ap.add_argument("--leave-out", default="", metavar="RULE,...",
+                    help="normalization rules not applied (" + ",".join(RULES) + ", or all): "
+                    "shows what each one hides")
     ap.add_argument("--after-set", action="append", default=[], metavar="Section.key=value",
                     help="an extra --set for the after side only: a change the check must catch "
                     "(the checker's own test)")
     a = ap.parse_args(argv[1:])
+    off = RULES if a.leave_out == "all" else [r for r in a.leave_out.split(",") if r]
     try:
-        if not a.before and not a.reuse_before:
-            raise ValueError("--before or --reuse-before is needed")
-        before_bin = binary_of(a.before) if a.before else None
-        after_bin = binary_of(a.after)
+        for bad in [r for r in off if r not in RULES]:
+            raise ValueError(f"--leave-out: unknown rule '{bad}' (one of {','.join(RULES)})")
+        if not a.compare_only and not (a.after and (a.before or a.reuse_before)):
+            raise ValueError("--after and --before (or --reuse-before) are needed")
+        before_bin = binary_of(a.before) if a.before and not a.compare_only else None
+        after_bin = binary_of(a.after) if not a.compare_only else None
     except ValueError as e:
         print(f"check_same_outputs: {e}", file=sys.stderr)
         return 2
@@ -334,6 +352,19 @@ def main(argv):
     # rawlog -> its command lines; --quick's own lists unless --rawlogs or --commands says
     plan = {st: [c for c in (QUICK.get(st, COMMANDS) if a.quick else COMMANDS) if c in commands]
             for st in stems}
+    if a.compare_only:
+        root = os.path.abspath(a.compare_only)
+        for side in ("before", "after"):
+            if not has_outputs(os.path.join(root, side), plan, f"--compare-only {a.compare_only}"):
+                return 2
+        n_files, diffs = compare_trees(os.path.join(root, "before"), os.path.join(root, "after"),
+                                       plan, off)
+        n_lines = sum(len(cs) for cs in plan.values())
+        for d in diffs:
+            print(d)
+        print(f"{len(diffs)} of {n_files} files differ over {n_lines} command lines" if diffs else
+              f"{n_files} files identical over {n_lines} command lines")
+        return 1 if diffs else 0
     if a.out:
         out = os.path.abspath(a.out)
         if os.path.exists(out) and os.listdir(out):
@@ -348,11 +379,7 @@ def main(argv):
     reuse = set()
     if a.reuse_before:
         old = os.path.join(os.path.abspath(a.reuse_before), "before")
-        missing = [f"{s}/{c}" for s, cs in plan.items() for c in cs
-                   if not os.path.isfile(os.path.join(old, s, c + ".exit"))]
-        if missing:
-            print(f"check_same_outputs: --reuse-before {a.reuse_before}: no outputs of "
-                  f"{', '.join(missing[:3])}{' ...' if len(missing) > 3 else ''}", file=sys.stderr)
+        if not has_outputs(old, plan, f"--reuse-before {a.reuse_before}"):
             return 2
         sides["before"] = (before_bin, old, [])
         reuse.add("before")
@@ -377,7 +404,7 @@ def main(argv):
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
         for f in [pool.submit(run_chain, c) for c in chains]:
             f.result()
-    n_files, diffs = compare_trees(sides["before"][1], sides["after"][1], plan)
+    n_files, diffs = compare_trees(sides["before"][1], sides["after"][1], plan, off)
     elapsed = time.monotonic() - start
     took = f"{elapsed:.0f} s, {cpu[0]:.0f} s CPU"
     for d in diffs:
