@@ -31,10 +31,20 @@ def check(*args):
 
 class SameBinary(unittest.TestCase):
     def test_one_binary_against_itself_matches(self):
-        rc, out, err = check(*SMALL)
-        self.assertEqual(rc, 0, "\n".join(out) + err)
-        self.assertRegex(out[-1],
-                         r"^\d+ files identical over 3 command lines \(\d+ s, \d+ s CPU\)$")
+        with tempfile.TemporaryDirectory() as d:
+            o = os.path.join(d, "o")
+            rc, out, err = check(*SMALL, "--out", o)
+            self.assertEqual(rc, 0, "\n".join(out) + err)
+            self.assertRegex(out[-1],
+                             r"^\d+ files identical over 3 command lines \(\d+ s, \d+ s CPU\)$")
+            # the same outputs compared again, without the timing columns' rule: they differ
+            again = [sys.executable, CHECKER, "--compare-only", o] + SMALL
+            r = subprocess.run(again, capture_output=True, text=True)
+            self.assertEqual((r.returncode, r.stdout.splitlines()[-1]), (0, out[-1].split(" (")[0]))
+            r = subprocess.run(again + ["--leave-out", "csv_columns"], capture_output=True,
+                               text=True)
+            self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
+            self.assertIn("paper_synthetic/run/steps.csv: line 2 col ", r.stdout)
 
     def test_a_lower_cap_on_the_after_side_fails_naming_the_files(self):
         with tempfile.TemporaryDirectory() as d:
