@@ -62,7 +62,10 @@ MD_COLUMNS = {"comparison.md": {"time (s)"}, "compare-ekf.stdout": {"time (s)"},
 JSON_KEYS = {"summary.json": ["timings"]}
 # Lines of stdout / stderr: progress reports (every [Report] progress_every_s seconds) are
 # dropped; the seconds of SLAM the closing line reports are replaced.
-PROGRESS_LINE = re.compile(r"^budget-slam: (run|compare|localize|reading|relocaliz\w*) .*\d+%")
+# core/Progress.cpp's ProgressReporter::line, e.g. "budget-slam: compare 61%, 5208 of 8502
+# steps, 843 steps/s, elapsed 0:06, ETA 0:04 (2/6 runs done)".
+PROGRESS_LINE = re.compile(r"^budget-slam: [a-z][a-z ]* \d+%, \d+( of \d+)? steps(, \d+ steps/s)?, "
+                           r"elapsed \S+, ETA \S+( \(.*\))?$")
 SECONDS_OF_SLAM = re.compile(r"\([0-9.]+ s of SLAM\)")
 
 
@@ -72,17 +75,25 @@ def norm_text(text, out_root):
 
 
 def norm_csv(text, columns):
-    rows = list(csv.reader(io.StringIO(text)))
-    if not rows:
-        return text
-    idx = {i for i, name in enumerate(rows[0]) if name in columns}
+    """The columns' cells replaced, line by line. A line that Python's csv module would not write
+    back byte for byte (other quoting, a cell over two lines) is kept as it is, so that no
+    difference of quoting is hidden."""
+    lines = text.split("\n")
+    header = next(csv.reader([lines[0]]), [])
+    idx = {i for i, name in enumerate(header) if name in columns}
     if not idx:
         return text
+    for n, line in enumerate(lines[1:], start=1):
+        row = next(csv.reader([line]), None)
+        if row is None or write_csv_row(row) != line:
+            continue
+        lines[n] = write_csv_row([NORMALIZED if i in idx else v for i, v in enumerate(row)])
+    return "\n".join(lines)
+
+
+def write_csv_row(row):
     out = io.StringIO()
-    w = csv.writer(out, lineterminator="\n")
-    w.writerow(rows[0])
-    for row in rows[1:]:
-        w.writerow([NORMALIZED if i in idx else v for i, v in enumerate(row)])
+    csv.writer(out, lineterminator="").writerow(row)
     return out.getvalue()
 
 

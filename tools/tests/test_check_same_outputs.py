@@ -80,6 +80,11 @@ class Normalization(unittest.TestCase):
                             cso.norm_csv("step,x,step_ms,rss_bytes\n0,1.6,0.25,1000\n",
                                          cso.CSV_COLUMNS["steps.csv"]))
 
+    def test_csv_quoting_is_still_compared(self):
+        cols = cso.CSV_COLUMNS["comparison.csv"]
+        self.assertNotEqual(cso.norm_csv('run,time_s\n"mi",1\n', cols),
+                            cso.norm_csv("run,time_s\nmi,2\n", cols))
+
     def test_markdown_time_column_only(self):
         t = "| run | ATE | time (s) |\n|---|---|---|\n| mi | 0.1 | {} |\n"
         cols = cso.MD_COLUMNS["comparison.md"]
