@@ -158,12 +158,13 @@ def normalized(path, rel, out_root, off=()):
     return text
 
 
-def first_difference(a, b):
-    """Where two normalized contents first differ, as a short phrase."""
-    try:
-        return "key " + json_difference(json.loads(a), json.loads(b))
-    except (TypeError, ValueError):
-        pass
+def first_difference(a, b, rel=".json"):
+    """Where two normalized contents of file `rel` first differ, as a short phrase."""
+    if rel.endswith(".json"):
+        try:
+            return "key " + json_difference(json.loads(a), json.loads(b))
+        except (TypeError, ValueError):
+            pass  # not JSON, or the same values written differently: the first line differing
     if isinstance(a, bytes) or isinstance(b, bytes):
         a = a if isinstance(a, bytes) else a.encode()
         b = b if isinstance(b, bytes) else b.encode()
@@ -301,7 +302,7 @@ def compare_trees(before, after, plan, off=()):
         a = normalized(os.path.join(before, rel), rel, before, off)
         b = normalized(os.path.join(after, rel), rel, after, off)
         if a != b:
-            lines.append(f"{rel}: {first_difference(a, b)}")
+            lines.append(f"{rel}: {first_difference(a, b, rel)}")
     return len(fa | fb), lines
 
 
