@@ -400,6 +400,9 @@ def main(argv):
         print(f"{len(diffs)} of {n_files} files differ over {n_lines} command lines" if diffs else
               f"{n_files} files identical over {n_lines} command lines")
         return 1 if diffs else 0
+    old_before = a.reuse_before and os.path.join(os.path.abspath(a.reuse_before), "before")
+    if old_before and not has_outputs(old_before, plan, f"--reuse-before {a.reuse_before}"):
+        return 2
     if a.out:
         out = os.path.abspath(a.out)
         if os.path.exists(out) and os.listdir(out):
@@ -413,10 +416,7 @@ def main(argv):
              "after": (after_bin, os.path.join(out, "after"), extra_after)}
     reuse = set()
     if a.reuse_before:
-        old = os.path.join(os.path.abspath(a.reuse_before), "before")
-        if not has_outputs(old, plan, f"--reuse-before {a.reuse_before}"):
-            return 2
-        sides["before"] = (before_bin, old, [])
+        sides["before"] = (before_bin, old_before, [])
         reuse.add("before")
     start = time.monotonic()
     chains = chains_of({k: v for k, v in sides.items() if k not in reuse}, plan, source,
