@@ -346,10 +346,11 @@ int BudgetSlamApp::runLocalize() {
     }
     progress.finish(true);
     // A map of another place (whose sensor IDs may happen to repeat): readings pair with its
-    // landmarks but do not agree with where it has them. Every step is then dead reckoning.
+    // landmarks but do not agree with where it has them. Every step is then dead reckoning. (No
+    // step left after the wake-up: nothing to say.)
     const std::size_t paired = localizer->readingsPairedWithMap(),
                       agree = localizer->readingsConsistentWithMap();
-    if (2 * agree < paired || paired == 0)
+    if (localizer->stepsDone() > 0 && (2 * agree < paired || paired == 0))
       *err << "budget-slam: warning: " << agree << " of the " << paired << " readings of "
            << rc.rawlog << " that pair with a landmark of the map in " << cli_.map_dir
            << " agree with it (innovation within the 99.9% bound): the map and the traversal "

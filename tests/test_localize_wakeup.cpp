@@ -189,6 +189,16 @@ TEST(LocalizeWakeUp, KnownIdsFoundWithinTenStepsThenTracked) {
   ASSERT_EQ(rows.size(), static_cast<std::size_t>(80 - used));
   EXPECT_EQ(rows.front()[0], std::to_string(used));
 
+  // Found at the last step there is: nothing left to localize, said without a warning.
+  const auto last = runApp(
+      plus(localizeArgs(map, rawlog, dir / "last"), {"--wake-up", "--quiet", "--max-steps", "1"}));
+  ASSERT_EQ(last.exit_code, 0) << last.err;
+  EXPECT_EQ(last.err, "");
+  const auto jl = readJson(dir / "last" / "summary.json");
+  EXPECT_TRUE(jl["wake_up"]["found"]);
+  EXPECT_EQ(jl["wake_up"]["steps_used"], 1);
+  EXPECT_EQ(jl["counts"]["steps"], 0);
+
   // Without --wake-up, the ground truth gives the start: no wake_up block.
   const auto g = runApp(plus(localizeArgs(map, rawlog, dir / "gt"), {"--quiet"}));
   ASSERT_EQ(g.exit_code, 0) << g.err;
