@@ -59,13 +59,12 @@ def align_map(kept, truth, radius=MATCH_RADIUS_M):
         return None
     est = np.array([[float(r["x"]), float(r["y"])] for r in common])
     tru = np.array([truth[int(r["id"])] for r in common])
-    inliers = np.ones(len(common), dtype=bool)
-    rot, t = np.eye(2), np.zeros(2)
-    for gate in (None, 3 * radius):
-        if inliers.sum() >= 2:
-            rot, t = rigid_fit(est[inliers], tru[inliers])
+    rot, t = rigid_fit(est, tru)
+    err = np.linalg.norm(est @ rot.T + t - tru, axis=1)
+    inliers = err <= 3 * radius
+    if 2 <= inliers.sum() < len(common):
+        rot, t = rigid_fit(est[inliers], tru[inliers])
         err = np.linalg.norm(est @ rot.T + t - tru, axis=1)
-        inliers = err <= (gate or np.inf)
     return rot, t, err, common
 
 
