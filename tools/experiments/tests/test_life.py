@@ -124,6 +124,8 @@ class Quick(unittest.TestCase):
                 self.assertGreater(r["wake_places_found"], 0.5)
                 if r["session"] > 1:
                     self.assertTrue(r["wake_found"])
+                else:  # nothing has moved before the second session: the two map errors are one
+                    self.assertEqual(r["map_median_error_unmoved_m"], r["map_median_error_m"])
                 if r["mode"] == "off":
                     self.assertEqual(r["ne_drops"], 0)
             # the reference trajectory made here gives, on a first session, what localize gives
