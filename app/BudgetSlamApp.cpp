@@ -15,6 +15,7 @@
 
 #include "BuiltinBackends.h"
 #include "CommandLineFlags.h"
+#include "ListCommand.h"
 #include "RunConfig.h"
 #include "RunDriver.h"
 #include "RunSession.h"
@@ -50,6 +51,7 @@ std::string topLevelHelp() {
       "   budget-slam localize -c config.ini --map RUN_DIR -i other.rawlog [-o outdir]\n"
       "                       [--start-pose x,y,yaw] [--reference-trajectory ref.tum] [...]\n"
       "   budget-slam <command> --help    every option of a command\n"
+      "   budget-slam --list reducers|backends [--json]    names, summaries, options, defaults\n"
       "   budget-slam --version\n\n"
       "Reducers:\n\n";
   for (const auto* e : reducers::builtinReducers().entries())
@@ -115,12 +117,7 @@ std::string fixed(double v, int digits) {
 /// The values of run's and compare's flags (TCLAP checked their types).
 void checkFlagValues(const CommandLine& cli) {
   if (cli.cap) checkCapFlag(*cli.cap);
-  if (!cli.backend.empty()) {
-    const auto& b = MappingOptions::backends();
-    if (std::find(b.begin(), b.end(), cli.backend) == b.end())
-      throw UsageError("--backend " + cli.backend + ": must be one of " +
-                       builtinBackends().joinedNames(", "));
-  }
+  if (!cli.backend.empty()) checkBackendFlag(cli.backend);
   checkReducerFlags(cli.reducer, cli.reducers);
   for (const auto& set : cli.sets) checkSet(set);
 }
@@ -143,6 +140,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
     help_ = std::string("budget-slam version ") + kVersion + "\n";
     return;
   }
+  if (command == "--list") return void(help_ = listCommand(args));
   if (command == "localize") return initializeLocalize(args);
   if (command != "run" && command != "compare")
     throw UsageError((command.empty() ? std::string("expected a command, run, compare or localize")

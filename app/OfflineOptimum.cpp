@@ -9,7 +9,7 @@
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
-#include "budget_slam/reducers/CoverageOptimum.h"
+#include "budget_slam/reducers/PlaceCoverageOptimum.h"
 #include "budget_slam/reducers/PlaceCoverageReducer.h"
 
 namespace budget_slam::app {
@@ -40,9 +40,9 @@ std::string writeOfflineOptimum(const std::string& csv_path,
     places.observe(seen);
   }
   const auto sightings = places.placeSightings();
-  reducers::CoverageOptimum best;
+  reducers::PlaceCoverageOptimum best;
   try {
-    best = reducers::solveCoverageOptimum(sightings, options.min_landmarks, cap);
+    best = reducers::solvePlaceCoverageOptimum(sightings, options.min_landmarks, cap);
   } catch (const std::length_error& e) {
     throw InputError(std::string("--offline-optimum: ") + e.what());
   }

@@ -19,7 +19,7 @@ struct FinalMap {
 /// `compare --offline-optimum` (docs/ALGORITHMS.md "place-coverage", "offline optimum"): the
 /// places of `place-coverage` ([PlaceCoverageReducer] of `ini`) built from the unreduced
 /// reference run, its online poses and each step's landmark IDs; the best coverage any `cap`
-/// landmarks give with hindsight (reducers::solveCoverageOptimum); and the coverage of each
+/// landmarks give with hindsight (reducers::solvePlaceCoverageOptimum); and the coverage of each
 /// final map. Writes `csv_path` (`run,landmarks,coverage_places,pct_of_optimum`, the last row
 /// "offline optimum") atomically and returns a Markdown table of the same rows.
 /// Throws InputError when the readings carry no landmark IDs, or the problem exceeds the size

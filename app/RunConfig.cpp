@@ -13,13 +13,10 @@
 #include "budget_slam/core/IniSchema.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Text.h"
-#include "budget_slam/ekf/MrptIniCheck.h"
 #include "budget_slam/ekf/MrptIniKeys.h"
-#include "budget_slam/graph/GraphOptions.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
-#include "budget_slam/reducers/CoverageOptions.h"
 #include "budget_slam/wakeup/WakeUpOptions.h"
 
 namespace fs = std::filesystem;
@@ -31,7 +28,7 @@ IniSchema knownKeys() {
   IniSchema schema;
   // The backends' sections first: MRPT's kf-slam keys lead [MappingApplication]'s list.
   for (const auto* e : builtinBackends().entries())
-    for (const auto& [section, keys] : e->sections) schema.addSection(section, keys);
+    for (const auto& s : e->sections) schema.addSection(s.name, s.keys());
   schema.addSection(MappingOptions::kSection, MappingOptions::keys());
   schema.addSection(reducers::BudgetOptions::kSection, reducers::BudgetOptions::keys());
   schema.addSection(metrics::MetricsOptions::kSection, metrics::MetricsOptions::keys());
@@ -39,7 +36,7 @@ IniSchema knownKeys() {
   schema.addSection(report::ReportOptions::kSection, report::ReportOptions::keys());
   schema.addSection(wakeup::WakeUpOptions::kSection, wakeup::WakeUpOptions::keys());
   for (const auto* e : reducers::builtinReducers().entries())
-    if (!e->section.empty()) schema.addSection(e->section, e->keys);
+    for (const auto& s : e->sections) schema.addSection(s.name, s.keys());
   // An MRPT ini shared with MRPT's other applications (simul-landmarks...) keeps their sections.
   for (const auto& s : ekf::mrptOtherAppSections()) schema.addForeignSection(s);
   return schema;
@@ -81,23 +78,26 @@ void applySet(mrpt::config::CConfigFileMemory& ini, const std::string& set, cons
   const auto dot = set.find('.'), eq = set.find('=');
   const std::string section = set.substr(0, dot), value = set.substr(eq + 1);
   const std::string key = set.substr(dot + 1, eq - dot - 1);
+  const std::string flag = "--set '" + printable(set) + "'";
   if (!schema.hasSection(section))
-    throw ConfigError("--set '" + printable(set) +
-                      "': " + schema.unknownSection(printable(section)));
-  checkIniValue(value, "--set '" + printable(set) + "'");
+    throw ConfigError(flag + ": " + schema.unknownSection(printable(section)),
+                      ConfigErrorKind::UnknownSection, flag);
+  try {
+    checkIniValue(value, flag);
+  } catch (const ConfigError& e) {
+    throw ConfigError(e.what(), ConfigErrorKind::BadValue, flag);
+  }
   ini.write(section, key, value);
-  origins.note(section, key, "--set '" + printable(set) + "'");
+  origins.note(section, key, flag);
 }
 
 /// Loads every option of every section once, so that a bad value is an error before anything
-/// runs, whichever backend and reducer will read it (each loader names section, key and value).
-void checkValues(const mrpt::config::CConfigFileBase& ini, std::uint64_t seed) {
-  ekf::checkMrptKfSlamOptions(ini);
-  graph::GraphSlamOptions().loadFromConfigFile(ini, graph::GraphSlamOptions::kSection);
-  graph::RangeBearingNoise().loadFromConfigFile(ini, graph::RangeBearingNoise::kSection);
+/// runs, whichever backend and reducer will read it: each registry entry checks its own sections
+/// (each loader names section, key and value).
+void checkValues(const mrpt::config::CConfigFileBase& ini) {
+  for (const auto* e : builtinBackends().entries()) e->validate(ini);
   metrics::MetricsOptions().loadFromConfigFile(ini, metrics::MetricsOptions::kSection);
-  reducers::CoverageOptions().loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
-  for (const auto* e : reducers::builtinReducers().entries()) e->factory(ini, seed);
+  for (const auto* e : reducers::builtinReducers().entries()) e->validate(ini);
 }
 
 /// Two ini values that say the same: the same text, or the same number ("0.10" and "0.1").
@@ -143,9 +143,8 @@ std::vector<std::string> sidecarOverrides(const mrpt::config::CConfigFileBase& u
 /// value names the file that holds it, even when a later layer replaces it.
 void checkLayer(const mrpt::config::CConfigFileBase& layer, const IniSchema& schema) {
   schema.validate(layer);
-  reducers::BudgetOptions budget;
-  budget.loadFromConfigFile(layer, reducers::BudgetOptions::kSection);
-  checkValues(layer, budget.seed);
+  reducers::BudgetOptions().loadFromConfigFile(layer, reducers::BudgetOptions::kSection);
+  checkValues(layer);
 }
 
 std::string resolveRawlog(const std::string& from_ini, const std::string& config_path) {
@@ -161,8 +160,16 @@ std::string resolveRawlog(const std::string& from_ini, const std::string& config
 
 void checkSet(const std::string& set) {
   const auto dot = set.find('.'), eq = set.find('=');
+  const std::string flag = "--set '" + printable(set) + "'";
   if (dot == std::string::npos || eq == std::string::npos || dot == 0 || dot > eq || eq == dot + 1)
-    throw ConfigError("--set '" + printable(set) + "': expected Section.key=value");
+    throw ConfigError(flag + ": expected Section.key=value", ConfigErrorKind::Invalid, flag);
+}
+
+void checkBackendFlag(const std::string& backend) {
+  if (!builtinBackends().has(backend))
+    throw UsageError(
+        "--backend " + backend + ": must be one of " + builtinBackends().joinedNames(", "),
+        ConfigErrorKind::UnknownName, "--backend");
 }
 
 void checkCapFor(const RunConfig& rc, const CommandLine& cli, const std::string& reducer,
@@ -176,11 +183,10 @@ void checkCapFor(const RunConfig& rc, const CommandLine& cli, const std::string&
   }
   try {
     reducers::checkCap(rc.budget, r.get());
-  } catch (const ConfigError& e) {
+  } catch (const KeyError& e) {
     // Name where the "none" came from: the flag, or the ini key in its file.
-    const std::string msg = e.what(), key = "[LandmarkBudget] max_landmarks = none";
-    if (cli.cap) throw ConfigError("--cap none" + msg.substr(key.size()));
-    throw ConfigError(config_label + ": " + msg);
+    if (cli.cap) throw ConfigError("--cap none: " + e.why(), e.kind(), "--cap");
+    throw ConfigError(config_label + ": " + e.what(), e.kind(), config_label);
   }
 }
 
@@ -191,14 +197,13 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
   const std::string prefix = config_label + ": ";
   KeyOrigins origins;
   origins.noteAll(params, config_label);
+  // The rawlog decides which sidecar applies, so read it before the overlays.
+  const std::string rawlog_file =
+      rc.ini.read_string(MappingOptions::kSection, "rawlog_file", "", false);
+  rc.rawlog = cli.rawlog.empty() ? resolveRawlog(rawlog_file, cli.config) : cli.rawlog;
+  if (rc.rawlog.empty())
+    throw ConfigError("no rawlog: give -i or [MappingApplication] rawlog_file");
   try {
-    // The rawlog decides which sidecar applies, so read it before the overlays.
-    MappingOptions first;
-    first.rawlog_file = rc.ini.read_string(MappingOptions::kSection, "rawlog_file", "", false);
-    rc.rawlog = cli.rawlog.empty() ? resolveRawlog(first.rawlog_file, cli.config) : cli.rawlog;
-    if (rc.rawlog.empty())
-      throw ConfigError("no rawlog: give -i or [MappingApplication] rawlog_file");
-
     const IniSchema schema = knownKeys();
     const fs::path sidecar = fs::path(rc.rawlog).replace_extension(".ini");
     if (fs::path(rc.rawlog).extension() == ".rawlog" && fs::exists(sidecar)) {
@@ -211,7 +216,7 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
       try {
         checkLayer(side, schema);
       } catch (const ConfigError& e) {
-        throw ConfigError(rc.sidecar + ": " + e.what());
+        throw ConfigError(rc.sidecar + ": " + e.what(), e.kind(), rc.sidecar);
       }
       rc.warnings = sidecarOverrides(rc.ini, side, config_label, rc.sidecar, cli.sets);
       copyIni(side, rc.ini);
@@ -227,10 +232,7 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
       origins.note(reducers::BudgetOptions::kSection, "max_landmarks", "--cap " + *cli.cap);
     }
     if (!cli.backend.empty()) {
-      const auto& b = MappingOptions::backends();
-      if (std::find(b.begin(), b.end(), cli.backend) == b.end())
-        throw ConfigError("--backend " + cli.backend + ": must be one of " +
-                          builtinBackends().joinedNames(", "));
+      checkBackendFlag(cli.backend);
       rc.ini.write(MappingOptions::kSection, "backend", cli.backend);
     }
     if (!cli.rawlog.empty()) rc.ini.write(MappingOptions::kSection, "rawlog_file", cli.rawlog);
@@ -242,21 +244,20 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
     schema.validate(rc.ini);
     rc.mapping.loadFromConfigFile(rc.ini, MappingOptions::kSection);
     rc.budget.loadFromConfigFile(rc.ini, reducers::BudgetOptions::kSection);
-    checkValues(rc.ini, rc.budget.seed);
+    checkValues(rc.ini);
     rc.localization.loadFromConfigFile(rc.ini, LocalizationOptions::kSection);
     rc.report.loadFromConfigFile(rc.ini, report::ReportOptions::kSection);
     reducers::builtinReducers().entry(rc.budget.reducer);  // unknown name: error now
     for (const auto& s : rc.budget.shadow_reducers) reducers::builtinReducers().entry(s);
   } catch (const KeyError& e) {
     // A value or key is named with where it came from: the -c file, the sidecar or the --set.
-    throw ConfigError(origins.of(e.section(), e.key(), config_label) + ": " + e.what());
+    const std::string origin = origins.of(e.section(), e.key(), config_label);
+    throw ConfigError(origin + ": " + e.what(), e.kind(), origin);
   } catch (const ConfigError& e) {
-    const std::string msg = e.what();
-    // Flag and name errors speak for themselves; ini errors get the file's name.
-    if (msg.rfind("--", 0) == 0 || msg.rfind("unknown reducer", 0) == 0 ||
-        msg.rfind("no rawlog", 0) == 0 || (!rc.sidecar.empty() && msg.rfind(rc.sidecar, 0) == 0))
-      throw;
-    throw ConfigError(prefix + msg);
+    // Errors that name their flag or file, and unknown names, speak for themselves; ini errors
+    // get the file's name.
+    if (!e.origin().empty() || e.kind() == ConfigErrorKind::UnknownName) throw;
+    throw ConfigError(prefix + e.what(), e.kind(), config_label);
   }
   rc.outdir = cli.outdir.empty() ? rc.mapping.logOutput_dir : cli.outdir;
   // compare checks the cap against each reducer it runs (not the ini's reducer).

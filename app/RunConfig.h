@@ -36,6 +36,10 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
 /// Throws ConfigError unless `set` reads Section.key=value (--set).
 void checkSet(const std::string& set);
 
+/// Throws UsageError "--backend x: must be one of ekf, graph" unless the backend registry holds
+/// `backend`.
+void checkBackendFlag(const std::string& backend);
+
 /// Throws ConfigError, naming --cap or the ini key, when the run's cap is `none` and `reducer`
 /// (with its options from rc.ini) needs a cap (reducers::checkCap).
 void checkCapFor(const RunConfig& rc, const CommandLine& cli, const std::string& reducer,

@@ -244,7 +244,7 @@ void RunDriver::complete() {
     logEvictions(drops);
   }
   Cancellation::check();  // drops cut short by a stop request are logged above
-  backend_->finish();
+  if (PoseHistoryBackend* h = poseHistory(backend_.get())) h->finish();
 }
 
 RunResult RunDriver::finish(const std::string& status, const std::string& error,

@@ -62,6 +62,18 @@ def reducer_names():
     return list(_core.reducer_names())
 
 
+def reducers():
+    """Every registered reducer, as `budget-slam --list reducers --json` gives it: a list of dicts
+    with name, summary and options (each a dict of section, key, default as ini text, doc)."""
+    return json.loads(_core.list_json("reducers"))
+
+
+def backends():
+    """Every registered backend, as `budget-slam --list backends --json` gives it (see reducers();
+    the default of a key MRPT's kf-slam defines is None)."""
+    return json.loads(_core.list_json("backends"))
+
+
 # ---- reading a run's files ----
 
 def _number(text):

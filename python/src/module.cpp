@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "BudgetSlamApp.h"
+#include "ListCommand.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/Progress.h"
@@ -241,4 +242,7 @@ PYBIND11_MODULE(_core, m) {
         py::arg("ids"), py::arg("n_obs") = py::none(), py::arg("obs_mean") = py::none(),
         py::arg("first_step") = py::none(), py::arg("last_step") = py::none(), py::arg("step") = 0,
         py::arg("seed") = 1, py::arg("config") = "", py::arg("candidates") = py::none());
+  m.def("list_json", [](const std::string& kind) {  // budget-slam --list <kind> --json
+    return budget_slam::app::listCommand({"budget-slam", "--list", kind, "--json"});
+  });
 }

@@ -263,6 +263,23 @@ class ReducerScoresMatchTheLoggedScores(unittest.TestCase):
                 self.assertEqual(len(got["scores"]), len(ids))
 
 
+class RegistriesAsTheCommandLineListsThem(unittest.TestCase):
+    def test_reducers_and_backends_are_budget_slam_list_json(self):
+        for kind, listed in (("reducers", budget_slam.reducers()), ("backends", budget_slam.backends())):
+            p = subprocess.run([BUDGET_SLAM, "--list", kind, "--json"], capture_output=True, text=True)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(listed, json.loads(p.stdout))
+        names = [r["name"] for r in budget_slam.reducers()]
+        self.assertEqual(names, budget_slam.reducer_names())
+        self.assertIn("place-coverage", names)
+        self.assertEqual([b["name"] for b in budget_slam.backends()], ["ekf", "graph"])
+        mi = next(r for r in budget_slam.reducers() if r["name"] == "mi")
+        self.assertIn({"section": "MutualInformationReducer", "key": "mode", "default": "cap",
+                       "doc": mi["options"][0]["doc"]}, mi["options"])
+        graph = next(b for b in budget_slam.backends() if b["name"] == "graph")
+        self.assertTrue(all(o["default"] is not None for o in graph["options"]))
+
+
 class CtrlC(unittest.TestCase):
     def test_sigint_ends_the_run_cleanly_and_raises_keyboard_interrupt(self):
         # A long run (Victoria Park, EKF) in a child Python; SIGINT once steps are being written.

@@ -27,7 +27,6 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), 
 GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics", "figure_format"}
 GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config", "relocalize",
               "reference_trajectory"}
-BACKENDS = ("ekf", "graph")
 
 
 class ExperimentError(Exception):
@@ -301,10 +300,15 @@ class Experiment:
                     raise ExperimentError(f"{path}: [{sec}] needs '{key}'")
             g["rawlogs"] = [Rawlog(s, base_dirs) for s in split_list(g["rawlogs"])]
             g["backends"] = split_list(g.get("backends", "ekf"))
-            for b in g["backends"]:
-                if b not in BACKENDS:
-                    raise ExperimentError(f"{path}: [{sec}] backend '{b}' is not one of {', '.join(BACKENDS)}")
+            backends = registry_names(self.budget_slam, "backends")
+            for b in g["backends"] if backends is not None else []:
+                if b not in backends:
+                    raise ExperimentError(f"{path}: [{sec}] backend '{b}' is not one of {', '.join(backends)}")
             g["reducers"] = [r for r in split_list(g["reducers"]) if r != "none"]
+            reducers = registry_names(self.budget_slam, "reducers")
+            for r in g["reducers"] if reducers is not None else []:
+                if r not in reducers:
+                    raise ExperimentError(f"{path}: [{sec}] reducer '{r}' is not one of {', '.join(reducers)}")
             g["caps"] = parse_caps(g["caps"])
             g["seeds"] = parse_seeds(g.get("seeds", "1"))
             g["set"] = [s.strip() for s in g.get("set", "").splitlines() if s.strip()]
@@ -438,6 +442,30 @@ def simulation_line(budget_simulate, scenario, seed, laps, rawlog_file, route=No
             f"mv -f {q(os.path.join(tmp, stem + '.rawlog'))} {q(rawlog_file)} && rmdir {q(tmp)}")
 
 
+_REGISTRIES = {}
+
+
+def registry(binary, kind):
+    """What `binary --list KIND --json` says (KIND: reducers or backends): a list of dicts with
+    name, summary and options, from the binary's own registry (the one list of them); None when
+    the binary cannot list it (not a budget-slam, or one older than --list, which also lacks
+    compare --relocalize)."""
+    key = (binary, kind)
+    if key not in _REGISTRIES:
+        try:
+            p = subprocess.run([binary, "--list", kind, "--json"], capture_output=True, text=True, timeout=60)
+            _REGISTRIES[key] = json.loads(p.stdout) if p.returncode == 0 else None
+        except (OSError, subprocess.TimeoutExpired, ValueError):
+            _REGISTRIES[key] = None
+    return _REGISTRIES[key]
+
+
+def registry_names(binary, kind):
+    """The names of registry(binary, kind), or None."""
+    entries = registry(binary, kind)
+    return [e["name"] for e in entries] if isinstance(entries, list) else None
+
+
 def help_mentions(binary, args, option):
     """Whether `binary args --help` lists the option (an older build lacks newer options)."""
     try:
@@ -451,7 +479,7 @@ def check_relocalization_support(exp):
     """One clear line when the experiment relocalizes and the binaries cannot."""
     if not exp.relocalizes:
         return
-    if not help_mentions(exp.budget_slam, ["compare"], "--relocalize"):
+    if registry_names(exp.budget_slam, "reducers") is None:
         raise ExperimentError(f"{exp.budget_slam}: this budget-slam has no 'compare --relocalize', which the "
                               "experiment's relocalize key needs (build a budget-slam with relocalization)")
     if any(route for _, _, route in exp.simulations.values()) and \

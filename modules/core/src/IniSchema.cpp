@@ -85,7 +85,7 @@ void IniSchema::validate(const mrpt::config::CConfigFileBase& ini) const {
     });
     if (it == sections_.end()) {
       if (isForeign(section)) continue;  // another application's section
-      throw KeyError(section, "", unknownSection(section));
+      throw KeyError(section, "", unknownSection(section), ConfigErrorKind::UnknownSection);
     }
     std::vector<std::string> keys;
     ini.getAllKeys(section, keys);
@@ -95,7 +95,8 @@ void IniSchema::validate(const mrpt::config::CConfigFileBase& ini) const {
       throw KeyError(section, key,
                      "unknown key [" + section + "] " + key +
                          (near.empty() ? std::string(" (no similar key in this section)")
-                                       : " (did you mean " + near + "?)"));
+                                       : " (did you mean " + near + "?)"),
+                     ConfigErrorKind::UnknownKey);
     }
   }
 }

@@ -51,7 +51,7 @@ std::string IniSection::raw(const std::string& key) const {
 
 void IniSection::fail(const std::string& key, const std::string& value,
                       const std::string& why) const {
-  throw KeyError(section_, key, "[" + section_ + "] " + key + " = " + value + ": " + why);
+  throw KeyError::ofValue(section_, key, value, why);
 }
 
 std::string IniSection::readString(const std::string& key, const std::string& def) const {

@@ -21,12 +21,11 @@ TEST(ReducerRegistry, CreatesByNameAndListsRegisteredOnUnknown) {
   ReducerRegistry reg;
   reg.add({"first",
            "drops the first candidate",
-           "",
            {},
            [](const mrpt::config::CConfigFileBase&, std::uint64_t) {
              return std::make_unique<FirstCandidate>();
            }});
-  reg.add({"alpha", "", "", {}, [](const mrpt::config::CConfigFileBase&, std::uint64_t) {
+  reg.add({"alpha", "", {}, [](const mrpt::config::CConfigFileBase&, std::uint64_t) {
              return std::make_unique<FirstCandidate>();
            }});
   mrpt::config::CConfigFileMemory ini;
@@ -35,10 +34,13 @@ TEST(ReducerRegistry, CreatesByNameAndListsRegisteredOnUnknown) {
   try {
     reg.create("nope", ini, 1);
     FAIL();
-  } catch (const ConfigError& e) {
+  } catch (const UnknownNameError& e) {
     EXPECT_STREQ(e.what(), "unknown reducer 'nope' (registered: alpha, first)");
+    EXPECT_EQ(e.kind(), ConfigErrorKind::UnknownName);
+    EXPECT_EQ(e.registryKind(), "reducer");
+    EXPECT_EQ(e.name(), "nope");
   }
-  EXPECT_THROW(reg.add({"first", "", "", {}, nullptr}), std::logic_error);
+  EXPECT_THROW(reg.add({"first", "", {}, nullptr}), std::logic_error);
 }
 
 namespace {
@@ -67,14 +69,15 @@ TEST(BackendRegistry, CreatesByNamePassesSettingsAndListsRegisteredOnUnknown) {
   const auto factory = [](const mrpt::config::CConfigFileBase&, const BackendSettings& s) {
     return std::unique_ptr<Backend>(std::make_unique<NamedBackend>(s.keep_trajectory));
   };
-  reg.add({"zeta", "", {{"Zeta", {"a", "b"}}}, factory});
+  reg.add({"zeta", "", {{"Zeta", keysOnly({"a", "b"}), {}}}, factory});
   reg.add({"alpha", "", {}, factory});
   mrpt::config::CConfigFileMemory ini;
   EXPECT_EQ(reg.create("zeta", ini)->name(), "keeps");
   EXPECT_EQ(reg.create("zeta", ini, BackendSettings{false})->name(), "latest-only");
   EXPECT_EQ(reg.names(), (std::vector<std::string>{"alpha", "zeta"}));
   EXPECT_EQ(reg.joinedNames("|"), "alpha|zeta");
-  EXPECT_EQ(reg.entry("zeta").sections.at("Zeta"), (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(reg.entry("zeta").sections.at(0).name, "Zeta");
+  EXPECT_EQ(reg.entry("zeta").sections.at(0).keys(), (std::vector<std::string>{"a", "b"}));
   try {
     reg.create("gtsam", ini);
     FAIL();

@@ -18,7 +18,7 @@ constexpr const char* kKalman = "RangeBearingKFSLAM_KalmanFilter";
 
 [[noreturn]] void fail(const std::string& section, const std::string& key, const std::string& value,
                        const std::string& why) {
-  throw KeyError(section, key, "[" + section + "] " + key + " = " + value + ": " + why);
+  throw KeyError::ofValue(section, key, value, why);
 }
 
 std::string joined(const std::vector<std::string>& v) {

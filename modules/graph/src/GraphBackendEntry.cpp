@@ -6,8 +6,7 @@ BackendEntry GraphBackend::entry() {
   return {
       kName,
       "landmark graph SLAM: every kept pose, sparse Cholesky (CHOLMOD), docs/GRAPH.md",
-      {{GraphSlamOptions::kSection, GraphSlamOptions::keys()},
-       {RangeBearingNoise::kSection, RangeBearingNoise::keys()}},
+      {tabledSection<GraphSlamOptions>(), tabledSection<RangeBearingNoise>()},
       // The graph's estimate is its trajectory: BackendSettings::keep_trajectory does not apply.
       [](const mrpt::config::CConfigFileBase& ini, const BackendSettings&) {
         return std::unique_ptr<Backend>(std::make_unique<GraphBackend>(ini));

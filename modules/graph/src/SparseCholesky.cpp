@@ -584,8 +584,6 @@ bool SparseCholesky::pruneToPattern(const UpperTriangle& H) {
 double SparseCholesky::lastFactorizationFlops() const { return impl_->c.rowfacfl; }
 
 cholmod_factor_struct* SparseCholesky::factor() { return impl_->F; }
-cholmod_common_struct* SparseCholesky::common() { return &impl_->c; }
-void SparseCholesky::modified() { impl_->invalidate(); }
 
 int SparseCholesky::position(int row) const {
   impl_->extractL();

@@ -11,8 +11,8 @@
 #include <random>
 
 #include "budget_slam/gaussian/GaussianStateBackend.h"
-#include "budget_slam/reducers/CoverageReducer.h"
 #include "budget_slam/reducers/MutualInformationReducer.h"
+#include "budget_slam/reducers/ViewClusterReducers.h"
 
 using namespace budget_slam;
 using namespace budget_slam::reducers;
@@ -73,12 +73,12 @@ void BM_Mi(benchmark::State& st) {
 }
 
 void BM_Coverage(benchmark::State& st) {
-  CoverageReducer r{CoverageOptions()};
+  ViewClusterReducer r{CoverageOptions()};
   decide(st, r);
 }
 
 void BM_CoverageMi(benchmark::State& st) {
-  CoverageMiReducer r{CoverageOptions()};
+  ViewClusterGainReducer r{CoverageOptions()};
   decide(st, r);
 }
 

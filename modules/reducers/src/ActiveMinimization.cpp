@@ -113,7 +113,7 @@ ScheduledDrops activeMinimization(const ScheduleContext& ctx, double lambda, std
   auto scratch = scratchFor(ctx, candidates, reason);
   // Alg. 5 line 5: the gains are those at the optimum Theta* of the graph so far (the graph's
   // incremental schedule leaves the latest poses dead-reckoned between updates).
-  scratch->finish();
+  if (PoseHistoryBackend* h = poseHistory(scratch.get())) h->finish();
   const auto sequence = greedySequence(*scratch, candidates);
   std::vector<double> gains;
   for (const auto& s : sequence) gains.push_back(s.gain);

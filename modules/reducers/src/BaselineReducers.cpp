@@ -32,9 +32,8 @@ ReducerChoice RandomReducer::choose(const DropContext& ctx) {
 }
 
 ReducerRegistry::Entry RandomReducer::entry() {
-  return {"random",
+  return {kName,
           "a uniformly random unprotected landmark (seeded by [LandmarkBudget] seed)",
-          "",
           {},
           [](const mrpt::config::CConfigFileBase&, std::uint64_t seed) {
             return std::make_unique<RandomReducer>(seed);
@@ -46,9 +45,8 @@ ReducerChoice OldestReducer::choose(const DropContext& ctx) {
 }
 
 ReducerRegistry::Entry OldestReducer::entry() {
-  return {"oldest",
+  return {kName,
           "the landmark first seen earliest",
-          "",
           {},
           [](const mrpt::config::CConfigFileBase&, std::uint64_t) {
             return std::make_unique<OldestReducer>();
@@ -60,9 +58,8 @@ ReducerChoice InfoContentReducer::choose(const DropContext& ctx) {
 }
 
 ReducerRegistry::Entry InfoContentReducer::entry() {
-  return {"info-content",
+  return {kName,
           "lowest 1/sigma_xx^2 + 1/sigma_yy^2 (Dissanayake), no coverage",
-          "",
           {},
           [](const mrpt::config::CConfigFileBase&, std::uint64_t) {
             return std::make_unique<InfoContentReducer>();

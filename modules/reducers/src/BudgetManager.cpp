@@ -13,21 +13,6 @@
 namespace budget_slam::reducers {
 
 std::vector<std::size_t> dropCandidates(const std::vector<LandmarkView>& landmarks, StepIndex step,
-                                        std::size_t protect_recent_steps, bool* all_protected) {
-  std::vector<std::size_t> out;
-  for (std::size_t i = 0; i < landmarks.size(); ++i) {
-    // Seen in the last P steps means last_step in (step - P, step].
-    const bool is_protected =
-        step - landmarks[i].last_step < protect_recent_steps && landmarks[i].last_step <= step;
-    if (!is_protected) out.push_back(i);
-  }
-  *all_protected = out.empty();
-  if (out.empty())
-    for (std::size_t i = 0; i < landmarks.size(); ++i) out.push_back(i);
-  return out;
-}
-
-std::vector<std::size_t> dropCandidates(const std::vector<LandmarkView>& landmarks, StepIndex step,
                                         const BudgetOptions& options, bool* all_protected) {
   const std::size_t P = options.protect_recent_steps;
   const bool compete = options.admission == BudgetOptions::Admission::Compete;
@@ -60,17 +45,22 @@ bool stopBetweenDrops(const std::vector<Eviction>& done) {
 }
 
 BudgetOptions inForce(BudgetOptions options, const Reducer* active) {
-  if (active && !active->readmitsEvicted()) options.readmit_evicted = false;
+  const DropScheduler* scheduler = dropScheduler(active);
+  if (scheduler && !scheduler->readmitsEvicted()) options.readmit_evicted = false;
   return options;
 }
 
 }  // namespace
 
 void checkCap(const BudgetOptions& options, const Reducer* active) {
-  if (options.max_landmarks || !active || active->decidesMapSize()) return;
-  throw ConfigError("[LandmarkBudget] max_landmarks = none: reducer '" + active->name() +
-                    "' drops landmarks only to keep the map under a cap, so it needs a number "
-                    "(no cap suits reducer none, and mi in objective or incremental mode)");
+  if (options.max_landmarks || !active) return;
+  if (const DropScheduler* s = dropScheduler(active); s && s->decidesMapSize()) return;
+  throw KeyError::ofValue(BudgetOptions::kSection, "max_landmarks", "none",
+                          "reducer '" + active->name() +
+                              "' drops landmarks only to keep the map under a cap, so it needs a "
+                              "number (no cap suits reducer none, and mi in objective or "
+                              "incremental mode)",
+                          ConfigErrorKind::NeedsCap);
 }
 
 BudgetManager::BudgetManager(const BudgetOptions& options, std::unique_ptr<Reducer> active,
@@ -89,9 +79,10 @@ BudgetManager::BudgetManager(const BudgetOptions& options, std::unique_ptr<Reduc
     ne.fov_margin = options_.view_margin_deg * M_PI / 180;
     negative_ = std::make_unique<NegativeEvidence>(ne);
   }
-  if (active_ && active_->wantsObservations()) observers_.push_back(active_.get());
+  scheduler_ = dropScheduler(active_.get());
+  if (ObservationKeeper* k = observationKeeper(active_.get())) observers_.push_back(k);
   for (const auto& s : shadows_)
-    if (s->wantsObservations()) observers_.push_back(s.get());
+    if (ObservationKeeper* k = observationKeeper(s.get())) observers_.push_back(k);
   std::vector<std::string> names;
   if (active_) names.push_back(active_->name());
   for (const auto& s : shadows_) {
@@ -156,7 +147,7 @@ Eviction BudgetManager::dropLandmark(Backend& backend, const DropContext& ctx,
   backend.removeLandmark(victim.id);
   e.n_after = backend.landmarkCount();
   if (!options_.readmit_evicted) evicted_.insert(victim.id);  // only needed to filter
-  for (Reducer* r : observers_) r->forget(victim.id);
+  for (ObservationKeeper* r : observers_) r->forget(victim.id);
   if (negative_) negative_->forget(victim.id);
   return e;
 }
@@ -176,7 +167,7 @@ Eviction BudgetManager::dropDistrusted(Backend& backend, const std::vector<Landm
   backend.removeLandmark(id);
   e.n_after = backend.landmarkCount();
   if (!options_.readmit_evicted) evicted_.insert(id);
-  for (Reducer* r : observers_) r->forget(id);
+  for (ObservationKeeper* r : observers_) r->forget(id);
   negative_->forget(id);
   return e;
 }
@@ -239,7 +230,7 @@ void BudgetManager::tellObservations(const Backend& backend, StepIndex step, con
       }
     }
   }
-  for (Reducer* r : observers_) r->observe(seen);
+  for (ObservationKeeper* r : observers_) r->observe(seen);
 }
 
 Step BudgetManager::admissible(const Step& raw) const {
@@ -257,6 +248,7 @@ Step BudgetManager::admissible(const Step& raw) const {
 
 std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex step, bool final) {
   std::vector<Eviction> out;
+  if (!scheduler_) return out;
   ScheduleContext sctx{backend, step, final, {}};
   // Look-ahead copy: the application's factory, else the backend's own deep copy (clone(), null
   // when the backend has none; the reducer then falls back, see ActiveMinimization.h).
@@ -264,7 +256,7 @@ std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex st
     sctx.scratch = [this, &backend] { return scratch_factory_(backend); };
   else
     sctx.scratch = [&backend] { return backend.clone(); };
-  const ScheduledDrops plan = active_->scheduled(sctx);
+  const ScheduledDrops plan = scheduler_->scheduled(sctx);
   if (plan.drops.empty() && !plan.marginalize_poses) return out;
 
   if (!plan.drops.empty() && before_drop_event_) before_drop_event_(backend, step);
@@ -288,7 +280,8 @@ std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex st
     if (shadows_.empty()) landmarks.erase(it);
   }
   if (plan.marginalize_poses)
-    poses_marginalized_ += backend.marginalizePosesWithoutLandmarks(plan.keep_last_poses);
+    if (PoseHistoryBackend* h = poseHistory(&backend))
+      poses_marginalized_ += h->marginalizePosesWithoutLandmarks(plan.keep_last_poses);
   return out;
 }
 

@@ -1,10 +1,10 @@
 #include "budget_slam/reducers/BuiltinReducers.h"
 
 #include "budget_slam/reducers/BaselineReducers.h"
-#include "budget_slam/reducers/CoverageReducer.h"
 #include "budget_slam/reducers/LocalizationInformationReducer.h"
 #include "budget_slam/reducers/MutualInformationReducer.h"
 #include "budget_slam/reducers/PlaceCoverageReducer.h"
+#include "budget_slam/reducers/ViewClusterReducers.h"
 
 namespace budget_slam::reducers {
 namespace {
@@ -13,7 +13,6 @@ ReducerRegistry makeRegistry() {
   ReducerRegistry r;
   r.add({"none",
          "no reducer: the map grows without a cap (the reference run)",
-         "",
          {},
          [](const mrpt::config::CConfigFileBase&, std::uint64_t) {
            return std::unique_ptr<Reducer>();
@@ -23,18 +22,25 @@ ReducerRegistry makeRegistry() {
   r.add(OldestReducer::entry());
   r.add(InfoContentReducer::entry());
   r.add(MutualInformationReducer::entry());
-  r.add(CoverageReducer::entry());
-  r.add(CoverageMiReducer::entry());
+  r.add(ViewClusterReducer::entry());
+  r.add(ViewClusterGainReducer::entry());
   r.add(PlaceCoverageReducer::entry());
   r.add(LocalizationInformationReducer::entry());
   return r;
 }
 
+ReducerRegistry& registry() {
+  static ReducerRegistry r = makeRegistry();
+  return r;
+}
+
 }  // namespace
 
-const ReducerRegistry& builtinReducers() {
-  static const ReducerRegistry registry = makeRegistry();
-  return registry;
+const ReducerRegistry& builtinReducers() { return registry(); }
+
+bool addReducer(ReducerEntry entry) {
+  registry().add(std::move(entry));
+  return true;
 }
 
 }  // namespace budget_slam::reducers

@@ -282,21 +282,42 @@ ReducerChoice LocalizationInformationReducer::choose(const DropContext& ctx) {
   return {best->id, best->key};
 }
 
+namespace {
+
+/// The sensor noise the filter assumes, [RangeBearingKFSLAM] std_sensor_range [m] and
+/// std_sensor_yaw_deg [deg] (MRPT's defaults: 0.1 m, 0.5 deg), checked as the filter checks it.
+struct SensorNoise {
+  double std_range = 0.1, std_yaw_deg = 0.5;
+};
+constexpr const char* kSensorSection = "RangeBearingKFSLAM";
+
+SensorNoise readSensorNoise(const mrpt::config::CConfigFileBase& ini) {
+  const IniSection sensor(ini, kSensorSection);
+  SensorNoise n;
+  n.std_range = sensor.readDouble("std_sensor_range", n.std_range, 0, 1e6);
+  n.std_yaw_deg = sensor.readDouble("std_sensor_yaw_deg", n.std_yaw_deg, 0, 360);
+  return n;
+}
+
+}  // namespace
+
 ReducerRegistry::Entry LocalizationInformationReducer::entry() {
-  return {"localization-information",
+  const SensorNoise defaults;
+  return {kName,
           "keep the landmarks that tell the robot most about its pose at every visited place: "
           "greedy on the sum over places of log det of the pose's Fisher information",
-          LocalizationInformationOptions::kSection, LocalizationInformationOptions::keys(),
+          {tabledSection<LocalizationInformationOptions>(),
+           {kSensorSection,
+            {{"std_sensor_range", option::numberText(defaults.std_range), "[m], >= 0"},
+             {"std_sensor_yaw_deg", option::numberText(defaults.std_yaw_deg), "[deg], 0 to 360"}},
+            [](const mrpt::config::CConfigFileBase& ini) { readSensorNoise(ini); }}},
           [](const mrpt::config::CConfigFileBase& ini, std::uint64_t) {
             LocalizationInformationOptions o;
             o.loadFromConfigFile(ini, LocalizationInformationOptions::kSection);
-            // The sensor noise the filter assumes (MRPT's defaults: 0.1 m, 0.5 deg), checked as
-            // the filter checks it; a noise of 0 is read as 1e-12 (the information is finite).
-            const IniSection sensor(ini, "RangeBearingKFSLAM");
-            const double std_range = sensor.readDouble("std_sensor_range", 0.1, 0, 1e6);
-            const double std_yaw_deg = sensor.readDouble("std_sensor_yaw_deg", 0.5, 0, 360);
+            // A noise of 0 is read as 1e-12 (the information is finite).
+            const SensorNoise n = readSensorNoise(ini);
             return std::make_unique<LocalizationInformationReducer>(
-                o, std::max(std_range, 1e-12), std::max(std_yaw_deg * kDeg, 1e-12));
+                o, std::max(n.std_range, 1e-12), std::max(n.std_yaw_deg * kDeg, 1e-12));
           }};
 }
 

@@ -47,10 +47,10 @@ ScheduledDrops MutualInformationReducer::scheduled(const ScheduleContext& ctx) {
 }
 
 ReducerRegistry::Entry MutualInformationReducer::entry() {
-  return {"mi",
+  return {kName,
           "lowest information gain I(L; rest) in bits (Choudhary et al.); modes cap, objective "
           "(Alg. 3), incremental (Alg. 5)",
-          MutualInformationOptions::kSection, MutualInformationOptions::keys(),
+          {tabledSection<MutualInformationOptions>()},
           [](const mrpt::config::CConfigFileBase& ini, std::uint64_t) {
             MutualInformationOptions o;
             o.loadFromConfigFile(ini, MutualInformationOptions::kSection);

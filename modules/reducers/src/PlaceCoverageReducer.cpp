@@ -183,10 +183,10 @@ ReducerChoice PlaceCoverageReducer::choose(const DropContext& ctx) {
 }
 
 ReducerRegistry::Entry PlaceCoverageReducer::entry() {
-  return {"place-coverage",
+  return {kName,
           "keep k landmarks observed from every visited place (grid cell and heading); drop the "
           "one whose loss uncovers fewest places, near-ties by information gain or by spread",
-          PlaceCoverageOptions::kSection, PlaceCoverageOptions::keys(),
+          {tabledSection<PlaceCoverageOptions>()},
           [](const mrpt::config::CConfigFileBase& ini, std::uint64_t) {
             PlaceCoverageOptions o;
             o.loadFromConfigFile(ini, PlaceCoverageOptions::kSection);

@@ -21,7 +21,7 @@ namespace {
 
 /// A backend whose gains change as landmarks go: gain(L) = base[L] + sum of coupling[L][R] over
 /// the removed R. Counts pose marginalizations.
-class ScriptedBackend : public FakeBackend {
+class ScriptedBackend : public FakeBackend, public PoseHistoryBackend {
  public:
   using FakeBackend::FakeBackend;
   std::vector<double> informationGain(const std::vector<LandmarkId>& ids) const override {
@@ -42,6 +42,7 @@ class ScriptedBackend : public FakeBackend {
     marginalize_calls.push_back(keep_last);
     return 7;
   }
+  void finish() override {}
   std::map<LandmarkId, double> base;
   std::map<std::pair<LandmarkId, LandmarkId>, double> coupling;
   std::vector<LandmarkId> removed;

@@ -5,7 +5,7 @@
 #include <set>
 
 #include "FakeBackend.h"
-#include "budget_slam/reducers/CoverageOptimum.h"
+#include "budget_slam/reducers/PlaceCoverageOptimum.h"
 #include "budget_slam/reducers/PlaceCoverageReducer.h"
 
 using namespace budget_slam;
@@ -42,7 +42,7 @@ double exhaustiveBest(const std::vector<std::vector<LandmarkId>>& places, std::s
 
 }  // namespace
 
-TEST(CoverageOptimum, EqualsExhaustiveOptimumAndBoundsEveryReducer) {
+TEST(PlaceCoverageOptimum, EqualsExhaustiveOptimumAndBoundsEveryReducer) {
   std::mt19937 rng(11);
   for (int trial = 0; trial < 60; ++trial) {
     const std::size_t n = 3 + rng() % 10;  // N <= 12
@@ -53,7 +53,7 @@ TEST(CoverageOptimum, EqualsExhaustiveOptimumAndBoundsEveryReducer) {
     for (auto& p : places)
       for (LandmarkId id = 1; id <= n; ++id)
         if (rng() % 3 == 0) p.push_back(id);
-    const CoverageOptimum opt = solveCoverageOptimum(places, k, budget);
+    const PlaceCoverageOptimum opt = solvePlaceCoverageOptimum(places, k, budget);
     ASSERT_TRUE(opt.proven_optimal);
     EXPECT_DOUBLE_EQ(opt.coverage, exhaustiveBest(places, n, k, budget)) << "trial " << trial;
     EXPECT_LE(opt.selection.size(), budget);
@@ -94,17 +94,17 @@ TEST(CoverageOptimum, EqualsExhaustiveOptimumAndBoundsEveryReducer) {
   }
 }
 
-TEST(CoverageOptimum, EverythingFitsAndSizeLimitIsAClearError) {
+TEST(PlaceCoverageOptimum, EverythingFitsAndSizeLimitIsAClearError) {
   const std::vector<std::vector<LandmarkId>> places = {{1, 2, 3}, {3, 4}, {}};
-  const CoverageOptimum all = solveCoverageOptimum(places, 2, 10);
+  const PlaceCoverageOptimum all = solvePlaceCoverageOptimum(places, 2, 10);
   EXPECT_DOUBLE_EQ(all.coverage, 4.0);
   EXPECT_EQ(all.selection, (std::vector<LandmarkId>{1, 2, 3, 4}));
   // One landmark: 3 covers one of place 0's two and one of place 1's.
-  EXPECT_DOUBLE_EQ(solveCoverageOptimum(places, 2, 1).coverage, 2.0);
-  CoverageOptimumLimits small;
+  EXPECT_DOUBLE_EQ(solvePlaceCoverageOptimum(places, 2, 1).coverage, 2.0);
+  PlaceCoverageOptimumLimits small;
   small.max_sightings = 4;
   try {
-    solveCoverageOptimum(places, 2, 1, small);
+    solvePlaceCoverageOptimum(places, 2, 1, small);
     FAIL();
   } catch (const std::length_error& e) {
     EXPECT_STREQ(e.what(),

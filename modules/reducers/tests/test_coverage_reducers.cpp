@@ -8,9 +8,9 @@
 #include "TestStates.h"
 #include "budget_slam/reducers/BaselineReducers.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
-#include "budget_slam/reducers/CoverageReducer.h"
 #include "budget_slam/reducers/CoverageSelection.h"
 #include "budget_slam/reducers/InformationContent.h"
+#include "budget_slam/reducers/ViewClusterReducers.h"
 
 using namespace budget_slam;
 using namespace budget_slam::reducers;
@@ -49,7 +49,7 @@ CoverageOptions defaults() { return CoverageOptions(); }
 
 }  // namespace
 
-TEST(CoverageReducer, TwoRoomsCoverageDropsFromTheWellKnownRoom) {
+TEST(ViewClusterReducer, TwoRoomsCoverageDropsFromTheWellKnownRoom) {
   FakeBackend b = twoRooms();
   const auto lms = b.landmarks();
   // The clusters are the rooms.
@@ -59,7 +59,7 @@ TEST(CoverageReducer, TwoRoomsCoverageDropsFromTheWellKnownRoom) {
   for (int i = 7; i < 9; ++i) EXPECT_EQ(clusters.label[i], clusters.label[6]);
   EXPECT_NE(clusters.label[0], clusters.label[6]);
 
-  CoverageReducer coverage(defaults());
+  ViewClusterReducer coverage(defaults());
   InfoContentReducer info;
   const auto c = ask(coverage, b, all(9));
   const auto i = ask(info, b, all(9));
@@ -72,7 +72,7 @@ TEST(CoverageReducer, TwoRoomsCoverageDropsFromTheWellKnownRoom) {
 
   // Dropping one by one down to five (k stays 2 for N >= 6): room 1 gives up its landmarks in
   // increasing I while room 2 keeps all three.
-  CoverageReducer again(defaults());
+  ViewClusterReducer again(defaults());
   std::vector<LandmarkId> dropped;
   while (b.landmarkCount() > 5) {
     const auto v = ask(again, b, all(b.landmarkCount()));
@@ -82,9 +82,9 @@ TEST(CoverageReducer, TwoRoomsCoverageDropsFromTheWellKnownRoom) {
   EXPECT_EQ(dropped, (std::vector<LandmarkId>{6, 5, 4, 3}));
 }
 
-TEST(CoverageReducer, ClustersWithoutCandidatesAreSkippedAndProtectedMembersCountInSpread) {
+TEST(ViewClusterReducer, ClustersWithoutCandidatesAreSkippedAndProtectedMembersCountInSpread) {
   FakeBackend b = twoRooms();
-  CoverageReducer coverage(defaults());
+  ViewClusterReducer coverage(defaults());
   // Only room 2 may go: its lowest I, id 9.
   EXPECT_EQ(ask(coverage, b, {6, 7, 8}).id, 9);
   // Room 1 with only id 1 (I = 200) as a candidate: spread is over all members (166.7), so room
@@ -92,7 +92,7 @@ TEST(CoverageReducer, ClustersWithoutCandidatesAreSkippedAndProtectedMembersCoun
   EXPECT_EQ(ask(coverage, b, {0, 6, 7, 8}).id, 1);
 }
 
-TEST(CoverageReducer, SingletonClustersFallBackToLowestInformationThenLowestId) {
+TEST(ViewClusterReducer, SingletonClustersFallBackToLowestInformationThenLowestId) {
   // ratio 1: every landmark its own cluster, every spread 0 -> lowest I overall, then lowest id.
   mrpt::config::CConfigFileMemory ini;
   ini.write("CoverageReducer", "cluster_ratio", "1.0");
@@ -104,12 +104,12 @@ TEST(CoverageReducer, SingletonClustersFallBackToLowestInformationThenLowestId) 
   EXPECT_DOUBLE_EQ(c.score, 4.0);
 }
 
-TEST(CoverageReducer, EqualSpreadsGoToTheLowerInformationPick) {
+TEST(ViewClusterReducer, EqualSpreadsGoToTheLowerInformationPick) {
   // Two far clusters (k = 2) whose spreads are both exactly 16 1/m^2 (variances are powers of
   // two): the tie goes to the cluster whose pick has the lower I.
   CoverageOptions o;
   o.cluster_ratio = 0.5;  // k = 2
-  CoverageReducer r(o);
+  ViewClusterReducer r(o);
   const FakeBackend low_b({landmark(1, 1 / 32.0, 0.5, 0, 0, 0, 0),       // I = 34
                            landmark(2, 1 / 16.0, 0.5, 0, 0, 0.1, 0),     // I = 18
                            landmark(3, 1.0, 1.0, 0, 0, 50, 0),           // I = 2
@@ -122,7 +122,7 @@ TEST(CoverageReducer, EqualSpreadsGoToTheLowerInformationPick) {
   EXPECT_EQ(ask(r, low_a, all(4)).id, 2);
 }
 
-TEST(CoverageReducer, SameSeedSameChoiceAndSeedComesFromTheRunUnlessSet) {
+TEST(ViewClusterReducer, SameSeedSameChoiceAndSeedComesFromTheRunUnlessSet) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0, 40), v(0.01, 1);
   FakeBackend b({});
@@ -140,12 +140,12 @@ TEST(CoverageReducer, SameSeedSameChoiceAndSeedComesFromTheRunUnlessSet) {
   EXPECT_NE(dump2.str().find("seed                     = 5"), std::string::npos);
 }
 
-TEST(CoverageMiReducer, TwoRoomsByInformationGain) {
+TEST(ViewClusterGainReducer, TwoRoomsByInformationGain) {
   FakeBackend b = twoRooms();
   // Room 1 gains 6, 5.5, 5, 4.8, 4.6, 1.0 bits; room 2: 0.3, 0.8, 0.9.
   const double g[] = {6, 5.5, 5, 4.8, 4.6, 1.0, 0.3, 0.8, 0.9};
   for (int i = 0; i < 9; ++i) b.gains[1 + i] = g[i];
-  CoverageMiReducer r(defaults());
+  ViewClusterGainReducer r(defaults());
   // Room 1 spread 6 - 1 = 5 > room 2: 0.9 - 0.3 = 0.6.
   const auto c = ask(r, b, all(9));
   EXPECT_EQ(c.id, 6);
@@ -165,25 +165,25 @@ TEST(CoverageMiReducer, TwoRoomsByInformationGain) {
       1);
 }
 
-TEST(CoverageMiReducer, DisagreesWithCoverageWhenDiagonalInformationMisleads) {
+TEST(ViewClusterGainReducer, DisagreesWithCoverageWhenDiagonalInformationMisleads) {
   // Same room, five landmarks. Id 1 has the smallest variances (highest I) but is nearly
   // uncorrelated with the rest (0.05 bits); id 5 is uncertain but carries 3 bits.
   FakeBackend b({landmark(1, 0.01, 0.01, 0, 0, 0, 0), landmark(2, 0.1, 0.1, 0, 0, 0.1, 0),
                  landmark(3, 0.1, 0.1, 0, 0, 0.2, 0), landmark(4, 0.2, 0.2, 0, 0, 0.3, 0),
                  landmark(5, 0.9, 0.9, 0, 0, 0.4, 0)});
   b.gains = {{1, 0.05}, {2, 1.0}, {3, 1.2}, {4, 2.0}, {5, 3.0}};
-  CoverageReducer cov(defaults());
-  CoverageMiReducer covmi(defaults());
+  ViewClusterReducer cov(defaults());
+  ViewClusterGainReducer covmi(defaults());
   EXPECT_EQ(ask(cov, b, all(5)).id, 5);
   EXPECT_EQ(ask(covmi, b, all(5)).id, 1);
 }
 
-TEST(CoverageMiReducer, ScoreIsTheBackendsGainOnARealGaussianState) {
+TEST(ViewClusterGainReducer, ScoreIsTheBackendsGainOnARealGaussianState) {
   std::mt19937 rng(21);
   auto state = budget_slam::testing::randomState(40, rng);
   const auto lms = state.landmarks();
   const auto cand = all(40);
-  CoverageMiReducer r(defaults());
+  ViewClusterGainReducer r(defaults());
   const auto c = r.choose({state, lms, cand, 100});
   const auto brute = budget_slam::testing::bruteForceGains(state.covariance());
   std::size_t idx = 0;

@@ -312,13 +312,13 @@ TEST(LocalizationInformationReducer, ALandmarkThatComesBackCountsEveryPlaceItWas
 TEST(LocalizationInformationReducer, TheManagerTellsTheReadingsItLeftOut) {
   // compete: newcomer 3 is refused at step 0; at step 1 its reading is left out of the processed
   // step (it waits), and the reducer is told it as withheld.
-  struct Spy : public Reducer {
+  struct Spy : public Reducer, public ObservationKeeper {
     std::string name() const override { return "spy"; }
     ReducerChoice choose(const DropContext& ctx) override {
       return {ctx.landmarks[ctx.candidates.back()].id, 0};  // the newest goes
     }
-    bool wantsObservations() const override { return true; }
     void observe(const StepObservation& seen) override { withheld.push_back(seen.withheld); }
+    void forget(LandmarkId) override {}
     std::vector<std::vector<Sighting>> withheld;
   };
   BudgetOptions bo;
@@ -356,7 +356,7 @@ TEST(LocalizationInformationReducer, RegisteredWithItsSectionAndValidatedKeys) {
   ini.write("RangeBearingKFSLAM", "std_sensor_range", "0.03");
   const auto r = builtinReducers().create("localization-information", ini, 1);
   EXPECT_EQ(r->name(), "localization-information");
-  EXPECT_TRUE(r->wantsObservations());
+  EXPECT_NE(observationKeeper(r.get()), nullptr);
   mrpt::config::CConfigFileMemory bad;
   bad.write("LocalizationInformationReducer", "objective", "max");
   try {

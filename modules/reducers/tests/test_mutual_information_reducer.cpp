@@ -87,8 +87,10 @@ TEST(MutualInformationReducer, TiesGoToTheLowestId) {
 
 TEST(MutualInformationReducer, RegisteredWithItsSectionAndKeys) {
   const auto& e = builtinReducers().entry("mi");
-  EXPECT_EQ(e.section, "MutualInformationReducer");
-  EXPECT_EQ(e.keys, (std::vector<std::string>{"mode", "lambda", "psi", "pose_lag", "stop"}));
+  ASSERT_EQ(e.sections.size(), 1u);
+  EXPECT_EQ(e.sections[0].name, "MutualInformationReducer");
+  EXPECT_EQ(e.sections[0].keys(),
+            (std::vector<std::string>{"mode", "lambda", "psi", "pose_lag", "stop"}));
   mrpt::config::CConfigFileMemory ini;
   ini.write("MutualInformationReducer", "mode", "incremental");
   ini.write("MutualInformationReducer", "psi", "30");
@@ -97,5 +99,7 @@ TEST(MutualInformationReducer, RegisteredWithItsSectionAndKeys) {
   ASSERT_NE(mi, nullptr);
   EXPECT_EQ(mi->options().mode, MutualInformationOptions::Mode::Incremental);
   EXPECT_EQ(mi->options().psi, 30u);
+  ASSERT_EQ(dropScheduler(r.get()), mi);
   EXPECT_FALSE(mi->readmitsEvicted());
+  EXPECT_TRUE(mi->decidesMapSize());
 }

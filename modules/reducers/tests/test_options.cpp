@@ -105,10 +105,37 @@ TEST(BuiltinReducers, NewReducersAreRegisteredWithTheirSections) {
   const auto names = builtinReducers().names();
   for (const char* n : {"mi", "coverage", "coverage-mi"})
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
-  EXPECT_EQ(builtinReducers().entry("coverage").section, "CoverageReducer");
-  EXPECT_EQ(builtinReducers().entry("coverage-mi").section, "CoverageReducer");
-  EXPECT_EQ(builtinReducers().entry("coverage").keys, CoverageOptions::keys());
+  for (const char* n : {"coverage", "coverage-mi"}) {
+    const auto& sections = builtinReducers().entry(n).sections;
+    ASSERT_EQ(sections.size(), 1u) << n;
+    EXPECT_EQ(sections[0].name, "CoverageReducer");
+    EXPECT_EQ(sections[0].keys(), CoverageOptions::keys());
+  }
   mrpt::config::CConfigFileMemory ini;
-  for (const char* n : {"mi", "coverage", "coverage-mi"})
-    EXPECT_EQ(builtinReducers().create(n, ini, 1)->name(), n);
+  for (const auto& n : names)  // every entry builds a reducer of its own name
+    if (n != "none") EXPECT_EQ(builtinReducers().create(n, ini, 1)->name(), n);
+}
+
+TEST(BuiltinReducers, EachEntryChecksItsOwnSectionsWithoutBuilding) {
+  // Every key an entry lists has a default of its options' table (for --list), and a bad value of
+  // its section is the loader's KeyError, naming section and key.
+  for (const auto* e : builtinReducers().entries())
+    for (const auto& s : e->sections) {
+      ASSERT_TRUE(s.check) << e->name << " [" << s.name << "]";
+      for (const auto& o : s.options) EXPECT_TRUE(o.default_text) << e->name << " " << o.key;
+    }
+  mrpt::config::CConfigFileMemory ini;
+  ini.write("CoverageReducer", "max_iterations", "0");
+  try {
+    builtinReducers().entry("coverage-mi").validate(ini);
+    FAIL() << "a bad value passed";
+  } catch (const KeyError& e) {
+    EXPECT_EQ(e.section(), "CoverageReducer");
+    EXPECT_EQ(e.key(), "max_iterations");
+    EXPECT_EQ(e.kind(), ConfigErrorKind::BadValue);
+    EXPECT_EQ(std::string(e.what()).rfind("[CoverageReducer] max_iterations = 0: ", 0), 0u);
+  }
+  builtinReducers().entry("mi").validate(ini);  // not mi's section
+  ini.write("RangeBearingKFSLAM", "std_sensor_yaw_deg", "400");
+  EXPECT_THROW(builtinReducers().entry("localization-information").validate(ini), KeyError);
 }

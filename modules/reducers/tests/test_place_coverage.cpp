@@ -298,7 +298,7 @@ TEST(PlaceCoverageReducer, RegisteredWithItsSectionAndValidatedKeys) {
   ini.write("PlaceCoverageReducer", "min_landmarks", "3");
   const auto r = builtinReducers().create("place-coverage", ini, 1);
   EXPECT_EQ(r->name(), "place-coverage");
-  EXPECT_TRUE(r->wantsObservations());
+  EXPECT_NE(observationKeeper(r.get()), nullptr);
   mrpt::config::CConfigFileMemory bad;
   bad.write("PlaceCoverageReducer", "min_landmarks", "0");
   EXPECT_THROW(builtinReducers().create("place-coverage", bad, 1), ConfigError);

@@ -10,7 +10,9 @@ answer. `value()` is the design; the tests import it to compute what the tables 
   where a metric does not apply), DIR/<run>/summary.json, and with --relocalize
   DIR/relocalization.csv (run, traversal (the file's stem), status, rmse_m, max_m, lost_pct,
   coverage_pct, nees_mean), the app's columns.
-- `compare --help` lists --relocalize unless FAKE_NO_RELOCALIZE is set in the environment.
+- `--list reducers|backends --json`: the reducers of QUALITY and backends ekf and graph, as the
+  app lists them; unless FAKE_NO_RELOCALIZE is set in the environment (a budget-slam older than
+  --list and compare --relocalize: a bad command line).
 - FAKE_REFERENCE_FAILS=<rawlog>:<seed> (e.g. park:7): that compare's unreduced run ends `failed`
   (the EKF diverged, as the real park seed 7 does); its reducers' runs stay ok.
 - As budget-simulate (argv[0] ends in budget-simulate): writes the -o rawlog (a stub) and a
@@ -82,11 +84,16 @@ def simulate(args):
     return 0
 
 
+def list_registry(args):
+    if os.environ.get("FAKE_NO_RELOCALIZE") or args[1:] != ["--json"]:
+        print("budget-slam: unknown command '--list'", file=sys.stderr)
+        return 2
+    names = {"reducers": sorted(QUALITY), "backends": ["ekf", "graph"]}[args[0]]
+    print(json.dumps([{"name": n, "summary": n, "options": []} for n in names]))
+    return 0
+
+
 def compare(args):
-    if "--help" in args:
-        print("budget-slam compare -c <ini> -i <rawlog> -o <dir> [--reducers <a,b>] [--cap <N>]"
-              + ("" if os.environ.get("FAKE_NO_RELOCALIZE") else " [--relocalize <A.rawlog[,B...]>]"))
-        return 0
     out, rawlog_file = arg(args, "-o"), arg(args, "-i")
     rawlog = os.path.basename(rawlog_file)[:-len(".rawlog")].split("-seed")[0]
     seed = int(next(s.split("=")[1] for s in args if s.startswith("LandmarkBudget.seed=")))
@@ -151,7 +158,7 @@ def main(args):
             f.write(" ".join([os.path.basename(sys.argv[0])] + args) + "\n")
     if os.path.basename(sys.argv[0]).endswith("budget-simulate"):
         return simulate(args)
-    return {"compare": compare, "run": run}[args[0]](args[1:])
+    return {"compare": compare, "run": run, "--list": list_registry}[args[0]](args[1:])
 
 
 if __name__ == "__main__":

@@ -10,7 +10,9 @@
 namespace budget_slam {
 
 /// A landmark SLAM estimator the budget manager can shrink (docs/ARCHITECTURE.md "Interfaces").
-/// Implemented by the EKF (modules/ekf) and the landmark graph (modules/graph).
+/// Implemented by the EKF (modules/ekf) and the landmark graph (modules/graph). What only a
+/// backend that keeps past poses does is the optional capability PoseHistoryBackend, asked with
+/// poseHistory() (as session::SessionStateOwner is).
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -63,19 +65,28 @@ class Backend {
   /// x, y, yaw; 2 a landmark). The EKF holds only the latest pose.
   virtual Eigen::MatrixXd jointCovariance(const std::vector<VariableKey>& vars) const = 0;
 
-  /// Removes the poses that observe no landmark, except the first and the last `keep_last`
-  /// (Choudhary et al. Alg. 3, lines 15-16). Returns how many went. Only the graph keeps past
-  /// poses; the EKF has none to remove.
-  virtual std::size_t marginalizePosesWithoutLandmarks(std::size_t keep_last) { return 0; }
-
-  /// Called once after the last step (the graph solves to the batch optimum here).
-  virtual void finish() {}
-
   /// A disposable deep copy for look-ahead (e.g. the whole greedy sequence of Choudhary et al.
   /// Alg. 3 run before the real removals): it evolves independently of this backend and gives
   /// the same estimates, covariances and information gains as this one would after the same
   /// calls. Null when the backend cannot be copied (the BudgetManager then falls back).
   virtual std::unique_ptr<Backend> clone() const { return nullptr; }
 };
+
+/// The optional capability of a backend that keeps past poses (full smoothing: the graph), not
+/// only the latest one (the EKF).
+class PoseHistoryBackend {
+ public:
+  virtual ~PoseHistoryBackend() = default;
+  /// Removes the poses that observe no landmark, except the first and the last `keep_last`
+  /// (Choudhary et al. Alg. 3, lines 15-16). Returns how many went.
+  virtual std::size_t marginalizePosesWithoutLandmarks(std::size_t keep_last) = 0;
+  /// Called once after the last step: the estimate of every kept pose becomes the batch optimum.
+  virtual void finish() = 0;
+};
+
+/// `backend` as a PoseHistoryBackend, or nullptr when it holds only the latest pose.
+inline PoseHistoryBackend* poseHistory(Backend* backend) {
+  return dynamic_cast<PoseHistoryBackend*>(backend);
+}
 
 }  // namespace budget_slam

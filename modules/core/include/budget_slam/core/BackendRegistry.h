@@ -2,13 +2,13 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <functional>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/core/NameKeyedRegistry.h"
+#include "budget_slam/core/OptionSection.h"
 
 namespace budget_slam {
 
@@ -19,15 +19,19 @@ struct BackendSettings {
   bool keep_trajectory = true;
 };
 
-/// One registered backend: how it is named, documented, configured and built.
+/// One registered backend: how it is named, documented, configured, checked and built (the one
+/// list of a backend's facts, as ReducerEntry is a reducer's).
 struct BackendEntry {
   using Factory = std::function<std::unique_ptr<Backend>(const mrpt::config::CConfigFileBase& ini,
                                                          const BackendSettings& settings)>;
   std::string name;     ///< as written in [MappingApplication] backend and after --backend
-  std::string summary;  ///< one line for --help and docs
-  /// The ini sections it reads and their keys (for unknown-key checks).
-  std::map<std::string, std::vector<std::string>> sections;
+  std::string summary;  ///< one line for --help and --list
+  /// The ini sections it reads, in the order it reads them.
+  std::vector<OptionSection> sections;
   Factory factory;
+
+  /// Checks every value it would read from `ini`, without building it (ReducerEntry::validate).
+  void validate(const mrpt::config::CConfigFileBase& ini) const { checkSections(sections, ini); }
 };
 
 /// Name-keyed factory of backends, registered as reducers are (ReducerRegistry).
@@ -37,7 +41,7 @@ class BackendRegistry : public NameKeyedRegistry<BackendEntry> {
 
   BackendRegistry() : NameKeyedRegistry("backend") {}
 
-  /// Throws ConfigError "unknown backend 'x' (registered: a, b)".
+  /// Throws UnknownNameError "unknown backend 'x' (registered: a, b)".
   std::unique_ptr<Backend> create(const std::string& name, const mrpt::config::CConfigFileBase& ini,
                                   const BackendSettings& settings = {}) const {
     return entry(name).factory(ini, settings);

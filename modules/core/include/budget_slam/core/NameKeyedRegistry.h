@@ -33,8 +33,9 @@ class NameKeyedRegistry {
   const Entry& entry(const std::string& name) const {
     const auto it = entries_.find(name);
     if (it == entries_.end())
-      throw ConfigError("unknown " + kind_ + " '" + name + "' (registered: " + joinedNames(", ") +
-                        ")");
+      throw UnknownNameError(
+          kind_, name,
+          "unknown " + kind_ + " '" + name + "' (registered: " + joinedNames(", ") + ")");
     return it->second;
   }
 

@@ -7,6 +7,7 @@
 #include <initializer_list>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <string>
@@ -42,6 +43,15 @@ std::vector<std::string> namesOf(const EnumNames<E>& names) {
   for (const auto& p : names) out.push_back(p.first);
   return out;
 }
+
+/// One key of a section as its user reads it (`budget-slam --list ... --json`): its name, the
+/// value it has when the ini leaves it out (as ini text; none when that value is not ours to say,
+/// as for MRPT's own keys), and its comment (unit, range).
+struct OptionInfo {
+  std::string key;
+  std::optional<std::string> default_text;
+  std::string doc;
+};
 
 /// One key of an options struct O: its ini name, how it is read into O (checked; the field's
 /// current value is the default, so a struct's member initializers are the defaults), how the
@@ -83,6 +93,12 @@ class OptionTable {
     for (const auto& k : keys_) out.push_back(k.name);
     return out;
   }
+  /// Every key with its value in `o` (O's defaults when `o` is O{}) and its comment.
+  std::vector<OptionInfo> describe(const O& o) const {
+    std::vector<OptionInfo> out;
+    for (const auto& k : keys_) out.push_back({k.name, k.text(o), k.doc});
+    return out;
+  }
 
  private:
   std::vector<OptionKey<O>> keys_;
@@ -105,6 +121,8 @@ struct TabledOptions : public mrpt::config::CLoadableOptions {
   }
   /// Keys of the section, for the unknown-key check.
   static std::vector<std::string> keys() { return D::table().names(); }
+  /// Keys with their defaults (D's member initializers) and comments.
+  static std::vector<OptionInfo> describe() { return D::table().describe(D{}); }
 };
 
 /// Builders of the common kinds of key; each reads with IniSection's checked readers, so the

@@ -21,7 +21,7 @@ namespace budget_slam::graph {
 /// where the graph changes (IncrementalFactorization, docs/GRAPH.md "Held factor"), and the
 /// covariances and information gains at the current estimate read it (EstimateFactorization). Bad
 /// step data (a reading the graph cannot use) is an InputError naming the step and the reading.
-class GraphBackend : public Backend, public session::SessionStateOwner {
+class GraphBackend : public Backend, public PoseHistoryBackend, public session::SessionStateOwner {
  public:
   /// Reads [GraphSLAM] and the sensor noise keys of [RangeBearingKFSLAM].
   explicit GraphBackend(const mrpt::config::CConfigFileBase& ini);
@@ -49,7 +49,9 @@ class GraphBackend : public Backend, public session::SessionStateOwner {
   std::vector<double> informationGain(const std::vector<LandmarkId>& ids) const override;
   Eigen::Matrix2d landmarkCovariance(LandmarkId id) const override;
   Eigen::MatrixXd jointCovariance(const std::vector<VariableKey>& vars) const override;
+  /// PoseHistoryBackend: a pose tied only by odometry goes, its two odometry factors composed.
   std::size_t marginalizePosesWithoutLandmarks(std::size_t keep_last) override;
+  /// PoseHistoryBackend: solves to the batch optimum.
   void finish() override;
   /// Deep copy of the graph, the estimate, the held factor and the bookkeeping (sightings,
   /// fresh-id counter, incremental schedule, latest pose covariance).

@@ -7,7 +7,6 @@
 #include <vector>
 
 struct cholmod_factor_struct;
-struct cholmod_common_struct;
 
 namespace budget_slam::graph {
 
@@ -27,7 +26,7 @@ struct SparseColumn {
 /// Two ways in: factorize() lets CHOLMOD choose the fill-reducing ordering (AMD or METIS) and
 /// the form (simplicial or supernodal), for batch solves; factorizeInOrder() takes H already
 /// ordered and keeps a simplicial L D L^T, the form CHOLMOD's update/downdate routines modify in
-/// place (IncrementalFactorization does that through factor(), then calls modified()). The
+/// place (updateInPlace, deleteRowInPlace, pruneToPattern: IncrementalFactorization). The
 /// partial inverses read either form in place.
 ///
 /// The queries (inverseBlock, inverseQuadraticForm, inverseGram, inverseDiagonalBlocks) address
@@ -62,7 +61,7 @@ class SparseCholesky {
   };
   /// Analyses and factorizes H in the order its rows stand (no fill-reducing permutation: the
   /// caller has ordered them), as a simplicial L D L^T, the form CHOLMOD's update routines modify
-  /// in place (factor(), modified()). Returns false when H is not positive definite.
+  /// in place (updateInPlace, deleteRowInPlace). Returns false when H is not positive definite.
   bool factorizeInOrder(const UpperTriangle& H);
   /// Numeric refactorization of H, in the same order, into the factor as it stands: its storage
   /// and pattern are kept (after in-place updates too, which CHOLMOD's simplicial factorization
@@ -134,9 +133,6 @@ class SparseCholesky {
   double lastFactorizationFlops() const;
   /// CHOLMOD's factor, read-only use (its elimination tree for cost estimates).
   cholmod_factor_struct* factor();
-  cholmod_common_struct* common();
-  /// The factor's numbers (not its ordering) changed: the query caches are stale.
-  void modified();
   /// Position of the factorized matrix's row `row` in the factor's ordering (P^-1).
   int position(int row) const;
 

@@ -10,7 +10,8 @@ namespace budget_slam::reducers {
 class RandomReducer : public Reducer, public session::SessionStateOwner {
  public:
   explicit RandomReducer(std::uint64_t seed) : rng_(seed) {}
-  std::string name() const override { return "random"; }
+  static constexpr const char* kName = "random";
+  std::string name() const override { return kName; }
   ReducerChoice choose(const DropContext& ctx) override;
   static ReducerRegistry::Entry entry();
   /// Section `reducer.random`: the generator's state (its standard text form), so that a resumed
@@ -25,7 +26,8 @@ class RandomReducer : public Reducer, public session::SessionStateOwner {
 /// `oldest`: the candidate first seen earliest; ties by lowest id (score: first step).
 class OldestReducer : public Reducer {
  public:
-  std::string name() const override { return "oldest"; }
+  static constexpr const char* kName = "oldest";
+  std::string name() const override { return kName; }
   ReducerChoice choose(const DropContext& ctx) override;
   static ReducerRegistry::Entry entry();
 };
@@ -35,7 +37,8 @@ class OldestReducer : public Reducer {
 /// Schlegel's rule without the coverage clustering.
 class InfoContentReducer : public Reducer {
  public:
-  std::string name() const override { return "info-content"; }
+  static constexpr const char* kName = "info-content";
+  std::string name() const override { return kName; }
   ReducerChoice choose(const DropContext& ctx) override;
   static ReducerRegistry::Entry entry();
 };

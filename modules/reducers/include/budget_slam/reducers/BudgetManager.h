@@ -70,12 +70,12 @@ class BudgetManager : public session::SessionStateOwner {
                 std::vector<std::unique_ptr<Reducer>> shadows = {});
 
   /// Called after backend.process(step): first the drop event the active reducer schedules
-  /// itself, if any (Reducer::scheduled; e.g. mi incremental every psi steps), then the cap, in
-  /// every mode: while the map holds more than max_landmarks, asks the active reducer for a
+  /// itself, if any (DropScheduler::scheduled; e.g. mi incremental every psi steps), then the cap,
+  /// in every mode: while the map holds more than max_landmarks, asks the active reducer for a
   /// victim among the candidates and removes it. Returns the drops made, in order.
   std::vector<Eviction> enforce(Backend& backend, StepIndex step);
   /// The same, told the step itself (its sensor's range and field of view reach the reducers
-  /// that keep a record of where landmarks were observed from; Reducer::observe).
+  /// that keep a record of where landmarks were observed from; ObservationKeeper::observe).
   std::vector<Eviction> enforce(Backend& backend, const Step& step);
   /// The same, told also the step as read (`raw`, before admissible()): the readings the map did
   /// not take in reach the reducers that keep a record as StepObservation::withheld.
@@ -95,7 +95,8 @@ class BudgetManager : public session::SessionStateOwner {
   using ScratchFactory = std::function<std::unique_ptr<Backend>(const Backend&)>;
   void setScratchFactory(ScratchFactory f) { scratch_factory_ = std::move(f); }
 
-  /// Poses marginalized by scheduled events so far (Backend::marginalizePosesWithoutLandmarks).
+  /// Poses marginalized by scheduled events so far
+  /// (PoseHistoryBackend::marginalizePosesWithoutLandmarks).
   std::size_t posesMarginalized() const { return poses_marginalized_; }
 
   /// Ids dropped so far, kept only when readmit_evicted = false (the readings to filter out); with
@@ -123,7 +124,7 @@ class BudgetManager : public session::SessionStateOwner {
   }
 
   /// The options in force: as given, except readmit_evicted = false when the active reducer
-  /// never re-admits (Reducer::readmitsEvicted, mi incremental mode).
+  /// never re-admits (DropScheduler::readmitsEvicted, mi incremental mode).
   const BudgetOptions& options() const { return options_; }
   bool reduces() const { return active_ != nullptr; }
   /// True when max_landmarks bounds the map: a reducer is active and a cap is given.
@@ -142,7 +143,8 @@ class BudgetManager : public session::SessionStateOwner {
   ScratchFactory scratch_factory_;
   std::size_t poses_marginalized_ = 0;
   RefusalMemory refusals_;
-  std::vector<Reducer*> observers_;  ///< the active and shadow reducers that want observations
+  DropScheduler* scheduler_ = nullptr;         ///< the active reducer's own schedule, if it has one
+  std::vector<ObservationKeeper*> observers_;  ///< active and shadow reducers keeping a record
   std::vector<ShadowFailures> shadow_failures_;  ///< one a shadow, in shadow order
   std::unique_ptr<NegativeEvidence> negative_;   ///< null when negative_evidence = off
 
@@ -157,7 +159,7 @@ class BudgetManager : public session::SessionStateOwner {
 
   std::vector<Eviction> enforceAt(Backend& backend, StepIndex step, const Step* processed,
                                   const Step* raw = nullptr);
-  /// Tells the observing reducers what step `step` observed (Reducer::observe).
+  /// Tells the observing reducers what step `step` observed (ObservationKeeper::observe).
   void tellObservations(const Backend& backend, StepIndex step, const Step* processed,
                         const Step* raw);
   std::vector<Eviction> runScheduled(Backend& backend, StepIndex step, bool final);
@@ -170,12 +172,8 @@ class BudgetManager : public session::SessionStateOwner {
   void askShadows(const DropContext& ctx, const ReducerChoice& active, Eviction& e);
 };
 
-/// Indices of the landmarks that may be dropped after `step`: those not seen in the last
-/// `protect_recent_steps` steps, or all of them when every landmark is protected.
-std::vector<std::size_t> dropCandidates(const std::vector<LandmarkView>& landmarks, StepIndex step,
-                                        std::size_t protect_recent_steps, bool* all_protected);
-
-/// The same under the options' protection rule (docs/ALGORITHMS.md "Candidates"): with
+/// Indices of the landmarks that may be dropped after `step`, under the options' protection rule
+/// (docs/ALGORITHMS.md "Candidates"): with
 /// `protect = recently_seen` a landmark seen in the last P steps is protected, with
 /// `newly_added` one that entered the map in the last P steps; with `admission = compete` the
 /// landmarks that entered at `step` itself are never protected (they compete for their place).

@@ -62,15 +62,17 @@ struct LocalizationInformationOptions : public TabledOptions<LocalizationInforma
 /// readings of landmarks it does not keep (refused newcomers, withheld while they wait, and
 /// dropped ones): they stay on record, outside every Lambda_p, so that a landmark that enters
 /// (again) is valued by all the places the robot read it from, not by the last one alone.
-class LocalizationInformationReducer : public Reducer, public session::SessionStateOwner {
+class LocalizationInformationReducer : public Reducer,
+                                       public ObservationKeeper,
+                                       public session::SessionStateOwner {
  public:
   /// `std_range` [m] and `std_bearing` [rad]: the sensor noise the filter assumes.
   LocalizationInformationReducer(const LocalizationInformationOptions& options, double std_range,
                                  double std_bearing);
-  std::string name() const override { return "localization-information"; }
+  static constexpr const char* kName = "localization-information";
+  std::string name() const override { return kName; }
   ReducerChoice choose(const DropContext& ctx) override;
   void dumpOptions(std::ostream& out) const override { options_.dumpToTextStream(out); }
-  bool wantsObservations() const override { return true; }
   void observe(const StepObservation& seen) override;
   void forget(LandmarkId id) override;
   static ReducerRegistry::Entry entry();

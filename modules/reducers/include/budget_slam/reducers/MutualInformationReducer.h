@@ -8,12 +8,15 @@ namespace budget_slam::reducers {
 /// `mi` (Choudhary et al. ICRA 2015, Alg. 2-5; docs/ALGORITHMS.md "mi"). At a cap decision: the
 /// candidate with the lowest information gain Backend::informationGain [bits] (Alg. 4), ties to the
 /// lowest id; score = that gain. Modes `objective` and `incremental` add the drop events of Alg. 3
-/// and Alg. 5 through Reducer::scheduled (see MutualInformationOptions).
-class MutualInformationReducer : public Reducer, public session::SessionStateOwner {
+/// and Alg. 5 through its DropScheduler capability (see MutualInformationOptions).
+class MutualInformationReducer : public Reducer,
+                                 public DropScheduler,
+                                 public session::SessionStateOwner {
  public:
   explicit MutualInformationReducer(const MutualInformationOptions& options);
 
-  std::string name() const override { return "mi"; }
+  static constexpr const char* kName = "mi";
+  std::string name() const override { return kName; }
   ReducerChoice choose(const DropContext& ctx) override;
   void dumpOptions(std::ostream& out) const override { options_.dumpToTextStream(out); }
   /// objective: Alg. 3 once, on the final call (after the last step, before the outputs; the

@@ -58,14 +58,16 @@ struct PlaceCoverageOptions : public TabledOptions<PlaceCoverageOptions> {
 ///
 /// Memory: O(places + sightings of kept landmarks by place), bounded by the area visited (and by
 /// max_places), not by the length of the run; a landmark that leaves the map is forgotten.
-class PlaceCoverageReducer : public Reducer, public session::SessionStateOwner {
+class PlaceCoverageReducer : public Reducer,
+                             public ObservationKeeper,
+                             public session::SessionStateOwner {
  public:
   explicit PlaceCoverageReducer(const PlaceCoverageOptions& options)
       : options_(options), slots_(options.max_places) {}
-  std::string name() const override { return "place-coverage"; }
+  static constexpr const char* kName = "place-coverage";
+  std::string name() const override { return kName; }
   ReducerChoice choose(const DropContext& ctx) override;
   void dumpOptions(std::ostream& out) const override { options_.dumpToTextStream(out); }
-  bool wantsObservations() const override { return true; }
   void observe(const StepObservation& seen) override;
   void forget(LandmarkId id) override;
   static ReducerRegistry::Entry entry();

@@ -1,4 +1,4 @@
-#include "budget_slam/reducers/CoverageReducer.h"
+#include "budget_slam/reducers/ViewClusterReducers.h"
 
 #include "budget_slam/reducers/CoverageSelection.h"
 #include "budget_slam/reducers/InformationContent.h"
@@ -16,7 +16,7 @@ CoverageOptions loadOptions(const mrpt::config::CConfigFileBase& ini, std::uint6
 
 }  // namespace
 
-ReducerChoice CoverageReducer::choose(const DropContext& ctx) {
+ReducerChoice ViewClusterReducer::choose(const DropContext& ctx) {
   const auto clusters = coverageClusters(ctx.landmarks, options_);
   std::vector<double> info;
   info.reserve(ctx.landmarks.size());
@@ -25,17 +25,17 @@ ReducerChoice CoverageReducer::choose(const DropContext& ctx) {
   return {p.id, p.score};
 }
 
-ReducerRegistry::Entry CoverageReducer::entry() {
-  return {"coverage",
+ReducerRegistry::Entry ViewClusterReducer::entry() {
+  return {kName,
           "coverage clusters of observation positions, drop the lowest 1/sigma^2 sum in the "
           "cluster of widest spread (Hochdorfer & Schlegel)",
-          CoverageOptions::kSection, CoverageOptions::keys(),
+          {tabledSection<CoverageOptions>()},
           [](const mrpt::config::CConfigFileBase& ini, std::uint64_t seed) {
-            return std::make_unique<CoverageReducer>(loadOptions(ini, seed));
+            return std::make_unique<ViewClusterReducer>(loadOptions(ini, seed));
           }};
 }
 
-ReducerChoice CoverageMiReducer::choose(const DropContext& ctx) {
+ReducerChoice ViewClusterGainReducer::choose(const DropContext& ctx) {
   const auto clusters = coverageClusters(ctx.landmarks, options_);
   // Gains of every landmark, protected ones too: they define what stays in each region.
   std::vector<LandmarkId> ids;
@@ -47,13 +47,13 @@ ReducerChoice CoverageMiReducer::choose(const DropContext& ctx) {
   return {p.id, p.score};
 }
 
-ReducerRegistry::Entry CoverageMiReducer::entry() {
-  return {"coverage-mi",
+ReducerRegistry::Entry ViewClusterGainReducer::entry() {
+  return {kName,
           "coverage clusters, choice within and across them by information gain in bits "
           "(uses [CoverageReducer])",
-          CoverageOptions::kSection, CoverageOptions::keys(),
+          {tabledSection<CoverageOptions>()},
           [](const mrpt::config::CConfigFileBase& ini, std::uint64_t seed) {
-            return std::make_unique<CoverageMiReducer>(loadOptions(ini, seed));
+            return std::make_unique<ViewClusterGainReducer>(loadOptions(ini, seed));
           }};
 }
 

@@ -1,4 +1,4 @@
-#include "budget_slam/reducers/CoverageOptimum.h"
+#include "budget_slam/reducers/PlaceCoverageOptimum.h"
 
 #include <glpk.h>
 
@@ -11,9 +11,9 @@
 
 namespace budget_slam::reducers {
 
-CoverageOptimum solveCoverageOptimum(const std::vector<std::vector<LandmarkId>>& places,
-                                     std::size_t k, std::size_t budget,
-                                     const CoverageOptimumLimits& limits) {
+PlaceCoverageOptimum solvePlaceCoverageOptimum(const std::vector<std::vector<LandmarkId>>& places,
+                                               std::size_t k, std::size_t budget,
+                                               const PlaceCoverageOptimumLimits& limits) {
   // Distinct landmarks and sightings, in a stable order.
   std::map<LandmarkId, int> column;  // landmark id -> GLPK column of x_L (1-based)
   std::vector<std::vector<LandmarkId>> seen(places.size());
@@ -28,7 +28,7 @@ CoverageOptimum solveCoverageOptimum(const std::vector<std::vector<LandmarkId>>&
                               " (place, landmark) sightings; the integer program is too large");
     for (const LandmarkId id : seen[p]) column.emplace(id, 0);
   }
-  CoverageOptimum out;
+  PlaceCoverageOptimum out;
   if (column.empty() || k == 0) return out;
   if (budget >= column.size()) {
     // Everything fits: keep every landmark.

@@ -13,7 +13,7 @@ namespace budget_slam::reducers {
 ///   max sum_p y_p  s.t.  y_p <= sum_{L seen from p} x_L,  0 <= y_p <= k,  sum_L x_L <= budget,
 ///   x_L in {0, 1}
 /// (y_p may stay continuous: for integer x its optimum is integer).
-struct CoverageOptimum {
+struct PlaceCoverageOptimum {
   double coverage = 0;                ///< f of the best selection [places, counting up to k each]
   std::vector<LandmarkId> selection;  ///< the landmarks of one best selection, sorted
   bool proven_optimal = true;         ///< false when GLPK stopped at its time limit (then a
@@ -21,7 +21,7 @@ struct CoverageOptimum {
   double upper_bound = 0;             ///< GLPK's bound: `coverage` <= optimum <= upper_bound
 };
 
-struct CoverageOptimumLimits {
+struct PlaceCoverageOptimumLimits {
   std::size_t max_sightings = 2000000;  ///< (place, landmark) pairs at most: the matrix size
   double time_limit_s = 60;             ///< branch and cut time limit [s]
 };
@@ -29,8 +29,8 @@ struct CoverageOptimumLimits {
 /// `places[p]`: the landmark ids observed from place p (duplicates ignored). Throws
 /// std::length_error, naming the size and the limit, when the problem has more sightings than
 /// `limits.max_sightings`; std::runtime_error when GLPK fails.
-CoverageOptimum solveCoverageOptimum(const std::vector<std::vector<LandmarkId>>& places,
-                                     std::size_t k, std::size_t budget,
-                                     const CoverageOptimumLimits& limits = {});
+PlaceCoverageOptimum solvePlaceCoverageOptimum(const std::vector<std::vector<LandmarkId>>& places,
+                                               std::size_t k, std::size_t budget,
+                                               const PlaceCoverageOptimumLimits& limits = {});
 
 }  // namespace budget_slam::reducers
