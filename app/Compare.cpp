@@ -8,12 +8,11 @@
 #include <thread>
 
 #include "BudgetSlamApp.h"
-#include "CompareRuns.h"
+#include "BuiltinBackends.h"
 #include "OfflineOptimum.h"
-#include "ProcessProbes.h"
 #include "Relocalize.h"
 #include "RunConfig.h"
-#include "RunDriver.h"
+#include "RunSpecs.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
@@ -29,9 +28,18 @@
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/report/RunFiles.h"
+#include "budget_slam/runs/CompareRuns.h"
+#include "budget_slam/runs/ProcessProbes.h"
+#include "budget_slam/runs/ShadowReducers.h"
+#include "budget_slam/runs/SummaryJson.h"
 
 namespace budget_slam::app {
 namespace {
+
+using runs::CompareRun;
+using runs::ErrorKind;
+using runs::RunDriver;
+using runs::RunStatus;
 
 constexpr const char* kReference = "reference";
 
@@ -56,24 +64,29 @@ double finiteOrNaN(double v) {
   return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN();
 }
 
-/// How compare ends: its exit code, the first error (its summary.json), and one stderr line a
-/// run or localization that did not end ok and a warning a failed shadow reducer.
+/// How compare ends: its status (and so its exit code), the first error (its summary.json), and
+/// one stderr line a run or localization that did not end ok and a warning a failed shadow
+/// reducer.
 struct CompareOutcome {
-  int exit_code = 0;
+  RunStatus status = RunStatus::Ok;
+  ErrorKind kind = ErrorKind::None;
   std::string first_error;
   std::vector<std::string> lines;
 
-  /// A run that ended `status` (failed or interrupted) for the reason `line`. An interrupted run
-  /// exits 130 unless another failed; with `keep_first`, a code already set stays.
-  void add(const std::string& status, const std::string& line, bool keep_first) {
-    if (keep_first) {
-      if (exit_code == 0) exit_code = status == "interrupted" ? 130 : 1;
-    } else {
-      exit_code = status == "interrupted" && exit_code != 1 ? 130 : 1;
+  /// A run that ended `s` (failed or interrupted) for the reason `line`. An interrupted run
+  /// makes the comparison interrupted unless another failed; with `keep_first`, a status already
+  /// set stays.
+  void add(RunStatus s, ErrorKind k, const std::string& line, bool keep_first) {
+    if (!keep_first || status == RunStatus::Ok) {
+      const bool interrupted =
+          s == RunStatus::Interrupted && (keep_first || status != RunStatus::Failed);
+      status = interrupted ? RunStatus::Interrupted : RunStatus::Failed;
+      if (kind == ErrorKind::None || !interrupted) kind = interrupted ? ErrorKind::Stopped : k;
     }
     if (first_error.empty()) first_error = line;
-    lines.push_back((status == "interrupted" ? "" : "error: ") + line);
+    lines.push_back((s == RunStatus::Interrupted ? "" : "error: ") + line);
   }
+  int exitCode() const { return runs::exitCode(status, kind); }
 };
 
 /// The rawlog's steps, read once for every driver (at most `limit`, 0 = all); nullopt when a
@@ -133,7 +146,10 @@ void makeRuns(const RunConfig& rc, const std::vector<std::string>& names,
     }
     report::OutputFolder folder(top.file(name), force);
     writeFileAtomically(folder.file("config_used.ini"), ini.getContent());
-    run->driver = std::make_unique<RunDriver>(ini, rc.mapping.backend, budget, folder, truth);
+    runs::DriverSpec spec = driverSpec(rc);
+    spec.budget = budget;
+    spec.keep_history = true;  // the comparison's figures need every run's history
+    run->driver = std::make_unique<RunDriver>(ini, builtinBackends(), spec, folder, truth);
     runs.push_back(std::move(run));
   }
 }
@@ -145,23 +161,23 @@ metrics::ReferenceMetrics finishRun(CompareRun& r, const CompareRun& ref, std::s
                                     std::size_t eig_max_rows, nlohmann::json extra) {
   metrics::ReferenceMetrics m;
   // A stop request after a run's end phase: its outputs are still written (quickly), marked.
-  if (r.status == "ok" && Cancellation::requested()) {
-    r.status = "interrupted";
-    r.error = interruptedLine(r, " before its outputs were written,");
+  if (r.ok() && Cancellation::requested()) {
+    r.status = RunStatus::Interrupted, r.kind = ErrorKind::Stopped;
+    r.error = runs::interruptedLine(r, " before its outputs were written,");
   }
-  if (ref.status == "ok" && r.status == "ok") {
+  if (ref.ok() && r.ok()) {
     m = metrics::compareWithReference(ref.driver->backend(), r.driver->backend(), eig_max_rows);
     extra["reference_metrics"] = toJson(m);
   }
   try {
-    r.result = r.driver->finish(r.status, r.error, steps, extra);
-    if (r.status == "ok" && r.result->status != "ok") {
+    r.result = r.driver->finish(r.status, r.kind, r.error, steps, extra);
+    if (r.ok() && !r.result->ok()) {
       // An output of the run could not be written (a full disk), or its estimate diverged.
-      r.status = "failed";
+      r.status = RunStatus::Failed, r.kind = r.result->kind;
       r.error = r.result->error;
     }
   } catch (const std::exception& e) {
-    r.status = "failed";
+    r.status = RunStatus::Failed, r.kind = ErrorKind::Output;
     r.error = std::string("while saving outputs: ") + exceptionLine(e);
   }
   return m;
@@ -176,7 +192,7 @@ report::ComparisonRow comparisonRow(const CompareRun& r, const metrics::Referenc
   row.run = r.name;
   row.reducer = p.budget().options().reducer;
   row.backend = p.backend().name();
-  row.status = r.status;
+  row.status = runs::statusName(r.status);
   row.cap = p.budget().capped() ? static_cast<long long>(*p.budget().options().max_landmarks) : -1;
   row.seed = static_cast<long long>(p.budget().options().seed);
   row.landmarks = p.backend().landmarkCount();
@@ -191,19 +207,20 @@ report::ComparisonRow comparisonRow(const CompareRun& r, const metrics::Referenc
   row.ref_eig_min = m.eig_min, row.ref_eig_max = m.eig_max;
   if (r.result && r.result->ground_truth) {
     // The numbers of the run's summary.json (metrics::groundTruthErrors), not a second computation.
-    const metrics::GroundTruthErrors& gt = *r.result->ground_truth;
+    const metrics::GroundTruthErrors& gt = r.result->ground_truth->errors;
     row.gt_trajectory_rmse_aligned_m = finiteOrNaN(gt.trajectory_rmse_aligned);
     row.gt_trajectory_rpe_10m_m = finiteOrNaN(gt.rpe.rmse);
     row.gt_trajectory_rmse_m = finiteOrNaN(gt.trajectory_rmse);
     row.gt_trajectory_max_m = finiteOrNaN(gt.trajectory_max);
     row.gt_landmark_rmse_m = finiteOrNaN(gt.landmark_rmse);
     row.gt_landmark_rmse_aligned_m = finiteOrNaN(gt.landmark_rmse_aligned);
-    row.nees_mean = finiteOrNaN(r.result->nees.mean);
+    row.nees_mean = finiteOrNaN(r.result->ground_truth->nees.mean);
   }
   row.time_s = p.totalStepSeconds();
-  if (r.result) {
-    row.reloc_coverage_pct = finiteOrNaN(r.result->relocalization.coverage_pct);
-    row.reloc_mean_landmarks = finiteOrNaN(r.result->relocalization.mean_landmarks);
+  if (r.result && r.result->run) {
+    const metrics::RelocalizationCoverage& reloc = r.result->run->relocalization.coverage;
+    row.reloc_coverage_pct = finiteOrNaN(reloc.coverage_pct);
+    row.reloc_mean_landmarks = finiteOrNaN(reloc.mean_landmarks);
   }
   return row;
 }
@@ -219,12 +236,12 @@ std::vector<RelocalizationResult> relocalizeMaps(const Runs& runs,
   // One mapped area for every map (the reference run's path, when it ended ok), so that every
   // map is scored on the same steps.
   std::vector<mrpt::math::TPose2D> reference_path;
-  if (runs.front()->status == "ok")
+  if (runs.front()->ok())
     for (const auto& p : runs.front()->driver->backend().trajectory())
       reference_path.push_back(p.pose);
   std::vector<MapOfRun> maps;
   for (const auto& r : runs)
-    if (r->status == "ok") {
+    if (r->ok()) {
       std::vector<mrpt::math::TPose2D> own;
       if (reference_path.empty())
         for (const auto& p : r->driver->backend().trajectory()) own.push_back(p.pose);
@@ -235,9 +252,12 @@ std::vector<RelocalizationResult> relocalizeMaps(const Runs& runs,
       relocalizeAll(maps, traversals, reference, cli.reference_trajectory, cli.threads, cli.force);
   addRelocalizationColumns(rows, relocalized, kReference);
   for (const auto& r : relocalized)
-    if (r.status != "ok")
-      outcome.add(r.status, "run '" + r.run + "', --relocalize '" + r.traversal + "': " + r.error,
-                  true);
+    if (r.status != runs::statusName(RunStatus::Ok)) {
+      const bool interrupted = r.status == runs::statusName(RunStatus::Interrupted);
+      outcome.add(interrupted ? RunStatus::Interrupted : RunStatus::Failed,
+                  interrupted ? ErrorKind::Stopped : ErrorKind::Input,
+                  "run '" + r.run + "', --relocalize '" + r.traversal + "': " + r.error, true);
+    }
   return relocalized;
 }
 
@@ -327,27 +347,34 @@ int BudgetSlamApp::runCompare() {
   Runs runs;
   // A failure before the runs started: one line, the top summary.json and those of the runs made
   // so far say why (and that nothing started: the next compare into the folder replaces them).
-  const auto fail = [&](const std::string& why, const std::string& status = "failed") {
+  const auto fail = [&](const std::string& why, RunStatus status, ErrorKind kind) {
     const std::string msg = printable(why);  // one line, valid UTF-8 (summary.json)
     std::string not_saved;
-    const nlohmann::json j = {{"status", status}, {"error", msg}, {"started", false}};
+    runs::RunOutcome o;
+    o.fail(status, kind, msg);
+    o.given = {{"started", false}};
+    // The runs' summaries say the comparison's status and error (their own line is this one).
+    const nlohmann::json given = runs::summaryJson(o);
     if (top) {
       for (const auto& r : runs) {
         try {
-          r->driver->finish(status, "the comparison did not start: " + msg, 0, j);
+          r->driver->finish(status, kind, "the comparison did not start: " + msg, 0, given);
         } catch (const std::exception&) {
           // its line is this failure's line; the top summary says it
         }
       }
       try {
-        report::writeSummaryJson(top->file("summary.json"), j);
+        runs::writeSummary(top->file("summary.json"), o);
       } catch (const std::exception& e) {
         not_saved = failureLine(e);
       }
     }
-    *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ")
+    *err << "budget-slam: " << (status == RunStatus::Interrupted ? "" : "error: ")
          << withAlso(msg, not_saved) << std::endl;
-    return status == "interrupted" ? kExitInterrupted : kExitFailed;
+    return runs::exitCode(status, kind);
+  };
+  const auto failed = [&](const std::exception& e, const std::string& why) {
+    return fail(why, RunStatus::Failed, runs::errorKindOf(e));
   };
 
   RunConfig rc;
@@ -365,7 +392,7 @@ int BudgetSlamApp::runCompare() {
         top.emplace(cli_.outdir, cli_.force);
       } catch (const Error&) {
       }
-    return fail(e.what());
+    return failed(e, e.what());
   }
   for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
   metrics::MetricsOptions metric_options;
@@ -373,7 +400,7 @@ int BudgetSlamApp::runCompare() {
     metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);
     top.emplace(rc.outdir, cli_.force);
   } catch (const Error& e) {
-    return fail(e.what());
+    return failed(e, e.what());
   }
   if (!top->earlierRun().empty() && !cli_.quiet)
     *err << "budget-slam: note: " << top->path() << " held an earlier run; its files were moved to "
@@ -396,25 +423,25 @@ int BudgetSlamApp::runCompare() {
     if (!read)
       return fail(
           std::string("interrupted by ") + Cancellation::signalName() + " while reading the rawlog",
-          "interrupted");
+          RunStatus::Interrupted, ErrorKind::Stopped);
     steps = std::move(*read);
     makeRuns(rc, names, cli_.seeds, *top, cli_.force, truth, runs);
   } catch (const Interrupted&) {
     return fail(
         std::string("interrupted by ") + Cancellation::signalName() + " before the first step",
-        "interrupted");
+        RunStatus::Interrupted, ErrorKind::Stopped);
   } catch (const Error& e) {
-    return fail(e.what());
+    return failed(e, e.what());
   } catch (const std::exception& e) {
-    return fail(failureLine(e));
+    return failed(e, failureLine(e));
   }
 
   // One thread a core, each taking whole runs; every run's outputs are written whatever its end.
-  const std::size_t wanted = cli_.threads ? cli_.threads : availableCpus();
+  const std::size_t wanted = cli_.threads ? cli_.threads : runs::availableCpus();
   const std::size_t threads = std::max<std::size_t>(1, std::min<std::size_t>(wanted, runs.size()));
   {
     ProgressReporter progress(*err, "compare", progressSettings(rc.report));
-    const std::string fewer = runInThreads(runs, steps, threads, on_end_phase, progress);
+    const std::string fewer = runs::runInThreads(runs, steps, threads, on_end_phase, progress);
     if (!fewer.empty())
       *err << "budget-slam: warning: " << fewer << "; the runs went on in them" << std::endl;
   }
@@ -425,11 +452,11 @@ int BudgetSlamApp::runCompare() {
   const std::size_t ref_poses = ref.driver->backend().poseCount();
   // Without sensor IDs, a final map's coverage goes through the reference run's association
   // (docs/OUTPUTS.md, "Relocalization coverage").
-  if (ref.status == "ok" && withoutLandmarkIds(steps))
+  if (ref.ok() && runs::withoutLandmarkIds(steps))
     for (const auto& r : runs)
-      if (r->status == "ok")
-        r->driver->setFinalCoverage(
-            coverageThroughReference(*ref.driver, *r->driver, metric_options.reloc_match_chi2));
+      if (r->ok())
+        r->driver->setFinalRelocCoverage(runs::relocCoverageThroughReference(
+            *ref.driver, *r->driver, metric_options.reloc_match_chi2));
   std::vector<report::ComparisonRow> rows;
   CompareOutcome outcome;
   for (const auto& r : runs) {
@@ -439,9 +466,9 @@ int BudgetSlamApp::runCompare() {
                                   {"run", r->name}};
     const auto m = finishRun(*r, ref, steps.size(), metric_options.eig_max_rows, extra);
     // The reference's failure fails every comparison, but the others' errors are their own.
-    if (r->status != "ok") outcome.add(r->status, "run '" + r->name + "': " + r->error, false);
+    if (!r->ok()) outcome.add(r->status, r->kind, "run '" + r->name + "': " + r->error, false);
     for (const auto& f : r->driver->budget().shadowFailures())
-      outcome.lines.push_back("warning: run '" + r->name + "': " + shadowFailureLine(f));
+      outcome.lines.push_back("warning: run '" + r->name + "': " + runs::shadowFailureLine(f));
     rows.push_back(comparisonRow(*r, m, ref_landmarks, ref_poses));
   }
 
@@ -458,7 +485,8 @@ int BudgetSlamApp::runCompare() {
     try {
       write();
     } catch (const std::exception& e) {
-      if (not_written.empty()) outcome.add("failed", report::outputFailureLine(e), true);
+      if (not_written.empty())
+        outcome.add(RunStatus::Failed, ErrorKind::Output, report::outputFailureLine(e), true);
       not_written.push_back(name);
     }
   };
@@ -492,32 +520,30 @@ int BudgetSlamApp::runCompare() {
                        std::filesystem::path(rc.rawlog).filename().string());
   attempt("comparison figure",
           [&] { writeComparisonChart(*top, figure_title, runs, steps, truth.get(), rc); });
-  const int code = outcome.exit_code;
-  nlohmann::json summary = {{"status", code == 0 ? "ok" : (code == 130 ? "interrupted" : "failed")},
-                            {"error", outcome.first_error},
-                            {"started", true},
-                            {"rawlog", rc.rawlog},
-                            {"sidecar_ini", rc.sidecar},
-                            {"config", config_label_},
-                            {"runs", runs.size()},
-                            {"seeds", cli_.seeds},
-                            {"steps", steps.size()},
-                            {"threads", threads}};
-  if (!not_written.empty()) summary["files_not_written"] = not_written;
-  if (!top->earlierRun().empty()) summary["earlier_run_moved_to"] = top->earlierRun();
+  runs::RunOutcome summary;
+  summary.status = outcome.status, summary.kind = outcome.kind;
+  summary.error = outcome.first_error;
+  summary.files_not_written = not_written;
+  summary.given = {{"started", true},         {"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar},
+                   {"config", config_label_}, {"runs", runs.size()}, {"seeds", cli_.seeds},
+                   {"steps", steps.size()},   {"threads", threads}};
+  if (!top->earlierRun().empty()) summary.given["earlier_run_moved_to"] = top->earlierRun();
   try {
-    report::writeSummaryJson(top->file("summary.json"), summary);
+    runs::writeSummary(top->file("summary.json"), summary);
   } catch (const std::exception& e) {
     // Said with the comparison's last line (one line more only when there was none).
-    if (outcome.lines.empty())
-      outcome.add("failed", failureLine(e), true);
-    else
-      outcome.lines.back() = withAlso(outcome.lines.back(), failureLine(e)), outcome.exit_code = 1;
+    if (outcome.lines.empty()) {
+      outcome.add(RunStatus::Failed, ErrorKind::Output, failureLine(e), true);
+    } else {
+      outcome.lines.back() = withAlso(outcome.lines.back(), failureLine(e));
+      outcome.status = RunStatus::Failed, outcome.kind = ErrorKind::Output;
+    }
   }
   if (!cli_.quiet && !md.empty()) *out << md << "outputs in " << top->path() << "/\n";
   for (const auto& line : outcome.lines) *err << "budget-slam: " << printable(line) << std::endl;
-  if (!stdoutWritten(top->path()) && outcome.exit_code == 0) return kExitFailed;
-  return outcome.exit_code;
+  if (!stdoutWritten(top->path()) && outcome.status == RunStatus::Ok)
+    return runs::exitCode(RunStatus::Failed, ErrorKind::Output);
+  return outcome.exitCode();
 }
 
 }  // namespace budget_slam::app

@@ -8,10 +8,8 @@
 #include <map>
 #include <mutex>
 #include <thread>
-#include <unordered_set>
 
 #include "Localizer.h"
-#include "ProcessProbes.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
@@ -19,6 +17,7 @@
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/report/CsvWriter.h"
+#include "budget_slam/runs/ProcessProbes.h"
 
 namespace budget_slam::app {
 namespace {
@@ -39,14 +38,6 @@ double ratio(double a, double b) {
 }
 
 }  // namespace
-
-bool withoutLandmarkIds(const std::vector<Step>& steps) {
-  for (const auto& s : steps)
-    if (s.scan)
-      for (const auto& r : s.scan->readings)
-        if (r.id != kNoLandmarkId) return false;
-  return true;
-}
 
 std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& params,
                                       const CommandLine& cli, const std::string& config_label) {
@@ -138,7 +129,7 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
     }
   };
   const std::size_t n = std::max<std::size_t>(
-      1, std::min<std::size_t>(threads ? threads : availableCpus(), results.size()));
+      1, std::min<std::size_t>(threads ? threads : runs::availableCpus(), results.size()));
   WorkerThreads(n, worker).join();
   return results;
 }
@@ -191,22 +182,6 @@ void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
     row.reloc_rmse_ratio = ratio(row.reloc_rmse_m, ref_rmse);
     row.reloc_lost_ratio = ratio(row.reloc_lost_pct, ref_lost);
   }
-}
-
-FinalCoverage coverageThroughReference(const RunDriver& reference, const RunDriver& run,
-                                       double gate_chi2) {
-  const auto pairs = metrics::matchLandmarks(run.backend().landmarks(),
-                                             reference.backend().landmarks(), gate_chi2);
-  std::unordered_set<LandmarkId> matched_reference;
-  for (const auto& [mine, theirs] : pairs) matched_reference.insert(theirs);
-  FinalCoverage c;
-  c.steps = reference.relocalization().steps();
-  c.coverage = metrics::coverageOf(
-      c.steps, [&](LandmarkId id) { return matched_reference.count(id) > 0; },
-      reference.relocalization().minLandmarks(), reference.relocalization().sampled());
-  c.source = "reference_association";
-  c.details = {{"landmarks_matched_to_reference", pairs.size()}, {"match_gate_chi2", gate_chi2}};
-  return c;
 }
 
 }  // namespace budget_slam::app

@@ -1,4 +1,4 @@
-#include "RunDriver.h"
+#include "budget_slam/runs/RunDriver.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,20 +6,18 @@
 #include <optional>
 #include <unordered_set>
 
-#include "BuiltinBackends.h"
-#include "MappingOptions.h"
-#include "ProcessProbes.h"
-#include "RunMapContent.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
-#include "budget_slam/report/RunSummaryJson.h"
+#include "budget_slam/runs/ProcessProbes.h"
+#include "budget_slam/runs/RunMapContent.h"
+#include "budget_slam/runs/SummaryJson.h"
 #include "budget_slam/session/SessionStateFile.h"
 #include "budget_slam/session/SessionStateOwner.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 namespace {
 
 std::vector<std::unique_ptr<Reducer>> makeShadows(const mrpt::config::CConfigFileBase& ini,
@@ -65,27 +63,27 @@ report::EvictionRow evictionRow(const reducers::Eviction& e) {
 
 }  // namespace
 
-RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
-                     const reducers::BudgetOptions& budget, report::OutputFolder folder,
-                     std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history)
-    : backend_(builtinBackends().create(backend, ini, BackendSettings{keep_history})),
+RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegistry& backends,
+                     const DriverSpec& spec, report::OutputFolder folder,
+                     std::shared_ptr<const dataset::GroundTruth> truth)
+    : save_3d_scene_(spec.save_3d_scene),
+      scene_every_steps_(spec.scene_every_steps),
+      backend_(backends.create(spec.backend, ini, BackendSettings{spec.keep_history})),
       manager_(std::make_unique<reducers::BudgetManager>(
-          budget, reducers::builtinReducers().create(budget.reducer, ini, budget.seed),
-          makeShadows(ini, budget))),
+          spec.budget,
+          reducers::builtinReducers().create(spec.budget.reducer, ini, spec.budget.seed),
+          makeShadows(ini, spec.budget))),
       truth_(std::move(truth)),
       outputs_(std::move(folder)),
-      keep_history_(keep_history),
-      reloc_(relocMinLandmarks(ini), keep_history ? 0 : kMaxCoverageSteps),
+      keep_history_(spec.keep_history),
+      rawlog_name_(spec.rawlog_name),
+      reloc_(relocMinLandmarks(ini), spec.keep_history ? 0 : kMaxCoverageSteps),
       heap_release_(kReleaseHeapEverySteps) {
+  const auto& budget = spec.budget;
   if (truth_ && !truth_->path.empty()) nees_.emplace(*truth_);
-  // map.png colours the kept landmarks by the coverage clusters ([CoverageReducer], run's seed).
-  coverage_.seed = budget.seed;
-  coverage_.loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
-  MappingOptions mapping;
-  mapping.loadFromConfigFile(ini, MappingOptions::kSection);
-  save_3d_scene_ = mapping.save_3d_scene;
-  scene_every_steps_ = mapping.scene_every_steps;
-  rawlog_name_ = std::filesystem::path(mapping.rawlog_file).filename().string();
+  // map.png colours the kept landmarks by the picture's clusters ([CoverageReducer], run's seed).
+  picture_clusters_.seed = budget.seed;
+  picture_clusters_.loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
   report::ReportOptions report_options;
   report_options.loadFromConfigFile(ini, report::ReportOptions::kSection);
   figure_formats_ = report_options.figure_formats;
@@ -119,7 +117,7 @@ void RunDriver::process(const Step& raw) {
   const double cpu = threadCpuSeconds() - cpu0;
   // The coverage over time counts the map as it stands after this step's drops.
   for (const auto& e : drops) reloc_.landmarkRemoved(e.id);
-  const std::size_t reloc_landmarks = trackCoverage(raw, filtered, assoc);
+  const std::size_t reloc_landmarks = trackRelocCoverage(raw, filtered, assoc);
   const std::size_t n = backend_->landmarkCount();
   const PoseEstimate pose = backend_->robotPose();
 
@@ -160,8 +158,8 @@ void RunDriver::process(const Step& raw) {
   }
 }
 
-std::size_t RunDriver::trackCoverage(const Step& raw, const Step& filtered,
-                                     const std::vector<LandmarkId>& assoc) {
+std::size_t RunDriver::trackRelocCoverage(const Step& raw, const Step& filtered,
+                                          const std::vector<LandmarkId>& assoc) {
   // A reading with a sensor ID observes that landmark (whether the map holds it or not); one
   // without is known only through the backend's association.
   std::vector<LandmarkId> observed;
@@ -177,8 +175,8 @@ std::size_t RunDriver::trackCoverage(const Step& raw, const Step& filtered,
   return reloc_.addStep(raw.index, observed);
 }
 
-FinalCoverage RunDriver::finalCoverage() const {
-  FinalCoverage c;
+FinalRelocCoverage RunDriver::finalRelocCoverage() const {
+  FinalRelocCoverage c;
   std::unordered_set<LandmarkId> ids;
   for (const auto& l : backend_->landmarks()) ids.insert(l.id);
   c.steps = reloc_.steps();
@@ -202,7 +200,7 @@ void RunDriver::logEvictions(const std::vector<reducers::Eviction>& drops) {
 
 report::MapContent RunDriver::mapContent(const std::vector<TrajectoryPoint>& trajectory,
                                          const std::vector<LandmarkView>& landmarks,
-                                         const FinalCoverage* coverage) const {
+                                         const FinalRelocCoverage* coverage) const {
   const auto& budget = manager_->options();
   std::string title = (rawlog_name_.empty() ? "" : rawlog_name_ + ": ") + backend_->name() +
                       ", reducer " + budget.reducer +
@@ -210,8 +208,8 @@ report::MapContent RunDriver::mapContent(const std::vector<TrajectoryPoint>& tra
                       ": " + std::to_string(landmarks.size()) + " landmarks kept, " +
                       std::to_string(evictions_) + " dropped" +
                       (refused_ ? ", " + std::to_string(refused_) + " refused" : std::string());
-  return runMapContent(std::move(title), trajectory, landmarks, coverage_, dropped_, coverage,
-                       truth_.get());
+  return runMapContent(std::move(title), trajectory, landmarks, picture_clusters_, dropped_,
+                       coverage, truth_.get());
 }
 
 void RunDriver::restoreSession(const session::SessionState& state) {
@@ -247,9 +245,9 @@ void RunDriver::complete() {
   backend_->finish();
 }
 
-RunResult RunDriver::finish(const std::string& status, const std::string& error,
-                            std::size_t steps_in_rawlog, const nlohmann::json& extra) {
-  if (status == "ok") {
+RunOutcome RunDriver::finish(RunStatus status, ErrorKind kind, const std::string& error,
+                             std::size_t steps_in_rawlog, const nlohmann::json& given) {
+  if (status == RunStatus::Ok) {
     complete();
     Cancellation::check();  // a stop request before the outputs: the run ends as interrupted
   }
@@ -277,17 +275,18 @@ RunResult RunDriver::finish(const std::string& status, const std::string& error,
     files.landmarks.push_back(l);
     if (!negative) continue;
     const auto r = negative->records().find(l.id);
-    files.confirmations.push_back(r == negative->records().end()
-                                      ? report::LandmarkConfirmation{l.last_step, 0}
-                                      : report::LandmarkConfirmation{r->second.last_confirmed_step,
-                                                                     r->second.misses});
+    files.confirmations.push_back(
+        r == negative->records().end()
+            ? report::LandmarkConfirmation{l.last_step, 0}
+            : report::LandmarkConfirmation{r->second.last_confirmed_step, r->second.misses});
   }
   const std::vector<TrajectoryPoint>& trajectory = files.trajectory;
   const std::vector<LandmarkView>& landmarks = files.landmarks;
 
   // Every output is attempted; the first failure (a full disk) is the run's error.
-  const FinalCoverage coverage = final_coverage_ ? *final_coverage_ : finalCoverage();
-  files.map = [&] { return mapContent(trajectory, landmarks, &coverage); };
+  const FinalRelocCoverage reloc =
+      final_reloc_coverage_ ? *final_reloc_coverage_ : finalRelocCoverage();
+  files.map = [&] { return mapContent(trajectory, landmarks, &reloc); };
   files.scene = save_3d_scene_;
   files.figure_formats = figure_formats_;
   if (save_3d_scene_) files.robot = backend_->robotPose().mean;
@@ -296,72 +295,64 @@ RunResult RunDriver::finish(const std::string& status, const std::string& error,
   const auto written = outputs_.writeEndFiles(files);
   std::string first_error = written.first_error;
 
-  RunResult result;
-  result.status = status;
-  result.error = error;
-  if (result.status == "ok" && (poses_not_finite || landmarks_not_finite)) {
-    result.status = "failed";
-    result.error = "the " + backend_->name() + " estimate is not finite at the end of the run (" +
-                   std::to_string(poses_not_finite) + " poses, " +
-                   std::to_string(landmarks_not_finite) + " landmarks)";
-  }
-  if (result.status == "ok" && !first_error.empty())
-    result.status = "failed", result.error = first_error;
+  RunOutcome o;
+  o.status = status, o.kind = kind, o.error = error;
+  if (o.ok() && (poses_not_finite || landmarks_not_finite))
+    o.fail(RunStatus::Failed, ErrorKind::Diverged,
+           "the " + backend_->name() + " estimate is not finite at the end of the run (" +
+               std::to_string(poses_not_finite) + " poses, " +
+               std::to_string(landmarks_not_finite) + " landmarks)");
+  if (o.ok() && !first_error.empty()) o.fail(RunStatus::Failed, ErrorKind::Output, first_error);
+  o.files_not_written = written.not_written;
 
   const auto& budget = manager_->options();
-  nlohmann::json j;
-  j["status"] = result.status;
-  j["error"] = result.error;
-  if (!written.not_written.empty()) j["files_not_written"] = written.not_written;
-  j["backend"] = backend_->name();
-  j["reducer"] = budget.reducer;
-  j["cap"] = manager_->capped() ? nlohmann::json(*budget.max_landmarks) : nlohmann::json();
-  j["counts"] = {{"steps", steps_done_},
-                 {"landmarks_final", landmarks.size()},
-                 {"landmarks_not_finite", landmarks_not_finite},
-                 {"poses_not_finite", poses_not_finite},
-                 {"landmarks_peak", peak_landmarks_},
-                 {"landmarks_added", landmarks_added_},
-                 {"evictions", evictions_},
-                 {"refused", refused_},
-                 {"poses_kept", backend_->poseCount()},
-                 {"poses_marginalized", manager_->posesMarginalized()}};
-  j["timings"] = {{"steps_s", total_step_s_},
-                  {"step_ms_mean",
-                   report::jsonNumber(nanIfEmpty(
-                       steps_done_, 1e3 * total_step_s_ / std::max<std::size_t>(1, steps_done_)))},
-                  {"step_ms_max", 1e3 * max_step_s_},
-                  {"peak_rss_bytes", peakResidentBytes()}};
-  j["agreement"] = agreementJson(*manager_);
-  j["shadow_failures"] = shadowFailuresJson(*manager_);
+  RunOutcome::Run& run = o.run.emplace();
+  run.backend = backend_->name();
+  run.reducer = budget.reducer;
+  if (manager_->capped()) run.cap = *budget.max_landmarks;
+  run.counts.steps = steps_done_;
+  run.counts.landmarks_final = landmarks.size();
+  run.counts.landmarks_not_finite = landmarks_not_finite;
+  run.counts.poses_not_finite = poses_not_finite;
+  run.counts.landmarks_peak = peak_landmarks_;
+  run.counts.landmarks_added = landmarks_added_;
+  run.counts.evictions = evictions_;
+  run.counts.refused = refused_;
+  run.counts.poses_kept = backend_->poseCount();
+  run.counts.poses_marginalized = manager_->posesMarginalized();
+  run.timings.steps_s = total_step_s_;
+  run.timings.step_ms_mean =
+      nanIfEmpty(steps_done_, 1e3 * total_step_s_ / std::max<std::size_t>(1, steps_done_));
+  run.timings.step_ms_max = 1e3 * max_step_s_;
+  run.timings.peak_rss_bytes = peakResidentBytes();
+  run.agreement = agreementJson(*manager_);
+  run.shadow_failures = shadowFailuresJson(*manager_);
 
   if (truth_ && !truth_->empty()) {
-    metrics::GroundTruthErrors e;
+    GroundTruthOutcome& gt = o.ground_truth.emplace();
+    gt.landmarks_file = truth_->landmarks_file;
+    gt.path_file = truth_->path_file;
     try {
-      e = metrics::groundTruthErrors(trajectory, landmarks, *truth_, steps_in_rawlog);
+      gt.errors = metrics::groundTruthErrors(trajectory, landmarks, *truth_, steps_in_rawlog);
     } catch (const Error& x) {
       if (first_error.empty()) first_error = x.what();  // a bug: inputs are finite here
     }
-    if (nees_) result.nees = nees_->result(steps_in_rawlog);
+    if (nees_) gt.nees = nees_->result(steps_in_rawlog);
     // Where the ground truth's frame sits in the map's (budget-slam localize starts another
     // traversal's robot there; docs/OUTPUTS.md).
     alignment_ = metrics::mapAlignment(landmarks, trajectory, *truth_, steps_in_rawlog);
-    j["ground_truth"] = report::groundTruthJson(*truth_, e, result.nees, alignment_);
-    result.ground_truth = e;
+    gt.alignment = alignment_;
   }
-  result.relocalization = coverage.coverage;
-  j["relocalization"] =
-      report::relocalizationJson(coverage.coverage, coverage.source, coverage.details);
-  for (const auto& [k, v] : extra.items()) j[k] = v;
+  run.relocalization = {reloc.coverage, reloc.source, reloc.details};
+  o.given = given.is_object() ? given : nlohmann::json::object();
   try {
-    outputs_.writeSummary(j);
+    writeSummary(outputs_.folder().file("summary.json"), o);
   } catch (const std::exception& e) {
     summary_error_ = exceptionLine(e);
     if (first_error.empty()) first_error = summary_error_;
   }
   write_error_ = first_error;
-  result.summary = std::move(j);
-  return result;
+  return o;
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -6,10 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "FinalCoverage.h"
-#include "RunResult.h"
-#include "RunSummary.h"
 #include "budget_slam/core/Backend.h"
+#include "budget_slam/core/BackendRegistry.h"
 #include "budget_slam/core/HeapRelease.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
@@ -22,9 +20,26 @@
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/ReportOptions.h"
 #include "budget_slam/report/RunOutputs.h"
+#include "budget_slam/runs/FinalRelocCoverage.h"
+#include "budget_slam/runs/RunOutcome.h"
+#include "budget_slam/runs/ShadowReducers.h"
 #include "budget_slam/session/SessionState.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
+
+/// What a run driver is given besides the ini: the backend's name, the budget, and the values of
+/// [MappingApplication] it acts on (read by the caller: app/MappingOptions.h).
+struct DriverSpec {
+  std::string backend = "ekf";     ///< a name of the backend registry
+  reducers::BudgetOptions budget;  ///< [LandmarkBudget], with the flags applied
+  /// false keeps no per-step records in memory (no online poses, no landmark counts, the EKF
+  /// keeps only its latest pose): memory stays flat over arbitrarily long runs, everything per
+  /// step is still in steps.csv, and NEES is accumulated online.
+  bool keep_history = true;
+  bool save_3d_scene = true;          ///< [MappingApplication] save_3d_scene
+  std::size_t scene_every_steps = 0;  ///< kf-slam's SAVE_3D_SCENES / SAVE_LOG_FREQUENCY
+  std::string rawlog_name;            ///< the rawlog's file name, in map.png's title
+};
 
 /// The run driver: one SLAM run under a budget, backend + budget manager, fed one step at a time
 /// (docs/ARCHITECTURE.md "Data flow"). It measures as it goes (timings, relocalization coverage,
@@ -32,12 +47,10 @@ namespace budget_slam::app {
 /// evictions.csv as the steps happen, the rest in finish(); docs/OUTPUTS.md).
 class RunDriver {
  public:
-  /// `keep_history` = false keeps no per-step records in memory (no online poses, no landmark
-  /// counts, the EKF keeps only its latest pose): memory stays flat over arbitrarily long runs,
-  /// everything per step is still in steps.csv, and NEES is accumulated online.
-  RunDriver(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
-            const reducers::BudgetOptions& budget, report::OutputFolder folder,
-            std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history = true);
+  /// The backend `spec.backend` of `backends` and the budget's reducers, built from `ini`.
+  RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegistry& backends,
+            const DriverSpec& spec, report::OutputFolder folder,
+            std::shared_ptr<const dataset::GroundTruth> truth);
 
   /// Runs one step: backend update (evicted landmarks filtered out when readmission is off), then
   /// the budget, then its steps.csv row. Throws Error on bad data, on a diverged estimate and when
@@ -56,20 +69,20 @@ class RunDriver {
   void writeSessionState(const session::SessionHeader& header);
 
   /// Runs the reducer's and the backend's end-of-run work (active minimization, the graph's final
-  /// solve) once; finish("ok") calls it too. Throws Interrupted on a stop request.
+  /// solve) once; finish(RunStatus::Ok) calls it too. Throws Interrupted on a stop request.
   void complete();
 
   /// Writes every output (steps.csv and evictions.csv flushed to disk, trajectory.tum,
-  /// landmarks.csv, map.png, ground_truth.tum) and then summary.json with `status` (ok | failed |
-  /// interrupted) and `error`. Only the steps that completed and only finite estimates are written
-  /// or drawn (a diverged estimate leaves its non-finite poses and landmarks out, counted in
-  /// summary.json). Each output is attempted even when another fails; an ok run whose outputs
-  /// could not all be written becomes failed, with the first write error (see writeError()).
-  /// `steps_in_rawlog` maps ground truth rows. Returns the summary and, in memory, its numbers.
-  /// With status ok, throws Interrupted when a stop request came before the outputs were
-  /// written.
-  RunResult finish(const std::string& status, const std::string& error, std::size_t steps_in_rawlog,
-                   const nlohmann::json& extra = {});
+  /// landmarks.csv, map.png, ground_truth.tum) and then summary.json (runs::writeSummary) from
+  /// the outcome: `status`, `kind` and `error`, the driver's blocks, and `given`. Only the steps
+  /// that completed and only finite estimates are written or drawn (a diverged estimate leaves its
+  /// non-finite poses and landmarks out, counted in summary.json). Each output is attempted even
+  /// when another fails; an ok run whose outputs could not all be written becomes failed, with the
+  /// first write error (see writeError()). `steps_in_rawlog` maps ground truth rows. Returns the
+  /// outcome summary.json was written from. With status ok, throws Interrupted when a stop request
+  /// came before the outputs were written.
+  RunOutcome finish(RunStatus status, ErrorKind kind, const std::string& error,
+                    std::size_t steps_in_rawlog, const nlohmann::json& given = {});
   /// The first output finish() could not write ("" when all were written).
   const std::string& writeError() const { return write_error_; }
   /// Why finish() could not write summary.json ("" when it did).
@@ -93,10 +106,14 @@ class RunDriver {
   const std::vector<std::size_t>& landmarkCounts() const { return counts_; }
   double totalStepSeconds() const { return total_step_s_; }
 
-  /// The tracker's steps against the backend's landmarks now (call after complete()).
-  FinalCoverage finalCoverage() const;
-  /// Replaces what finish() reports (compare on ID-less rawlogs: through the reference run).
-  void setFinalCoverage(FinalCoverage coverage) { final_coverage_ = std::move(coverage); }
+  /// The relocalization tracker's steps against the backend's landmarks now (call after
+  /// complete()).
+  FinalRelocCoverage finalRelocCoverage() const;
+  /// Replaces the relocalization coverage finish() reports (compare on ID-less rawlogs: through
+  /// the reference run).
+  void setFinalRelocCoverage(FinalRelocCoverage coverage) {
+    final_reloc_coverage_ = std::move(coverage);
+  }
   /// Which landmarks each step observed, and the coverage so far.
   const metrics::RelocalizationTracker& relocalization() const { return reloc_; }
   /// Set by finish() when the rawlog has ground truth: the ground truth's frame in the map's.
@@ -109,16 +126,18 @@ class RunDriver {
   /// the final map's landmarks in view.
   report::MapContent mapContent(const std::vector<TrajectoryPoint>& trajectory,
                                 const std::vector<LandmarkView>& landmarks,
-                                const FinalCoverage* coverage) const;
-  /// Gives the coverage tracker the landmarks the step observed (`assoc`: the backend's
+                                const FinalRelocCoverage* coverage) const;
+  /// Gives the relocalization tracker the landmarks the step observed (`assoc`: the backend's
   /// association of `filtered`'s readings), after the step's map changes; returns how many
   /// landmarks of the map held after the step it observed.
-  std::size_t trackCoverage(const Step& raw, const Step& filtered,
-                            const std::vector<LandmarkId>& assoc);
+  std::size_t trackRelocCoverage(const Step& raw, const Step& filtered,
+                                 const std::vector<LandmarkId>& assoc);
 
-  reducers::CoverageOptions coverage_;  ///< how map.png clusters the kept landmarks
-  bool save_3d_scene_ = true;           ///< [MappingApplication] save_3d_scene
-  std::size_t scene_every_steps_ = 0;   ///< kf-slam's SAVE_3D_SCENES / SAVE_LOG_FREQUENCY
+  /// How map.png and map.3Dscene colour the kept landmarks: the picture's k-means clusters
+  /// ([CoverageReducer]'s settings, the run's seed), not a reducer.
+  reducers::CoverageOptions picture_clusters_;
+  bool save_3d_scene_ = true;          ///< [MappingApplication] save_3d_scene
+  std::size_t scene_every_steps_ = 0;  ///< kf-slam's SAVE_3D_SCENES / SAVE_LOG_FREQUENCY
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<reducers::BudgetManager> manager_;
   std::shared_ptr<const dataset::GroundTruth> truth_;
@@ -134,8 +153,8 @@ class RunDriver {
   /// Gives the heap's free pages back every kReleaseHeapEverySteps steps (core/HeapRelease.h:
   /// the filter's reallocated state leaves holes in the heap that free() keeps resident).
   HeapRelease heap_release_;
-  bool saw_ids_ = false, saw_idless_ = false;  ///< readings with / without sensor IDs
-  std::optional<FinalCoverage> final_coverage_;
+  bool saw_ids_ = false, saw_idless_ = false;               ///< readings with / without sensor IDs
+  std::optional<FinalRelocCoverage> final_reloc_coverage_;  ///< set by compare, else computed
   std::optional<metrics::MapAlignment> alignment_;
   bool completed_ = false;
   std::string write_error_, summary_error_;
@@ -145,4 +164,4 @@ class RunDriver {
   double total_step_s_ = 0, max_step_s_ = 0;
 };
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs
