@@ -30,8 +30,6 @@ std::vector<std::unique_ptr<Reducer>> makeShadows(const mrpt::config::CConfigFil
   return out;
 }
 
-/// map.png marks at most this many dropped landmarks (a lifelong run drops millions).
-constexpr std::size_t kMaxDroppedMarks = 20000;
 /// Without per-step history, the relocalization coverage follows at most this many evenly spread
 /// steps (bounded memory on lifelong runs; docs/OUTPUTS.md).
 constexpr std::size_t kMaxCoverageSteps = 4096;
@@ -48,17 +46,8 @@ std::size_t relocMinLandmarks(const mrpt::config::CConfigFileBase& ini) {
   return m.reloc_min_landmarks;
 }
 
-double nanIfEmpty(std::size_t n, double v) {
-  return n ? v : std::numeric_limits<double>::quiet_NaN();
-}
-
 bool finite(const LandmarkView& l) {
   return l.mean.allFinite() && l.cov.allFinite() && l.obs_mean.allFinite();
-}
-
-report::EvictionRow evictionRow(const reducers::Eviction& e) {
-  return {e.step,    e.id,     e.reducer, e.score,        e.n_before,
-          e.n_after, e.reason, e.shadow,  e.shadow_errors};
 }
 
 }  // namespace
@@ -93,8 +82,7 @@ RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegi
 }
 
 void RunDriver::process(const Step& raw) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const double cpu0 = threadCpuSeconds();
+  probes_.start();
   // Without the readings of landmarks dropped for good and of refused newcomers still waiting.
   const Step filtered = manager_->admissible(raw);
 
@@ -102,7 +90,7 @@ void RunDriver::process(const Step& raw) {
   backend_->process(filtered);
   // The landmarks the step's readings went to are in the map now (new ones included).
   const std::vector<LandmarkId> assoc = backend_->lastAssociation();
-  for (const LandmarkId id : assoc) reloc_.landmarkAdded(id);
+  reloc_.added(assoc);
   const std::size_t added = backend_->landmarkCount() - before;
   const auto diverged = [](const PoseEstimate& p) {
     return !std::isfinite(p.mean.x) || !std::isfinite(p.mean.y) || !std::isfinite(p.mean.phi) ||
@@ -113,11 +101,10 @@ void RunDriver::process(const Step& raw) {
                 " estimate diverged (the robot pose or its covariance is not finite)");
   const auto drops = manager_->enforce(*backend_, filtered, raw);
   heap_release_.afterStep();  // timed with the step: its cost is the run's
-  const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const double cpu = threadCpuSeconds() - cpu0;
+  const StepProbes::Sample times = probes_.stop();
   // The coverage over time counts the map as it stands after this step's drops.
-  for (const auto& e : drops) reloc_.landmarkRemoved(e.id);
-  const std::size_t reloc_landmarks = trackRelocCoverage(raw, filtered, assoc);
+  reloc_.removed(drops);
+  const std::size_t reloc_landmarks = reloc_.observe(raw, filtered, assoc);
   const std::size_t n = backend_->landmarkCount();
   const PoseEstimate pose = backend_->robotPose();
 
@@ -131,8 +118,8 @@ void RunDriver::process(const Step& raw) {
   for (const auto& e : drops) ++(e.reason == "refused" ? row.refused : row.dropped);
   row.poses = backend_->poseCount();
   row.pose = pose;
-  row.step_ms = 1e3 * dt;
-  row.cpu_ms = 1e3 * cpu;
+  row.step_ms = 1e3 * times.wall_s;
+  row.cpu_ms = 1e3 * times.cpu_s;
   row.rss_bytes = residentBytes();
   row.reloc_landmarks = reloc_landmarks;
   row.reloc_coverage_so_far_pct = reloc_.coverageSoFarPct();
@@ -141,14 +128,13 @@ void RunDriver::process(const Step& raw) {
   ++steps_done_;
   last_step_ = raw.index;
   landmarks_added_ += added;
-  total_step_s_ += dt;
-  max_step_s_ = std::max(max_step_s_, dt);
+  probes_.count(times);
   peak_landmarks_ = std::max(peak_landmarks_, n);
   if (keep_history_) counts_.push_back(n);
   if (keep_history_) online_.push_back({raw.index, pose});
   if (nees_) nees_->add(raw.index, pose);
 
-  logEvictions(drops);
+  evictions_.log(drops, outputs_);
   if (scene_every_steps_ && raw.index % scene_every_steps_ == 0) {
     char name[48];
     std::snprintf(name, sizeof name, "kf_state_%05llu.3Dscene",
@@ -158,45 +144,7 @@ void RunDriver::process(const Step& raw) {
   }
 }
 
-std::size_t RunDriver::trackRelocCoverage(const Step& raw, const Step& filtered,
-                                          const std::vector<LandmarkId>& assoc) {
-  // A reading with a sensor ID observes that landmark (whether the map holds it or not); one
-  // without is known only through the backend's association.
-  std::vector<LandmarkId> observed;
-  if (raw.scan)
-    for (const auto& r : raw.scan->readings)
-      if (r.id != kNoLandmarkId) observed.push_back(r.id), saw_ids_ = true;
-  if (filtered.scan)
-    for (std::size_t r = 0; r < filtered.scan->readings.size(); ++r)
-      if (filtered.scan->readings[r].id == kNoLandmarkId) {
-        saw_idless_ = true;
-        if (r < assoc.size()) observed.push_back(assoc[r]);
-      }
-  return reloc_.addStep(raw.index, observed);
-}
-
-FinalRelocCoverage RunDriver::finalRelocCoverage() const {
-  FinalRelocCoverage c;
-  std::unordered_set<LandmarkId> ids;
-  for (const auto& l : backend_->landmarks()) ids.insert(l.id);
-  c.steps = reloc_.steps();
-  c.coverage = metrics::coverageOf(
-      c.steps, [&](LandmarkId id) { return ids.count(id) > 0; }, reloc_.minLandmarks(),
-      reloc_.sampled());
-  c.source = saw_idless_ ? (saw_ids_ ? "landmark_ids_and_own_association" : "own_association")
-                         : "landmark_ids";
-  return c;
-}
-
-void RunDriver::logEvictions(const std::vector<reducers::Eviction>& drops) {
-  for (const auto& e : drops) {
-    // A refused newcomer never held a place between steps: counted apart from the drops.
-    const bool refused = e.reason == "refused";
-    ++(refused ? refused_ : evictions_);
-    if (!refused && dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
-    outputs_.addEviction(evictionRow(e));
-  }
-}
+FinalRelocCoverage RunDriver::finalRelocCoverage() const { return reloc_.finalCoverage(*backend_); }
 
 report::MapContent RunDriver::mapContent(const std::vector<TrajectoryPoint>& trajectory,
                                          const std::vector<LandmarkView>& landmarks,
@@ -206,10 +154,10 @@ report::MapContent RunDriver::mapContent(const std::vector<TrajectoryPoint>& tra
                       ", reducer " + budget.reducer +
                       (manager_->capped() ? ", cap " + std::to_string(*budget.max_landmarks) : "") +
                       ": " + std::to_string(landmarks.size()) + " landmarks kept, " +
-                      std::to_string(evictions_) + " dropped" +
-                      (refused_ ? ", " + std::to_string(refused_) + " refused" : std::string());
-  return runMapContent(std::move(title), trajectory, landmarks, picture_clusters_, dropped_,
-                       coverage, truth_.get());
+                      std::to_string(evictions()) + " dropped" +
+                      (refused() ? ", " + std::to_string(refused()) + " refused" : std::string());
+  return runMapContent(std::move(title), trajectory, landmarks, picture_clusters_,
+                       evictions_.droppedMarks(), coverage, truth_.get());
 }
 
 void RunDriver::restoreSession(const session::SessionState& state) {
@@ -238,8 +186,8 @@ void RunDriver::complete() {
   // then the backend's (the graph's solve to the batch optimum).
   if (steps_done_ > 0) {
     const auto drops = manager_->finish(*backend_, last_step_);
-    for (const auto& e : drops) reloc_.landmarkRemoved(e.id);
-    logEvictions(drops);
+    reloc_.removed(drops);
+    evictions_.log(drops, outputs_);
   }
   Cancellation::check();  // drops cut short by a stop request are logged above
   backend_->finish();
@@ -316,15 +264,11 @@ RunOutcome RunDriver::finish(RunStatus status, ErrorKind kind, const std::string
   run.counts.poses_not_finite = poses_not_finite;
   run.counts.landmarks_peak = peak_landmarks_;
   run.counts.landmarks_added = landmarks_added_;
-  run.counts.evictions = evictions_;
-  run.counts.refused = refused_;
+  run.counts.evictions = evictions();
+  run.counts.refused = refused();
   run.counts.poses_kept = backend_->poseCount();
   run.counts.poses_marginalized = manager_->posesMarginalized();
-  run.timings.steps_s = total_step_s_;
-  run.timings.step_ms_mean =
-      nanIfEmpty(steps_done_, 1e3 * total_step_s_ / std::max<std::size_t>(1, steps_done_));
-  run.timings.step_ms_max = 1e3 * max_step_s_;
-  run.timings.peak_rss_bytes = peakResidentBytes();
+  run.timings = probes_.timings(steps_done_);
   run.agreement = agreementJson(*manager_);
   run.shadow_failures = shadowFailuresJson(*manager_);
 

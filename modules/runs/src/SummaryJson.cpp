@@ -221,9 +221,14 @@ SummaryFile summaryFromJson(nlohmann::json j, const std::string& label) {
   if (!j.is_object()) throw InputError(label + ": not a budget-slam summary (not an object)");
   SummaryFile f;
   RunOutcome& o = f.outcome;
+  // A status that is none of RunStatus's words (or none at all) is not an ok run.
+  o.status = RunStatus::Failed, o.kind = ErrorKind::Input;
   if (j.contains("status") && j["status"].is_string()) {
     f.status_text = excerpt(j["status"].get<std::string>());
-    if (const auto s = parseStatus(j["status"].get<std::string>())) o.status = *s;
+    if (const auto s = parseStatus(j["status"].get<std::string>()))
+      o.status = *s, o.kind = *s == RunStatus::Interrupted ? ErrorKind::Stopped
+                              : *s == RunStatus::Ok        ? ErrorKind::None
+                                                           : ErrorKind::Internal;
   }
   o.error = text(j, "error");
   if (j.contains("ground_truth") && j["ground_truth"].is_object()) {

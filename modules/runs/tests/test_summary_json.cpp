@@ -98,6 +98,16 @@ TEST(SummaryJson, ASummaryWithoutARunHasNoRunBlocks) {
   EXPECT_FALSE(read.outcome.ground_truth);
 }
 
+TEST(SummaryJson, AStatusThatIsNoneOfTheWordsIsNotOk) {
+  for (const char* text : {R"({"status": "done"})", R"({"status": 1})", "{}"}) {
+    const SummaryFile read = summaryFromJson(nlohmann::json::parse(text), "summary.json");
+    EXPECT_EQ(read.outcome.status, RunStatus::Failed) << text;
+    EXPECT_EQ(exitCode(read.outcome), 1) << text;
+  }
+  EXPECT_EQ(summaryFromJson(nlohmann::json::parse(R"({"status": "done"})"), "s").status_text,
+            "done");
+}
+
 TEST(SummaryJson, GivenKeysWinOverTheOutcomes) {
   RunOutcome o;
   o.fail(RunStatus::Failed, ErrorKind::Input, "the comparison did not start: x");

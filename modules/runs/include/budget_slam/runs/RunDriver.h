@@ -21,6 +21,7 @@
 #include "budget_slam/report/ReportOptions.h"
 #include "budget_slam/report/RunOutputs.h"
 #include "budget_slam/runs/FinalRelocCoverage.h"
+#include "budget_slam/runs/RunObservers.h"
 #include "budget_slam/runs/RunOutcome.h"
 #include "budget_slam/runs/ShadowReducers.h"
 #include "budget_slam/session/SessionState.h"
@@ -98,13 +99,13 @@ class RunDriver {
   const report::OutputFolder& folder() const { return outputs_.folder(); }
   std::size_t stepsDone() const { return steps_done_; }
   /// Landmarks dropped after holding a place in the map (evictions.csv rows but the refusals).
-  std::size_t evictions() const { return evictions_; }
+  std::size_t evictions() const { return evictions_.evictions(); }
   /// Newcomers refused at admission (evictions.csv rows with reason refused).
-  std::size_t refused() const { return refused_; }
+  std::size_t refused() const { return evictions_.refused(); }
   /// The online robot pose after each step (for NEES and the metrics against the reference).
   const std::vector<metrics::PoseRecord>& onlinePoses() const { return online_; }
   const std::vector<std::size_t>& landmarkCounts() const { return counts_; }
-  double totalStepSeconds() const { return total_step_s_; }
+  double totalStepSeconds() const { return probes_.totalSeconds(); }
 
   /// The relocalization tracker's steps against the backend's landmarks now (call after
   /// complete()).
@@ -115,23 +116,16 @@ class RunDriver {
     final_reloc_coverage_ = std::move(coverage);
   }
   /// Which landmarks each step observed, and the coverage so far.
-  const metrics::RelocalizationTracker& relocalization() const { return reloc_; }
+  const metrics::RelocalizationTracker& relocalization() const { return reloc_.tracker(); }
   /// Set by finish() when the rawlog has ground truth: the ground truth's frame in the map's.
   const std::optional<metrics::MapAlignment>& mapAlignment() const { return alignment_; }
 
  private:
-  /// evictions.csv rows, counts and map marks of drops.
-  void logEvictions(const std::vector<reducers::Eviction>& drops);
   /// What map.png and map.3Dscene show (runMapContent); with `coverage`, the path coloured by
   /// the final map's landmarks in view.
   report::MapContent mapContent(const std::vector<TrajectoryPoint>& trajectory,
                                 const std::vector<LandmarkView>& landmarks,
                                 const FinalRelocCoverage* coverage) const;
-  /// Gives the relocalization tracker the landmarks the step observed (`assoc`: the backend's
-  /// association of `filtered`'s readings), after the step's map changes; returns how many
-  /// landmarks of the map held after the step it observed.
-  std::size_t trackRelocCoverage(const Step& raw, const Step& filtered,
-                                 const std::vector<LandmarkId>& assoc);
 
   /// How map.png and map.3Dscene colour the kept landmarks: the picture's k-means clusters
   /// ([CoverageReducer]'s settings, the run's seed), not a reducer.
@@ -144,24 +138,23 @@ class RunDriver {
   report::RunOutputs outputs_;
   std::vector<metrics::PoseRecord> online_;
   bool keep_history_ = true;
-  std::optional<metrics::NeesAccumulator> nees_;  ///< when the ground truth has a path
   std::vector<std::size_t> counts_;
-  std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
-  std::string rawlog_name_;               ///< the rawlog's file name, in map.png's title
+  std::string rawlog_name_;  ///< the rawlog's file name, in map.png's title
   std::vector<report::FigureFormat> figure_formats_;  ///< [Report] figure_format
-  metrics::RelocalizationTracker reloc_;
+  // The observers of the step loop, each filling its block of the outcome.
+  StepProbes probes_;                             ///< timings
+  EvictionLog evictions_;                         ///< evictions.csv, drop counts, map marks
+  RelocCoverageTracking reloc_;                   ///< relocalization coverage
+  std::optional<metrics::NeesAccumulator> nees_;  ///< when the ground truth has a path
   /// Gives the heap's free pages back every kReleaseHeapEverySteps steps (core/HeapRelease.h:
   /// the filter's reallocated state leaves holes in the heap that free() keeps resident).
   HeapRelease heap_release_;
-  bool saw_ids_ = false, saw_idless_ = false;               ///< readings with / without sensor IDs
   std::optional<FinalRelocCoverage> final_reloc_coverage_;  ///< set by compare, else computed
   std::optional<metrics::MapAlignment> alignment_;
   bool completed_ = false;
   std::string write_error_, summary_error_;
   StepIndex last_step_ = 0;
-  std::size_t steps_done_ = 0, evictions_ = 0, refused_ = 0, peak_landmarks_ = 0,
-              landmarks_added_ = 0;
-  double total_step_s_ = 0, max_step_s_ = 0;
+  std::size_t steps_done_ = 0, peak_landmarks_ = 0, landmarks_added_ = 0;
 };
 
 }  // namespace budget_slam::runs

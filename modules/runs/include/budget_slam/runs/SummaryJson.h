@@ -22,7 +22,8 @@ void writeSummary(const std::string& path, const RunOutcome& o);
 struct SummaryFile {
   nlohmann::json json;      ///< the whole document
   std::string status_text;  ///< "status" as written, cut to a printable excerpt ("" if absent)
-  /// The outcome as far as the document holds it: status (when it is one of RunStatus's words),
+  /// The outcome as far as the document holds it: status (failed when it is none of RunStatus's
+  /// words; the kind of a failure read back is internal: the file does not say it),
   /// error, the run's blocks, ground_truth (with map_alignment, checked), files_not_written;
   /// every other key is in `given`. A number that is null or not a number reads as NaN.
   RunOutcome outcome;
