@@ -70,12 +70,9 @@ std::vector<RelocalizationResult> relocalizeMaps(const Runs& compared,
       relocalizeAll(maps, traversals, reference, cli.reference_trajectory, cli.threads, cli.force);
   addRelocalizationColumns(rows, relocalized, runs::kReferenceRun);
   for (const auto& r : relocalized)
-    if (r.status != runs::statusName(RunStatus::Ok)) {
-      const bool interrupted = r.status == runs::statusName(RunStatus::Interrupted);
-      outcome.add(interrupted ? RunStatus::Interrupted : RunStatus::Failed,
-                  interrupted ? ErrorKind::Stopped : ErrorKind::Input,
+    if (r.status != RunStatus::Ok)
+      outcome.add(r.status, r.kind,
                   "run '" + r.run + "', --relocalize '" + r.traversal + "': " + r.error, true);
-    }
   return relocalized;
 }
 

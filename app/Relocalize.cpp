@@ -109,20 +109,20 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
                                           folder, m.landmarks, inputs);
         for (const auto& s : t.steps) {
           if (Cancellation::requested()) {
-            r.status = "interrupted";
+            r.status = runs::RunStatus::Interrupted, r.kind = runs::ErrorKind::Stopped;
             r.error = std::string("interrupted by ") + Cancellation::signalName();
             break;
           }
           loc->process(s);
         }
-        loc->finish(r.status, r.error,
+        loc->finish(r.status, r.kind, r.error,
                     {{"rawlog", t.rc.rawlog}, {"map", m.folder}, {"run", m.run}});
         r.score = loc->score();
       } catch (const std::exception& e) {
-        r.status = "failed";
+        r.status = runs::RunStatus::Failed, r.kind = runs::errorKindOf(e);
         r.error = e.what();
         if (loc) try {
-            loc->finish("failed", r.error, {{"rawlog", t.rc.rawlog}, {"map", m.folder}});
+            loc->finish(r.status, r.kind, r.error, {{"rawlog", t.rc.rawlog}, {"map", m.folder}});
           } catch (const std::exception&) {
           }
       }
@@ -141,7 +141,7 @@ void writeRelocalizationCsv(const std::string& path,
   for (const auto& r : results) {
     csv.cell(r.run)
         .cell(r.traversal)
-        .cell(r.status)
+        .cell(runs::statusName(r.status))
         .cell(r.score.rmse_m)
         .cell(r.score.max_m)
         .cell(r.score.lost_pct)
@@ -160,7 +160,8 @@ void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
   for (const auto& r : results) by_run[r.run].push_back(&r);
   const auto mean = [&](const std::string& run, double metrics::LocalizationScore::*field) {
     std::vector<double> v;
-    for (const auto* r : by_run[run]) v.push_back(r->status == "ok" ? r->score.*field : NAN);
+    for (const auto* r : by_run[run])
+      v.push_back(r->status == runs::RunStatus::Ok ? r->score.*field : NAN);
     return meanOfFinite(v);
   };
   using S = metrics::LocalizationScore;

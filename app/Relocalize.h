@@ -10,6 +10,7 @@
 #include "budget_slam/metrics/LocalizationScore.h"
 #include "budget_slam/metrics/MapAlignment.h"
 #include "budget_slam/report/ComparisonTable.h"
+#include "budget_slam/runs/RunStatus.h"
 
 namespace budget_slam::app {
 
@@ -39,7 +40,10 @@ struct MapOfRun {
 
 /// One localization of one traversal in one run's map.
 struct RelocalizationResult {
-  std::string run, traversal, status = "ok", error;
+  std::string run, traversal;
+  runs::RunStatus status = runs::RunStatus::Ok;
+  runs::ErrorKind kind = runs::ErrorKind::None;
+  std::string error;
   metrics::LocalizationScore score;
 };
 
