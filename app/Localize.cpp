@@ -23,6 +23,7 @@
 #include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/report/RunFiles.h"
 #include "budget_slam/runs/SummaryJson.h"
+#include "budget_slam/wakeup/WakeUpRun.h"
 
 namespace budget_slam::app {
 namespace {
@@ -62,6 +63,42 @@ mrpt::math::TPose2D parseStartPose(const std::string& text) {
   return {v[0], v[1], v[2] * kDeg};
 }
 
+/// summary.json's wake_up block (docs/OUTPUTS.md "localize --wake-up"); the error against the
+/// truth is added by the caller.
+nlohmann::json wakeUpJson(const wakeup::WakeUpRun& w, const wakeup::WakeUpOptions& options,
+                          bool asked) {
+  const auto& r = w.result;
+  nlohmann::json j = {{"requested", asked ? "--wake-up" : "no start pose"},
+                      {"found", w.found()},
+                      {"status", wakeup::statusName(r.status)},
+                      {"reason", wakeup::reasonName(r.reason)},
+                      {"why_not_found", w.whyNotFound(options)},
+                      {"correspondence", r.by_ids ? "ids" : "search"},
+                      {"max_steps", options.max_steps},
+                      {"steps_used", w.steps_read},
+                      {"time_ms", w.wall_ms},
+                      {"readings", r.readings},
+                      {"landmarks", r.landmarks},
+                      {"inliers", r.inliers},
+                      {"hypotheses", r.hypotheses},
+                      {"runner_up_landmarks", r.runner_up},
+                      {"score", r.score},
+                      {"runner_up_score", r.runner_up_score},
+                      {"step", nullptr},
+                      {"pose", nullptr},
+                      {"cov", nullptr},
+                      {"error", nullptr}};
+  if (w.found()) {
+    j["step"] = r.step;
+    j["pose"] = {{"x", r.pose.mean.x}, {"y", r.pose.mean.y}, {"yaw", r.pose.mean.phi}};
+    nlohmann::json cov = nlohmann::json::array();
+    for (int i = 0; i < 3; ++i)
+      cov.push_back({r.pose.cov(i, 0), r.pose.cov(i, 1), r.pose.cov(i, 2)});
+    j["cov"] = cov;
+  }
+  return j;
+}
+
 }  // namespace
 
 void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
@@ -94,6 +131,12 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
       "start pose in the map's frame, yaw in degrees (default: the traversal's ground truth "
       "through the map's alignment, or the reference trajectory)",
       false, "", "x,y,yaw", cmd);
+  TCLAP::SwitchArg wake_up(
+      "", "wake-up",
+      "no start pose: find the robot on the map from the first steps' readings ([WakeUp]), then "
+      "localize the rest of the traversal from there (also what happens when there is neither "
+      "--start-pose nor ground truth nor a reference trajectory); not found: exit 3",
+      cmd);
   TCLAP::ValueArg<std::string> reference(
       "", "reference-trajectory",
       "trajectory.tum (in the map's frame) to measure the error against when the traversal has "
@@ -125,12 +168,15 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
   // Given empty, it is still given: refused below, never taken as "derive it".
   if (start.isSet()) cli_.start_pose = start.getValue();
   cli_.reference_trajectory = reference.getValue();
+  cli_.wake_up = wake_up.getValue();
   cli_.sets = sets.getValue();
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
   // a bad start pose is part of the command line: exit 2 before anything is written
   try {
     if (cli_.start_pose) parseStartPose(*cli_.start_pose);
+    if (cli_.start_pose && cli_.wake_up)
+      throw ConfigError("--wake-up: not with --start-pose (a start pose is not looked for)");
     refuseEmptyValues({&config, &map, &rawlog, &outdir, &reference, &max_steps});
     if (max_steps.isSet()) cli_.max_steps = parseMaxSteps(max_steps.getValue());
   } catch (const ConfigError& e) {
@@ -142,6 +188,7 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
 int BudgetSlamApp::runLocalize() {
   std::optional<report::OutputFolder> folder;
   std::unique_ptr<Localizer> localizer;
+  nlohmann::json wake_json;  ///< summary.json's wake_up block, when the robot woke up
   // One line, which also says why summary.json could not be written when it could not.
   const auto fail = [&](const std::string& why, runs::RunStatus status, runs::ErrorKind kind) {
     const std::string msg = printable(why);
@@ -150,7 +197,9 @@ int BudgetSlamApp::runLocalize() {
       // Before the first step nothing is worth keeping: the next command replaces it.
       const bool started = localizer && localizer->stepsDone() > 0;
       if (localizer) {
-        localizer->finish(status, kind, msg, {{"map", cli_.map_dir}, {"started", started}});
+        nlohmann::json given = {{"map", cli_.map_dir}, {"started", started}};
+        if (!wake_json.is_null()) given["wake_up"] = wake_json;
+        localizer->finish(status, kind, msg, given);
         not_saved = localizer->summaryError();
       } else if (folder) {
         runs::RunOutcome o;
@@ -226,13 +275,66 @@ int BudgetSlamApp::runLocalize() {
 
     std::optional<mrpt::math::TPose2D> given;
     if (cli_.start_pose) given = parseStartPose(*cli_.start_pose);
-    if (!truth.path.empty() && !map.alignment && reference.empty() && !given)
-      throw InputError(cli_.map_dir +
-                       "/summary.json: no ground_truth.map_alignment (the map was made without "
-                       "ground truth); give --start-pose or --reference-trajectory");
+    // No start pose anywhere (no --start-pose, no ground truth in the map's frame, no reference):
+    // wake up on the map rather than fail (docs/OUTPUTS.md "localize --wake-up").
+    const bool start_known = given || (!truth.path.empty() && map.alignment) || !reference.empty();
+    std::optional<wakeup::WakeUpRun> woke;
+    if (cli_.wake_up || !start_known) {
+      if (!cli_.wake_up && !cli_.quiet)
+        *err << "budget-slam: no start pose (no --start-pose, no ground truth in the map's frame, "
+                "no --reference-trajectory): waking up on the map"
+             << std::endl;
+      wakeup::WakeUpOptions wake_options;
+      wake_options.loadFromConfigFile(rc.ini, wakeup::WakeUpOptions::kSection);
+      std::size_t next = 0;
+      woke = wakeup::wakeUpOver(
+          map.landmarks,
+          [&]() -> const Step* { return next < steps.size() ? &steps[next++] : nullptr; },
+          wake_options, wakeup::readingNoiseOf(rc.ini));
+      wake_json = wakeUpJson(*woke, wake_options, cli_.wake_up);
+      if (!woke->found()) {
+        const std::string why = woke->whyNotFound(wake_options) + "; no pose is guessed";
+        runs::RunOutcome o;
+        o.fail(runs::RunStatus::NotFound, runs::ErrorKind::None, why);
+        o.given = {{"command", "localize"},
+                   {"rawlog", rc.rawlog},
+                   {"map", cli_.map_dir},
+                   {"started", false},
+                   {"wake_up", wake_json}};
+        std::string not_saved;
+        try {
+          runs::writeSummary(folder->file("summary.json"), o);
+        } catch (const std::exception& e) {
+          not_saved = failureLine(e);
+          o.fail(runs::RunStatus::Failed, runs::ErrorKind::Output, why);
+        }
+        *err << "budget-slam: error: wake-up: " << withAlso(why, not_saved) << std::endl;
+        return runs::exitCode(o);
+      }
+      given = woke->result.pose.mean;
+    }
     auto inputs = resolveLocalization(steps, in_rawlog, truth, map.alignment, given,
                                       cli_.reference_trajectory.empty() ? nullptr : &reference,
                                       cli_.reference_trajectory, rc.localization);
+    if (woke) {
+      // The steps that woke the robot up are not localized: the filter starts at the pose found,
+      // at the last of them, with its covariance.
+      const std::size_t used = woke->steps_read;
+      const auto& at = inputs.truth.poses[used - 1];
+      if (at) {
+        const auto e = wakeup::wakeUpError(woke->result.pose, *at);
+        wake_json["error"] = {{"against", inputs.truth.kind},
+                              {"xy_m", e.xy_m},
+                              {"yaw_deg", e.yaw_deg},
+                              {"within_success", e.xy_m <= rc.localization.success_xy &&
+                                                     e.yaw_deg <= rc.localization.success_yaw_deg}};
+      }
+      inputs.start = woke->result.pose;
+      inputs.start_source = "wake-up";
+      steps.erase(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(used));
+      inputs.truth.poses.erase(inputs.truth.poses.begin(),
+                               inputs.truth.poses.begin() + static_cast<std::ptrdiff_t>(used));
+    }
     // A path of one pose is a run without history (keep_history = false): no area to score in.
     if (map.path.size() >= 2) inputs.mapping_path = map.path;
     localizer =
@@ -252,23 +354,22 @@ int BudgetSlamApp::runLocalize() {
     }
     progress.finish(true);
     // A map of another place (whose sensor IDs may happen to repeat): readings pair with its
-    // landmarks but do not agree with where it has them. Every step is then dead reckoning.
+    // landmarks but do not agree with where it has them. Every step is then dead reckoning. (No
+    // step left after the wake-up: nothing to say.)
     const std::size_t paired = localizer->readingsPairedWithMap(),
                       agree = localizer->readingsConsistentWithMap();
-    if (2 * agree < paired || paired == 0)
+    if (localizer->stepsDone() > 0 && (2 * agree < paired || paired == 0))
       *err << "budget-slam: warning: " << agree << " of the " << paired << " readings of "
            << rc.rawlog << " that pair with a landmark of the map in " << cli_.map_dir
            << " agree with it (innovation within the 99.9% bound): the map and the traversal "
               "share no place"
            << std::endl;
+    nlohmann::json summary_given = {{"rawlog", rc.rawlog},      {"sidecar_ini", rc.sidecar},
+                                    {"config", config_label_},  {"map", cli_.map_dir},
+                                    {"map_status", map.status}, {"started", true}};
+    if (!wake_json.is_null()) summary_given["wake_up"] = wake_json;
     const runs::RunOutcome summary =
-        localizer->finish(runs::RunStatus::Ok, runs::ErrorKind::None, "",
-                          {{"rawlog", rc.rawlog},
-                           {"sidecar_ini", rc.sidecar},
-                           {"config", config_label_},
-                           {"map", cli_.map_dir},
-                           {"map_status", map.status},
-                           {"started", true}});
+        localizer->finish(runs::RunStatus::Ok, runs::ErrorKind::None, "", summary_given);
     if (!localizer->writeError().empty()) {
       // An output that could not be written (a full disk): summary.json says which, if it could.
       *err << "budget-slam: error: " << withAlso(localizer->writeError(), localizer->summaryError())
@@ -279,6 +380,16 @@ int BudgetSlamApp::runLocalize() {
       const auto sc = localizer->score();
       *out << "budget-slam localize: " << sc.steps << " steps in a map of " << map.landmarks.size()
            << " landmarks, start from " << inputs.start_source << "\n";
+      if (woke)
+        *out << "woken up at step " << woke->result.step << " after " << woke->steps_read
+             << " step(s) (" << (woke->result.by_ids ? "by landmark ids" : "by search") << ", "
+             << fixed(woke->wall_ms, 1) << " ms)"
+             << (wake_json.contains("error")
+                     ? ", " + fixed(wake_json["error"]["xy_m"].get<double>(), 3) + " m and " +
+                           fixed(wake_json["error"]["yaw_deg"].get<double>(), 2) +
+                           " deg from the truth"
+                     : std::string())
+             << "\n";
       if (!inputs.truth.kind.empty())
         *out << "against the "
              << (inputs.truth.kind == "ground_truth" ? "ground truth" : "reference trajectory")

@@ -2,8 +2,8 @@
 """Check that two budget-slam binaries write the same outputs on every shipped rawlog.
 
     tools/check_same_outputs.py --before BUILD_DIR_OR_BIN --after BUILD_DIR_OR_BIN
-        [--out DIR] [--rawlogs NAME,...] [--commands run,compare-ekf,compare-graph,localize]
-        [--quick] [-j N] [--max-steps N] [--source DIR]
+        [--out DIR] [--rawlogs NAME,...] [--commands run,compare-ekf,compare-graph,localize,
+        compare-reloc] [--quick] [-j N] [--max-steps N] [--source DIR]
 
 For every rawlog of `rawlogs/*.rawlog` (its sidecar `.ini` and ground truth are found by
 budget-slam itself) both binaries run the same command lines, from the source tree, into
@@ -14,6 +14,8 @@ budget-slam itself) both binaries run the same command lines, from the source tr
     compare-graph  budget-slam compare -c config.ini -i rawlogs/R.rawlog --backend graph -o DIR
     localize       budget-slam localize -c config.ini --map RUN_DIR -i rawlogs/R.rawlog -o DIR
                    (+ --reference-trajectory RUN_DIR/trajectory.tum without ground truth)
+    compare-reloc  budget-slam compare -c config.ini -i rawlogs/R.rawlog --relocalize T,... -o DIR
+                   (only where a second traversal T of R's world is shipped)
 
 Then every file both sides wrote, each command's stdout and stderr and its exit code are
 compared byte for byte after NORMALIZATION (below): the fields that differ between two runs of
@@ -39,7 +41,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE = os.path.dirname(HERE)
-COMMANDS = ["run", "compare-ekf", "compare-graph", "localize"]
+COMMANDS = ["run", "compare-ekf", "compare-graph", "localize", "compare-reloc"]
 # --quick: every command on four small rawlogs (MRPT's demo, the paper's world, the README's
 # simulated rooms, real MRCLAM data), and run and localize on one without ground truth
 # (localize's --reference-trajectory path); whole rawlogs, no --max-steps cut.
@@ -56,8 +58,9 @@ CSV_COLUMNS = {
 }
 # Markdown table columns (by file name and header cell); compare prints comparison.md's tables on
 # stdout too.
-MD_COLUMNS = {"comparison.md": {"time (s)"}, "compare-ekf.stdout": {"time (s)"},
-              "compare-graph.stdout": {"time (s)"}}
+MD_COLUMNS = {"comparison.md": {"time (s)"}}
+MD_COLUMNS.update({f"{c}.stdout": {"time (s)"} for c in ["compare-ekf", "compare-graph",
+                                                         "compare-reloc"]})
 # summary.json keys (dotted paths from the top) whose values are timings or memory.
 JSON_KEYS = {"summary.json": ["timings"]}
 # Lines of stdout / stderr: progress reports (every [Report] progress_every_s seconds) are
@@ -155,12 +158,13 @@ def normalized(path, rel, out_root, off=()):
     return text
 
 
-def first_difference(a, b):
-    """Where two normalized contents first differ, as a short phrase."""
-    try:
-        return "key " + json_difference(json.loads(a), json.loads(b))
-    except (TypeError, ValueError):
-        pass
+def first_difference(a, b, rel=".json"):
+    """Where two normalized contents of file `rel` first differ, as a short phrase."""
+    if rel.endswith(".json"):
+        try:
+            return "key " + json_difference(json.loads(a), json.loads(b))
+        except (TypeError, ValueError):
+            pass  # not JSON, or the same values written differently: the first line differing
     if isinstance(a, bytes) or isinstance(b, bytes):
         a = a if isinstance(a, bytes) else a.encode()
         b = b if isinstance(b, bytes) else b.encode()
@@ -200,11 +204,26 @@ def has_ground_truth(source, stem):
     return os.path.exists(os.path.join(source, "rawlogs", stem + "_ground_truth_robot_path.txt"))
 
 
+def traversals(source, stem):
+    """The shipped second traversals of a rawlog's world (docs/DATASETS.md): R_revisit, and
+    robots 2-5 of MRCLAM 7 for robot 1 (its world frame); Victoria Park's second half has no
+    ground truth and would need a reference trajectory, so it is left out."""
+    have = lambda t: os.path.exists(os.path.join(source, "rawlogs", t + ".rawlog"))
+    if have(stem + "_revisit"):
+        return [stem + "_revisit"]
+    if stem == "mrclam7_robot1":
+        return [t for t in (f"mrclam7_robot{i}" for i in range(2, 6)) if have(t)]
+    return []
+
+
 def command_line(binary, command, stem, side_dir, source, max_steps, extra):
     rawlog = f"rawlogs/{stem}.rawlog"
     out = os.path.join(side_dir, stem, command)
     if command == "run":
         args = ["run", "-c", "config.ini", "-i", rawlog, "-o", out]
+    elif command == "compare-reloc":
+        args = ["compare", "-c", "config.ini", "-i", rawlog, "--relocalize",
+                ",".join(f"rawlogs/{t}.rawlog" for t in traversals(source, stem)), "-o", out]
     elif command.startswith("compare-"):
         args = ["compare", "-c", "config.ini", "-i", rawlog, "--backend",
                 command[len("compare-"):], "-o", out]
@@ -237,7 +256,7 @@ def run_one(cmd, log_base, source):
 
 # Rough cost of a command line, to start the longest first (the graph backend's compare runs
 # every reducer with a factorization a step; Victoria Park is the longest rawlog).
-COST = {"compare-graph": 100, "compare-ekf": 10, "run": 2, "localize": 1}
+COST = {"compare-graph": 100, "compare-reloc": 15, "compare-ekf": 10, "run": 2, "localize": 1}
 
 
 def chains_of(sides, plan, source, max_steps):
@@ -283,7 +302,7 @@ def compare_trees(before, after, plan, off=()):
         a = normalized(os.path.join(before, rel), rel, before, off)
         b = normalized(os.path.join(after, rel), rel, after, off)
         if a != b:
-            lines.append(f"{rel}: {first_difference(a, b)}")
+            lines.append(f"{rel}: {first_difference(a, b, rel)}")
     return len(fa | fb), lines
 
 
@@ -361,8 +380,13 @@ def main(argv):
         print("check_same_outputs: --commands: localize needs run (its map)", file=sys.stderr)
         return 2
     # rawlog -> its command lines; --quick's own lists unless --rawlogs or --commands says
-    plan = {st: [c for c in (QUICK.get(st, COMMANDS) if a.quick else COMMANDS) if c in commands]
+    plan = {st: [c for c in (QUICK.get(st, COMMANDS) if a.quick else COMMANDS)
+                 if c in commands and (c != "compare-reloc" or traversals(source, st))]
             for st in stems}
+    if not any(plan.values()):
+        print("check_same_outputs: no command line to run (compare-reloc needs a rawlog with a "
+              "second traversal)", file=sys.stderr)
+        return 2
     if a.compare_only:
         root = os.path.abspath(a.compare_only)
         for side in ("before", "after"):
@@ -376,6 +400,9 @@ def main(argv):
         print(f"{len(diffs)} of {n_files} files differ over {n_lines} command lines" if diffs else
               f"{n_files} files identical over {n_lines} command lines")
         return 1 if diffs else 0
+    old_before = a.reuse_before and os.path.join(os.path.abspath(a.reuse_before), "before")
+    if old_before and not has_outputs(old_before, plan, f"--reuse-before {a.reuse_before}"):
+        return 2
     if a.out:
         out = os.path.abspath(a.out)
         if os.path.exists(out) and os.listdir(out):
@@ -389,10 +416,7 @@ def main(argv):
              "after": (after_bin, os.path.join(out, "after"), extra_after)}
     reuse = set()
     if a.reuse_before:
-        old = os.path.join(os.path.abspath(a.reuse_before), "before")
-        if not has_outputs(old, plan, f"--reuse-before {a.reuse_before}"):
-            return 2
-        sides["before"] = (before_bin, old, [])
+        sides["before"] = (before_bin, old_before, [])
         reuse.add("before")
     start = time.monotonic()
     chains = chains_of({k: v for k, v in sides.items() if k not in reuse}, plan, source,

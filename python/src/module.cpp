@@ -232,7 +232,7 @@ py::dict readSummary(const std::string& path) {
 /// runs::exitCode by the words summary.json and errorKindName use.
 int exitCodeOf(const std::string& status, const std::string& kind) {
   const auto s = runs::parseStatus(status);
-  if (!s) throw ConfigError("status '" + status + "': none of ok, failed, interrupted");
+  if (!s) throw ConfigError("status '" + status + "': none of ok, failed, interrupted, not_found");
   for (const auto k : {runs::ErrorKind::None, runs::ErrorKind::CommandLine, runs::ErrorKind::Config,
                        runs::ErrorKind::Input, runs::ErrorKind::Diverged, runs::ErrorKind::Output,
                        runs::ErrorKind::Stopped, runs::ErrorKind::Internal})

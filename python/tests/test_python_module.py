@@ -175,6 +175,7 @@ class ExitCodes(unittest.TestCase):
         self.assertEqual(code("failed", "input"), 1)
         self.assertEqual(code("failed", "command_line"), 2)
         self.assertEqual(code("interrupted", "stopped"), 130)
+        self.assertEqual(code("not_found"), 3)
         with self.assertRaises(budget_slam._core.ConfigError):
             code("done")
 

@@ -214,17 +214,26 @@ TEST(ConvertSignals, AStopRequestLeavesNoFile) {
   // An input without end: comment lines (which no record bound counts) through a FIFO.
   const std::string fifo = tmp.file("endless.txt");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  // The writer tells the test, through a pipe, once the converter is reading: the stop request
+  // must come while it reads, not before it has set up its handlers (a loaded machine can take
+  // longer than any fixed wait to start it).
+  int reading[2];
+  ASSERT_EQ(::pipe(reading), 0);
   const pid_t writer = ::fork();
   ASSERT_GE(writer, 0);
   if (writer == 0) {
     std::signal(SIGPIPE, SIG_DFL);
+    ::close(reading[0]);
     std::FILE* f = std::fopen(fifo.c_str(), "w");
     std::string block;
     while (block.size() < 65536) block += "# a comment that never ends\n";
+    bool told = false;
     while (f && std::fwrite(block.data(), 1, block.size(), f) == block.size()) {
+      if (!told && std::fflush(f) == 0) told = ::write(reading[1], "r", 1) == 1;
     }
     ::_exit(0);
   }
+  ::close(reading[1]);
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
@@ -233,7 +242,10 @@ TEST(ConvertSignals, AStopRequestLeavesNoFile) {
             tmp.file("o.rawlog").c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
-  ::usleep(300000);
+  char byte = 0;
+  ASSERT_EQ(::read(reading[0], &byte, 1), 1) << "the converter never read its input";
+  ::close(reading[0]);
+  ::usleep(100000);  // it has read a block; let it run into the endless comments
   ::kill(child, SIGINT);
   ::usleep(50000);
   ::kill(child, SIGTERM);  // a second signal ends it the same way

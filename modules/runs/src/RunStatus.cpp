@@ -14,12 +14,15 @@ const char* statusName(RunStatus s) {
       return "failed";
     case RunStatus::Interrupted:
       return "interrupted";
+    case RunStatus::NotFound:
+      return "not_found";
   }
   return "failed";
 }
 
 std::optional<RunStatus> parseStatus(const std::string& text) {
-  for (const auto s : {RunStatus::Ok, RunStatus::Failed, RunStatus::Interrupted})
+  for (const auto s :
+       {RunStatus::Ok, RunStatus::Failed, RunStatus::Interrupted, RunStatus::NotFound})
     if (text == statusName(s)) return s;
   return std::nullopt;
 }
@@ -61,6 +64,8 @@ int exitCode(RunStatus status, ErrorKind kind) {
       return kExitOk;
     case RunStatus::Interrupted:
       return kExitInterrupted;
+    case RunStatus::NotFound:
+      return kExitNotFound;
     case RunStatus::Failed:
       return kind == ErrorKind::CommandLine ? kExitBadCommandLine : kExitFailed;
   }

@@ -22,6 +22,7 @@ TEST(ExitCode, EveryStatusAndKind) {
     SCOPED_TRACE(errorKindName(k));
     EXPECT_EQ(exitCode(RunStatus::Ok, k), 0);
     EXPECT_EQ(exitCode(RunStatus::Interrupted, k), 130);
+    EXPECT_EQ(exitCode(RunStatus::NotFound, k), 3);
     EXPECT_EQ(exitCode(RunStatus::Failed, k), k == ErrorKind::CommandLine ? 2 : 1);
   }
 }
@@ -39,7 +40,9 @@ TEST(RunStatusWords, AreSummaryJsonsAndReadBack) {
   EXPECT_STREQ(statusName(RunStatus::Ok), "ok");
   EXPECT_STREQ(statusName(RunStatus::Failed), "failed");
   EXPECT_STREQ(statusName(RunStatus::Interrupted), "interrupted");
-  for (const auto s : {RunStatus::Ok, RunStatus::Failed, RunStatus::Interrupted})
+  EXPECT_STREQ(statusName(RunStatus::NotFound), "not_found");
+  for (const auto s :
+       {RunStatus::Ok, RunStatus::Failed, RunStatus::Interrupted, RunStatus::NotFound})
     EXPECT_EQ(parseStatus(statusName(s)), s);
   EXPECT_EQ(parseStatus("OK"), std::nullopt);
   EXPECT_EQ(parseStatus(""), std::nullopt);

@@ -16,6 +16,10 @@
 // the traversal's sidecar ini. A place is a cell of --place-size metres (default 2) and one of
 // --sectors heading sectors (default 8) of the true pose; its start is the first step there. A pose
 // is right within --found-xy metres and --found-yaw-deg degrees (default 0.25, 5).
+// A place is in the mapped area when it lies within the traversal's sensor range of a cell the
+// mapping run's path (RUN_DIR/trajectory.tum) passed through, on a grid of --place-size metres:
+// localize's rule for the steps it scores (metrics::MappedArea, docs/OUTPUTS.md "What is scored").
+// Every place is tried and reported; the shares are printed again for the mapped area's places.
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -40,6 +44,7 @@
 #include "budget_slam/dataset/SidecarIni.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/metrics/MapAlignment.h"
+#include "budget_slam/metrics/MappedArea.h"
 #include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/wakeup/GlobalLocalizer.h"
 
@@ -172,6 +177,20 @@ int main(int argc, char** argv) {
       };
     }
 
+    // The mapped area: the mapping run's path, the traversal's sensor range.
+    metrics::MappedArea area;
+    const fs::path tum = fs::path(args.map) / "trajectory.tum";
+    if (fs::exists(tum)) {
+      std::vector<mrpt::math::TPose2D> mapping_path;
+      for (const auto& p : report::readTrajectoryTum(tum.string(), 10000000))
+        mapping_path.push_back(p.pose);
+      const auto scan =
+          std::find_if(steps.begin(), steps.end(), [](const Step& st) { return st.scan; });
+      const double reach = scan != steps.end() ? scan->scan->max_range : 0.0;
+      if (mapping_path.size() >= 2)
+        area = metrics::MappedArea(mapping_path, args.place_size, reach);
+    }
+
     // Places: the first step at each (cell, heading sector) of the true path.
     std::set<std::tuple<long, long, int>> seen;
     std::vector<StepIndex> starts;
@@ -184,14 +203,17 @@ int main(int argc, char** argv) {
       if (seen.insert(key).second) starts.push_back(s.index);
     }
 
-    std::size_t found = 0, wrong = 0, ambiguous = 0, not_found = 0;
-    std::map<std::string, std::size_t> reasons;
-    std::vector<double> found_ms, found_steps, all_ms;
+    struct Tally {
+      std::size_t places = 0, found = 0, wrong = 0, ambiguous = 0, not_found = 0;
+      std::map<std::string, std::size_t> reasons;
+      std::vector<double> found_ms, found_steps, all_ms;
+    };
+    Tally all, mapped;
     std::ofstream csv;
     if (!args.csv.empty()) {
       csv.open(args.csv);
       csv << "start_step,x,y,yaw,status,reason,steps_used,landmarks,inliers,runner_up,"
-             "hypotheses,score,runner_up_score,error_xy,error_yaw_deg,ms\n";
+             "hypotheses,score,runner_up_score,error_xy,error_yaw_deg,ms,in_mapped_area\n";
     }
     for (const StepIndex s0 : starts) {
       wakeup::GlobalLocalizer g(map, options, noise);
@@ -203,23 +225,28 @@ int main(int argc, char** argv) {
       const auto t = trueAt(r.step);
       const double exy = std::hypot(r.pose.mean.x - t.x, r.pose.mean.y - t.y);
       const double eyaw = std::abs(wrapAngle(r.pose.mean.phi - t.phi)) * 180 / M_PI;
-      all_ms.push_back(ms);
-      if (r.status == wakeup::WakeUpStatus::Found) {
-        if (exy <= args.found_xy && eyaw <= args.found_yaw_deg) {
-          ++found;
-          found_ms.push_back(ms);
-          found_steps.push_back(static_cast<double>(r.steps_used));
+      const auto p0 = trueAt(s0);
+      const bool in_area = area.contains(p0.x, p0.y);
+      for (Tally* tally : {&all, in_area ? &mapped : nullptr}) {
+        if (!tally) continue;
+        ++tally->places;
+        tally->all_ms.push_back(ms);
+        if (r.status == wakeup::WakeUpStatus::Found) {
+          if (exy <= args.found_xy && eyaw <= args.found_yaw_deg) {
+            ++tally->found;
+            tally->found_ms.push_back(ms);
+            tally->found_steps.push_back(static_cast<double>(r.steps_used));
+          } else {
+            ++tally->wrong;
+          }
+        } else if (r.status == wakeup::WakeUpStatus::Ambiguous) {
+          ++tally->ambiguous;
         } else {
-          ++wrong;
+          ++tally->not_found;
+          ++tally->reasons[wakeup::reasonName(r.reason)];
         }
-      } else if (r.status == wakeup::WakeUpStatus::Ambiguous) {
-        ++ambiguous;
-      } else {
-        ++not_found;
-        ++reasons[wakeup::reasonName(r.reason)];
       }
       if (csv) {
-        const auto p0 = trueAt(s0);
         csv << s0 << ',' << p0.x << ',' << p0.y << ',' << p0.phi << ','
             << wakeup::statusName(r.status) << ',' << wakeup::reasonName(r.reason) << ','
             << r.steps_used << ',' << r.landmarks << ',' << r.inliers << ',' << r.runner_up << ','
@@ -228,23 +255,29 @@ int main(int argc, char** argv) {
           csv << exy << ',' << eyaw;
         else
           csv << ',';
-        csv << ',' << ms << '\n';
+        csv << ',' << ms << ',' << (in_area ? 1 : 0) << '\n';
       }
     }
-    const double n = static_cast<double>(starts.size());
     std::printf("map %s (%zu landmarks), traversal %s (%zu steps), %zu places\n", args.map.c_str(),
                 map.size(), args.rawlog.c_str(), steps.size(), starts.size());
-    std::printf(
-        "found within %zu steps (%g m, %g deg): %zu (%.1f%%); found wrong: %zu (%.1f%%); "
-        "ambiguous: %zu (%.1f%%); not found: %zu (%.1f%%)",
-        options.max_steps, args.found_xy, args.found_yaw_deg, found, 100 * found / n, wrong,
-        100 * wrong / n, ambiguous, 100 * ambiguous / n, not_found, 100 * not_found / n);
-    for (const auto& [why, k] : reasons) std::printf(" [%s %zu]", why.c_str(), k);
-    std::printf(
-        "\nwhen found: median %.0f steps, median %.2f ms, 95th percentile %.2f ms; "
-        "every place: median %.2f ms, max %.2f ms\n",
-        median(found_steps), median(found_ms), percentile(found_ms, 0.95), median(all_ms),
-        all_ms.empty() ? 0.0 : *std::max_element(all_ms.begin(), all_ms.end()));
+    const auto print = [&](const Tally& t, const char* which) {
+      const double n = static_cast<double>(std::max<std::size_t>(1, t.places));
+      std::printf(
+          "%s%zu places: found within %zu steps (%g m, %g deg): %zu (%.1f%%); found wrong: %zu "
+          "(%.1f%%); ambiguous: %zu (%.1f%%); not found: %zu (%.1f%%)",
+          which, t.places, options.max_steps, args.found_xy, args.found_yaw_deg, t.found,
+          100 * t.found / n, t.wrong, 100 * t.wrong / n, t.ambiguous, 100 * t.ambiguous / n,
+          t.not_found, 100 * t.not_found / n);
+      for (const auto& [why, k] : t.reasons) std::printf(" [%s %zu]", why.c_str(), k);
+      std::printf(
+          "\n%swhen found: median %.0f steps, median %.2f ms, 95th percentile %.2f ms; every "
+          "place: median %.2f ms, max %.2f ms\n",
+          which, median(t.found_steps), median(t.found_ms), percentile(t.found_ms, 0.95),
+          median(t.all_ms),
+          t.all_ms.empty() ? 0.0 : *std::max_element(t.all_ms.begin(), t.all_ms.end()));
+    };
+    print(all, "");
+    if (!area.everywhere()) print(mapped, "in the mapped area: ");
     return 0;
   } catch (const UsageError& e) {
     std::fprintf(stderr, "bench_wakeup_places: %s\n", e.what());

@@ -14,6 +14,10 @@ namespace {
 /// direction (e.g. the rotation about a single landmark) is unobserved.
 constexpr double kDegenerateEigenvalue = 1e-9;
 
+/// By id: more than this share of the distinct map landmarks the readings name must agree with the
+/// pose found, a strict majority (docs/ALGORITHMS.md "Waking up on a saved map").
+constexpr double kMinAgreeingShare = 0.5;
+
 std::size_t distinctLandmarks(const std::vector<Pairing>& pairs) {
   std::set<std::size_t> s;
   for (const auto& p : pairs) s.insert(p.landmark);
@@ -97,7 +101,16 @@ WakeUpResult GlobalLocalizer::byIds(const std::vector<LocalReading>& readings) {
   }
   const std::size_t distinct = distinctLandmarks(pairs);
   if (distinct < options_.min_landmarks) return notFound(WakeUpReason::TooFewLandmarks, distinct);
-  return refineAndJudge(std::nullopt, readings, std::move(pairs), options_.min_landmarks);
+  WakeUpResult r = refineAndJudge(std::nullopt, readings, std::move(pairs), options_.min_landmarks);
+  // Dropping the worst reading one at a time ends, on any map, with two landmarks that fit: an id
+  // is a claim that the reading and the landmark are one, so a pose that most of the claimed
+  // landmarks do not agree with (half or more) is a map of another place, not a pose.
+  if (r.status == WakeUpStatus::Found &&
+      static_cast<double>(r.landmarks) <= kMinAgreeingShare * static_cast<double>(distinct)) {
+    r.status = WakeUpStatus::NotFound;
+    r.reason = WakeUpReason::Inconsistent;
+  }
+  return r;
 }
 
 WakeUpResult GlobalLocalizer::bySearch(const std::vector<LocalReading>& readings) {

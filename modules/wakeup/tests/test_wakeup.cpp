@@ -232,6 +232,21 @@ TEST(WakeUp, APlaceThatIsNotOnTheMapIsNotFound) {
   }
 }
 
+TEST(WakeUp, WithIdsAMapOfAnotherPlaceWithTheSameIdsIsNotFound) {
+  // The room's ids at random places: dropping readings one at a time would end with two
+  // landmarks that fit; a pose most of the named landmarks disagree with is not a pose.
+  const auto path = straightPath(Pose2(4.0, 3.0, 0.6), 10, 0.4);
+  for (const unsigned seed : {1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u}) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0, 20);
+    std::vector<WorldLandmark> other;
+    for (const auto& l : room()) other.push_back({l.id, {u(rng), u(rng) * 0.6}});
+    const auto r =
+        wakeUp(mapOf(other), stepsAlong(path, room(), noisySensor(true), rng, 0.01), {}, kNoise);
+    EXPECT_NE(r.status, WakeUpStatus::Found) << seed << ": " << r.landmarks << " landmarks";
+  }
+}
+
 TEST(WakeUp, OptionsComeFromOneTable) {
   mrpt::config::CConfigFileMemory ini;
   ini.write("WakeUp", "max_steps", "5");

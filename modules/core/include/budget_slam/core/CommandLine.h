@@ -18,7 +18,8 @@ enum ExitCode : int {
   kExitOk = 0,              ///< done
   kExitFailed = 1,          ///< the run or conversion failed (bad data, bad ini values, ...)
   kExitBadCommandLine = 2,  ///< unknown command or flag, bad flag value, unreadable -c file
-  kExitInterrupted = 130,   ///< Ctrl-C or SIGTERM
+  kExitNotFound = 3,  ///< localize: waking up, the robot was not found on the map (no pose guessed)
+  kExitInterrupted = 130,  ///< Ctrl-C or SIGTERM
 };
 
 /// TCLAP's usage and version text, kept instead of printed, so that the caller prints it once

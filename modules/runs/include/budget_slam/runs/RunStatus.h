@@ -10,6 +10,7 @@ enum class RunStatus {
   Ok,           ///< "ok": every step and every output done
   Failed,       ///< "failed": bad input, a bad value, a diverged estimate, an output not written
   Interrupted,  ///< "interrupted": a stop request (Ctrl-C, SIGTERM)
+  NotFound,     ///< "not_found": localize woke up and found the robot nowhere on the map
 };
 
 /// Where a failure came from, decided where it was caught (by the exception's type or the check
@@ -25,7 +26,7 @@ enum class ErrorKind {
   Internal,     ///< anything else (a bug, out of memory)
 };
 
-/// summary.json's word for `s`: ok, failed, interrupted.
+/// summary.json's word for `s`: ok, failed, interrupted, not_found.
 const char* statusName(RunStatus s);
 /// The status summary.json's `text` names; none for another text.
 std::optional<RunStatus> parseStatus(const std::string& text);
@@ -37,7 +38,8 @@ const char* errorKindName(ErrorKind k);
 ErrorKind errorKindOf(const std::exception& e);
 
 /// The one mapping from how something ended to the process exit code (docs/OUTPUTS.md "Command
-/// line and exit codes"): 0 ok, 2 a bad command line, 130 interrupted, 1 any other failure.
+/// line and exit codes"): 0 ok, 2 a bad command line, 3 not found on the map, 130 interrupted, 1
+/// any other failure.
 int exitCode(RunStatus status, ErrorKind kind = ErrorKind::None);
 
 }  // namespace budget_slam::runs
