@@ -168,6 +168,21 @@ class RunMatchesTheCommandLine(unittest.TestCase):
         self.assertEqual(r["summary"]["config"], "config")  # in-memory: no file name
 
 
+class SummaryKeysOfTheScripts(unittest.TestCase):
+    def test_sweeplib_reads_only_keys_the_run_layer_writes(self):
+        # The experiment scripts read summary.json as JSON, through the run layer's key list
+        # (docs/ARCHITECTURE.md "A run"): every block they take is one summary_keys() names.
+        sys.path.insert(0, os.path.join(ROOT, "tools", "experiments"))
+        try:
+            import sweeplib
+        finally:
+            sys.path.pop(0)
+        keys = set(budget_slam._core.summary_keys())
+        for name, (block, _) in sweeplib.SUMMARY_METRICS:
+            self.assertIn(block, keys, name)
+        self.assertTrue({"status", "counts"} <= keys)
+
+
 class ExitCodes(unittest.TestCase):
     def test_the_run_layers_one_mapping(self):
         code = budget_slam._core.exit_code
