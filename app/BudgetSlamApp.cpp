@@ -17,8 +17,8 @@
 #include "CommandLineFlags.h"
 #include "ListCommand.h"
 #include "RunConfig.h"
-#include "RunDriver.h"
 #include "RunSession.h"
+#include "RunSpecs.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
@@ -30,8 +30,7 @@
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/Figure.h"
-#include "budget_slam/report/RunFiles.h"
-#include "budget_slam/session/SessionStateFile.h"
+#include "budget_slam/runs/Runs.h"
 
 namespace budget_slam::app {
 namespace {
@@ -98,12 +97,6 @@ std::vector<std::string> splitList(const std::string& s) {
   for (std::string item; std::getline(ss, item, ',');)
     if (!item.empty()) out.push_back(item);
   return out;
-}
-
-std::string joined(const std::set<std::string>& names) {
-  std::string s;
-  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
-  return s.empty() ? "none" : s;
 }
 
 std::string fixed(double v, int digits) {
@@ -334,7 +327,7 @@ int BudgetSlamApp::run() {
   if (!err) err = &std::cerr;
   if (!help_.empty()) {
     *out << help_ << std::flush;
-    return stdoutWritten("") ? kExitOk : kExitFailed;
+    return runs::exitCode(stdoutWritten("") ? runs::RunStatus::Ok : runs::RunStatus::Failed);
   }
   // Without -c the settings come from the current folder's config.ini: never silently.
   if (config_defaulted_ && !cli_.quiet)
@@ -351,7 +344,7 @@ int BudgetSlamApp::run() {
   } catch (const std::exception& e) {
     // What the commands could not catch themselves (out of memory while reporting a failure).
     *err << "budget-slam: error: " << failureLine(e) << std::endl;
-    return kExitFailed;
+    return runs::exitCode(runs::RunStatus::Failed, runs::ErrorKind::Internal);
   }
 }
 
@@ -361,42 +354,13 @@ bool BudgetSlamApp::stdoutWritten(const std::string& outdir) {
 }
 
 int BudgetSlamApp::runRun() {
-  std::optional<report::OutputFolder> folder;
-  std::unique_ptr<RunDriver> driver;
-  std::size_t steps_read = 0;
   nlohmann::json given = {{"config", config_label_}};  // what the run was given, in summary.json
-
   if (!cli_.rawlog.empty()) given["rawlog"] = cli_.rawlog;
-  const auto fail = [&](const std::string& why, const std::string& status) {
-    // One printable line whatever the message echoes (corrupt bytes of a file, say), which also
-    // says why summary.json could not be written when it could not.
-    const std::string msg = printable(why);
-    std::string not_saved;
-    try {
-      // A run that ended before its first step made nothing to keep: the next run into the
-      // folder replaces its files (report/OutputFolder.h).
-      given["started"] = driver && driver->lastStep().has_value();
-      if (driver) {
-        driver->finish(status, msg, steps_read, given);
-        not_saved = driver->summaryError();
-      } else if (folder) {
-        nlohmann::json j = {{"status", status}, {"error", msg}};
-        j.update(given);
-        if (!folder->earlierRun().empty()) j["earlier_run_moved_to"] = folder->earlierRun();
-        report::writeSummaryJson(folder->file("summary.json"), j);
-      }
-    } catch (const std::exception& e) {
-      not_saved = failureLine(e);
-    }
-    *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ")
-         << withAlso(msg, not_saved) << std::endl;
-    return status == "interrupted" ? kExitInterrupted : kExitFailed;
-  };
-  // Where a stop request (Ctrl-C) found the run: the last step whose outputs are written.
-  const auto interrupted = [&](const char* where) {
-    const auto last = driver ? driver->lastStep() : std::nullopt;
-    return std::string("interrupted by ") + Cancellation::signalName() + where +
-           (last ? " after step " + std::to_string(*last) : std::string(" before the first step"));
+  // The one error line of a run that ended `status` (nothing else on stderr says it).
+  const auto ended = [&](runs::RunStatus status, runs::ErrorKind kind, const std::string& line) {
+    *err << "budget-slam: " << (status == runs::RunStatus::Interrupted ? "" : "error: ") << line
+         << std::endl;
+    return runs::exitCode(status, kind);
   };
 
   RunConfig rc;
@@ -405,187 +369,98 @@ int BudgetSlamApp::runRun() {
     rc = loadRunConfig(params, cli_, config_label_);
   } catch (const std::exception& e) {
     // Error: a bad value, key or file; anything else (MRPT's own exceptions) in one line.
-    const std::string why = dynamic_cast<const Error*>(&e) ? std::string(e.what())
-                                                           : config_label_ + ": " + failureLine(e);
-    if (!cli_.outdir.empty()) {
-      try {
-        folder.emplace(cli_.outdir, cli_.force);
-      } catch (const Error&) {
-      }
-    }
-    return fail(why, "failed");
+    const std::string why =
+        printable(dynamic_cast<const Error*>(&e) ? std::string(e.what())
+                                                 : config_label_ + ": " + failureLine(e));
+    runs::RunOutcome early;
+    early.fail(runs::RunStatus::Failed, runs::errorKindOf(e), why);
+    early.given = given;
+    early.given["started"] = false;
+    const std::string not_saved = runs::writeEarlySummary(cli_.outdir, cli_.force, early);
+    return ended(early.status, early.kind, withAlso(why, not_saved));
   }
 
   for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
-  given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", config_label_}};
+  runs::RunSpec spec;
+  spec.given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", config_label_}};
   // A session to continue is read and checked before the output folder is touched: a bad state
   // file or a mismatched option is one line, exit 1, and nothing is written (docs/OUTPUTS.md).
-  const auto resume_options = resumeOptions(rc.ini);
-  std::optional<session::SessionState> resumed;
-  std::size_t wake_up_steps = 0;  ///< steps whose readings found the robot (not mapped)
+  spec.resume_options = resumeOptions(rc.ini);
   if (!cli_.resume.empty()) {
     try {
       std::error_code ec;
       if (std::filesystem::equivalent(cli_.resume, rc.outdir, ec))
-        throw UsageError("--resume " + cli_.resume +
-                         ": the output folder must be another one (the saved session stays)");
-      resumed = loadResumeState(cli_.resume, rc.mapping.backend, resume_options);
+        throw ConfigError("--resume " + cli_.resume +
+                          ": the output folder must be another one (the saved session stays)");
+      spec.resumed = loadResumeState(cli_.resume, rc.mapping.backend, spec.resume_options);
     } catch (const std::exception& e) {
-      *err << "budget-slam: error: " << printable(e.what()) << std::endl;
-      return 1;
+      return ended(runs::RunStatus::Failed, runs::errorKindOf(e), printable(e.what()));
     }
-    given["resumed_from"] = cli_.resume;
+    spec.given["resumed_from"] = cli_.resume;
     if (cli_.wake_up) {
       // Before any output: a robot not found is one line, exit 1, nothing written.
       try {
-        const WakeUpOutcome w = wakeUpOnMap(rc, *resumed, cli_.skip_steps);
-        given["wake_up"] = w.json;
-        if (!w.found) {
-          *err << "budget-slam: error: --wake-up: " << w.why << std::endl;
-          return 1;
-        }
-        wake_up_steps = w.steps;
+        const WakeUpOutcome w = wakeUpOnMap(rc, *spec.resumed, cli_.skip_steps);
+        spec.given["wake_up"] = w.json;
+        if (!w.found)
+          return ended(runs::RunStatus::Failed, runs::ErrorKind::Input, "--wake-up: " + w.why);
+        spec.wake_up_steps = w.steps;
       } catch (const std::exception& e) {
-        *err << "budget-slam: error: " << printable(e.what()) << std::endl;
-        return 1;
+        return ended(runs::RunStatus::Failed, runs::errorKindOf(e), printable(e.what()));
       }
     }
   }
-  try {
-    folder.emplace(rc.outdir, cli_.force);
-  } catch (const Error& e) {
-    return fail(e.what(), "failed");
+  spec.ini = rc.ini;
+  spec.backends = &builtinBackends();
+  spec.driver = driverSpec(rc);
+  spec.rawlog = rc.rawlog;
+  spec.ground_truth_file = rc.mapping.ground_truth_file;
+  spec.ground_truth_file_robot = rc.mapping.ground_truth_file_robot;
+  spec.outdir = rc.outdir;
+  spec.force = cli_.force;
+  spec.max_steps = rc.mapping.max_steps;
+  spec.skip_steps = cli_.skip_steps;
+  spec.writer = std::string("budget-slam ") + kVersion;
+
+  runs::RunHooks hooks;
+  hooks.progress_out = err;
+  hooks.progress = progressSettings(rc.report);
+  hooks.on_step = on_step;
+  hooks.on_end_phase = on_end_phase;
+  // Notes go to stderr unless --quiet (an error stays one line).
+  hooks.note = [&](const std::string& line) {
+    if (!cli_.quiet) *err << "budget-slam: note: " << line << std::endl;
+  };
+  const runs::RunReport report = runs::runSlam(spec, hooks);
+  for (const auto& w : report.warnings) *err << "budget-slam: warning: " << w << std::endl;
+  const runs::RunOutcome& o = report.outcome;
+  if (!o.ok()) return ended(o.status, o.kind, report.line);
+  if (!cli_.quiet) {
+    const auto& pose = *report.final_pose;
+    const auto& run = *o.run;
+    *out << "budget-slam run: " << report.steps << " steps, backend " << rc.mapping.backend
+         << ", reducer " << rc.budget.reducer;
+    if (run.cap) *out << ", cap " << *rc.budget.max_landmarks;
+    *out << ": " << report.landmarks << " landmarks kept, " << run.counts.evictions << " dropped";
+    if (run.counts.refused) *out << ", " << run.counts.refused << " newcomers refused";
+    *out << "\n"
+         << "final pose x=" << fixed(pose.x, 3) << " m y=" << fixed(pose.y, 3)
+         << " m yaw=" << fixed(pose.phi * 180 / M_PI, 2) << " deg";
+    if (o.ground_truth) {
+      const auto val = [](double v, int d) {
+        return std::isfinite(v) ? fixed(v, d) : std::string("n/a");
+      };
+      const auto& gt = o.ground_truth->errors;
+      *out << "\nvs ground truth: ATE " << val(gt.trajectory_rmse_aligned, 3) << " m aligned ("
+           << val(gt.trajectory_rmse, 3) << " m in the start frame), RPE " << val(gt.rpe.rmse, 3)
+           << " m per 10 m, landmark RMSE " << val(gt.landmark_rmse_aligned, 3)
+           << " m aligned, mean NEES " << val(o.ground_truth->nees.mean, 2);
+    }
+    *out << "\noutputs in " << report.folder << "/ (" << fixed(run.timings.steps_s, 2)
+         << " s of SLAM)\n";
   }
-  if (!folder->earlierRun().empty()) {
-    // Recorded in summary.json; said on stderr unless --quiet (an error stays one line).
-    given["earlier_run_moved_to"] = folder->earlierRun();
-    if (!cli_.quiet)
-      *err << "budget-slam: note: " << folder->path()
-           << " held an earlier run; its files were moved to " << folder->earlierRun() << "/"
-           << std::endl;
-  }
-
-  // A stop request that came while the program started.
-  if (Cancellation::requested()) return fail(interrupted(""), "interrupted");
-  bool end_phase = false;
-  try {
-    writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
-    // Step indices run on across sessions. A resumed session on the same rawlog from the step
-    // the last one stopped at (--skip-steps = its next step) keeps the rawlog's indices and so
-    // its ground truth; on another rawlog the ground truth's rows would not match them.
-    const std::size_t first_index =
-        (resumed ? resumed->header.next_step : cli_.skip_steps) + wake_up_steps;
-    const bool truth_aligned = first_index == cli_.skip_steps + wake_up_steps;
-    auto truth = std::make_shared<dataset::GroundTruth>(
-        truth_aligned ? dataset::loadGroundTruth(rc.rawlog, rc.mapping.ground_truth_file,
-                                                 rc.mapping.ground_truth_file_robot)
-                      : dataset::GroundTruth());
-    driver = std::make_unique<RunDriver>(rc.ini, rc.mapping.backend, rc.budget, *folder, truth,
-                                         rc.mapping.keep_history);
-    if (resumed) driver->restoreSession(*resumed);
-
-    dataset::RawlogReader reader(rc.rawlog);
-    // A signal ends the reading within one read of the file, even inside a large object.
-    reader.setStopCheck([] { return Cancellation::requested(); });
-    for (std::size_t k = 0; k < cli_.skip_steps + wake_up_steps && reader.next(); ++k) {
-    }
-    const std::size_t limit = rc.mapping.max_steps;
-    ProgressReporter progress(*err, "run", progressSettings(rc.report));
-    std::size_t session_steps = 0;
-    while (limit == 0 || session_steps < limit) {
-      auto step = reader.next();
-      if (step) step->index = static_cast<StepIndex>(first_index + session_steps++);
-      if (!step && reader.stopped()) {
-        progress.finish(false);
-        return fail(std::string("interrupted by ") + Cancellation::signalName() +
-                        " while reading step " + std::to_string(reader.stepsRead()),
-                    "interrupted");
-      }
-      if (!step) break;
-      steps_read = reader.stepsRead();
-      driver->process(*step);
-      // With --max-steps the share of the steps to do, else of the rawlog's bytes read.
-      progress.update(limit ? double(session_steps) / double(limit) : reader.progress(),
-                      session_steps, limit,
-                      std::to_string(driver->backend().landmarkCount()) + " landmarks in the map");
-      if (on_step) on_step(step->index);
-      if (Cancellation::requested()) {
-        progress.finish(false);
-        return fail(interrupted(""), "interrupted");
-      }
-    }
-    progress.finish(true);
-    if (reader.bearingRangeSteps() == 0)
-      throw InputError("rawlog '" + rc.rawlog + "' holds no CObservationBearingRange (it holds: " +
-                       joined(reader.observationClasses()) + ")");
-
-    // The state a next session continues from: after the last step's drops, before the
-    // end-of-run drops and the final solve (which a one-shot run would not make here).
-    session::SessionHeader header;
-    header.writer = std::string("budget-slam ") + kVersion;
-    header.backend = rc.mapping.backend;
-    header.rawlog = rc.rawlog;
-    header.sessions = resumed ? resumed->header.sessions + 1 : 1;
-    header.first_step = static_cast<std::int64_t>(first_index);
-    header.next_step = static_cast<std::int64_t>(first_index + session_steps);
-    header.resume_options = resume_options;
-    // A state the reader would refuse (a robot covariance that is not positive definite: a
-    // robot that has not moved yet with odometry noise in some axes only) is not written; the
-    // run itself is fine. summary.json says why; --resume on it says there is no such file.
-    try {
-      driver->writeSessionState(header);
-      given["session_state"] = {{"written", true}};
-    } catch (const Error& e) {
-      given["session_state"] = {{"written", false}, {"why", printable(e.what())}};
-      if (!cli_.quiet)
-        *err << "budget-slam: note: " << session::kStateFileName
-             << " not written: " << printable(e.what()) << std::endl;
-    }
-
-    end_phase = true;
-    if (on_end_phase) on_end_phase();
-    given["started"] = driver->lastStep().has_value();
-    const RunResult result = driver->finish("ok", "", steps_read, given);
-    // Shadow reducers are only logged; their failures end nothing, but are never silent.
-    for (const auto& f : driver->budget().shadowFailures())
-      *err << "budget-slam: warning: " << shadowFailureLine(f) << std::endl;
-    if (result.status != "ok" || !driver->writeError().empty()) {
-      // An output that could not be written (a full disk): the run failed, summary.json says so
-      // when it could still be written.
-      const std::string why = result.status != "ok" ? result.error : driver->writeError();
-      *err << "budget-slam: error: " << withAlso(why, driver->summaryError()) << std::endl;
-      return kExitFailed;
-    }
-    if (!cli_.quiet) {
-      const auto pose = driver->backend().robotPose().mean;
-      *out << "budget-slam run: " << session_steps << " steps, backend " << rc.mapping.backend
-           << ", reducer " << rc.budget.reducer;
-      if (driver->budget().capped()) *out << ", cap " << *rc.budget.max_landmarks;
-      *out << ": " << driver->backend().landmarkCount() << " landmarks kept, "
-           << driver->evictions() << " dropped";
-      if (driver->refused()) *out << ", " << driver->refused() << " newcomers refused";
-      *out << "\n"
-           << "final pose x=" << fixed(pose.x, 3) << " m y=" << fixed(pose.y, 3)
-           << " m yaw=" << fixed(pose.phi * 180 / M_PI, 2) << " deg";
-      if (result.ground_truth) {
-        const auto val = [](double v, int d) {
-          return std::isfinite(v) ? fixed(v, d) : std::string("n/a");
-        };
-        const auto& gt = *result.ground_truth;
-        *out << "\nvs ground truth: ATE " << val(gt.trajectory_rmse_aligned, 3) << " m aligned ("
-             << val(gt.trajectory_rmse, 3) << " m in the start frame), RPE " << val(gt.rpe.rmse, 3)
-             << " m per 10 m, landmark RMSE " << val(gt.landmark_rmse_aligned, 3)
-             << " m aligned, mean NEES " << val(result.nees.mean, 2);
-      }
-      *out << "\noutputs in " << folder->path() << "/ (" << fixed(driver->totalStepSeconds(), 2)
-           << " s of SLAM)\n";
-    }
-    return stdoutWritten(folder->path()) ? kExitOk : kExitFailed;
-  } catch (const Interrupted&) {
-    return fail(interrupted(end_phase ? " in the end phase," : ""), "interrupted");
-  } catch (const std::exception& e) {
-    return fail(failureLine(e), "failed");
-  }
+  return stdoutWritten(report.folder) ? runs::exitCode(runs::RunStatus::Ok)
+                                      : runs::exitCode(runs::RunStatus::Failed);
 }
 
 }  // namespace budget_slam::app

@@ -22,6 +22,7 @@
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/report/RunFiles.h"
+#include "budget_slam/runs/SummaryJson.h"
 #include "budget_slam/wakeup/WakeUpRun.h"
 
 namespace budget_slam::app {
@@ -189,28 +190,35 @@ int BudgetSlamApp::runLocalize() {
   std::unique_ptr<Localizer> localizer;
   nlohmann::json wake_json;  ///< summary.json's wake_up block, when the robot woke up
   // One line, which also says why summary.json could not be written when it could not.
-  const auto fail = [&](const std::string& why, const std::string& status) {
+  const auto fail = [&](const std::string& why, runs::RunStatus status, runs::ErrorKind kind) {
     const std::string msg = printable(why);
     std::string not_saved;
     try {
       // Before the first step nothing is worth keeping: the next command replaces it.
       const bool started = localizer && localizer->stepsDone() > 0;
       if (localizer) {
-        nlohmann::json extra = {{"map", cli_.map_dir}, {"started", started}};
-        if (!wake_json.is_null()) extra["wake_up"] = wake_json;
-        localizer->finish(status, msg, extra);
+        nlohmann::json given = {{"map", cli_.map_dir}, {"started", started}};
+        if (!wake_json.is_null()) given["wake_up"] = wake_json;
+        localizer->finish(status, kind, msg, given);
         not_saved = localizer->summaryError();
       } else if (folder) {
-        report::writeSummaryJson(
-            folder->file("summary.json"),
-            {{"status", status}, {"error", msg}, {"command", "localize"}, {"started", false}});
+        runs::RunOutcome o;
+        o.fail(status, kind, msg);
+        o.given = {{"command", "localize"}, {"started", false}};
+        runs::writeSummary(folder->file("summary.json"), o);
       }
     } catch (const std::exception& e) {
       not_saved = failureLine(e);
     }
-    *err << "budget-slam: " << (status == "interrupted" ? "" : "error: ")
+    *err << "budget-slam: " << (status == runs::RunStatus::Interrupted ? "" : "error: ")
          << withAlso(msg, not_saved) << std::endl;
-    return status == "interrupted" ? kExitInterrupted : kExitFailed;
+    return runs::exitCode(status, kind);
+  };
+  const auto interrupted = [&](const std::string& why) {
+    return fail(why, runs::RunStatus::Interrupted, runs::ErrorKind::Stopped);
+  };
+  const auto failed = [&](const std::exception& e, const std::string& why) {
+    return fail(why, runs::RunStatus::Failed, runs::errorKindOf(e));
   };
 
   RunConfig rc;
@@ -224,7 +232,7 @@ int BudgetSlamApp::runLocalize() {
         folder.emplace(cli_.outdir, cli_.force);
       } catch (const Error&) {
       }
-    return fail(e.what(), "failed");
+    return failed(e, e.what());
   }
 
   try {
@@ -253,9 +261,8 @@ int BudgetSlamApp::runLocalize() {
       }
       if (Cancellation::requested()) {
         reading.finish(false);
-        return fail(std::string("interrupted by ") + Cancellation::signalName() +
-                        " while reading the rawlog",
-                    "interrupted");
+        return interrupted(std::string("interrupted by ") + Cancellation::signalName() +
+                           " while reading the rawlog");
       }
       if (!s) break;
     }
@@ -287,20 +294,22 @@ int BudgetSlamApp::runLocalize() {
       wake_json = wakeUpJson(*woke, wake_options, cli_.wake_up);
       if (!woke->found()) {
         const std::string why = woke->whyNotFound(wake_options) + "; no pose is guessed";
+        runs::RunOutcome o;
+        o.fail(runs::RunStatus::NotFound, runs::ErrorKind::None, why);
+        o.given = {{"command", "localize"},
+                   {"rawlog", rc.rawlog},
+                   {"map", cli_.map_dir},
+                   {"started", false},
+                   {"wake_up", wake_json}};
         std::string not_saved;
         try {
-          report::writeSummaryJson(folder->file("summary.json"), {{"status", "not_found"},
-                                                                  {"error", why},
-                                                                  {"command", "localize"},
-                                                                  {"rawlog", rc.rawlog},
-                                                                  {"map", cli_.map_dir},
-                                                                  {"started", false},
-                                                                  {"wake_up", wake_json}});
+          runs::writeSummary(folder->file("summary.json"), o);
         } catch (const std::exception& e) {
           not_saved = failureLine(e);
+          o.fail(runs::RunStatus::Failed, runs::ErrorKind::Output, why);
         }
         *err << "budget-slam: error: wake-up: " << withAlso(why, not_saved) << std::endl;
-        return not_saved.empty() ? kExitNotFound : kExitFailed;
+        return runs::exitCode(o);
       }
       given = woke->result.pose.mean;
     }
@@ -339,9 +348,8 @@ int BudgetSlamApp::runLocalize() {
       if (on_step) on_step(s.index);
       if (Cancellation::requested()) {
         progress.finish(false);
-        return fail(std::string("interrupted by ") + Cancellation::signalName() + " after step " +
-                        std::to_string(s.index),
-                    "interrupted");
+        return interrupted(std::string("interrupted by ") + Cancellation::signalName() +
+                           " after step " + std::to_string(s.index));
       }
     }
     progress.finish(true);
@@ -356,16 +364,17 @@ int BudgetSlamApp::runLocalize() {
            << " agree with it (innovation within the 99.9% bound): the map and the traversal "
               "share no place"
            << std::endl;
-    nlohmann::json extra = {{"rawlog", rc.rawlog},      {"sidecar_ini", rc.sidecar},
-                            {"config", config_label_},  {"map", cli_.map_dir},
-                            {"map_status", map.status}, {"started", true}};
-    if (!wake_json.is_null()) extra["wake_up"] = wake_json;
-    const auto summary = localizer->finish("ok", "", extra);
+    nlohmann::json summary_given = {{"rawlog", rc.rawlog},      {"sidecar_ini", rc.sidecar},
+                                    {"config", config_label_},  {"map", cli_.map_dir},
+                                    {"map_status", map.status}, {"started", true}};
+    if (!wake_json.is_null()) summary_given["wake_up"] = wake_json;
+    const runs::RunOutcome summary =
+        localizer->finish(runs::RunStatus::Ok, runs::ErrorKind::None, "", summary_given);
     if (!localizer->writeError().empty()) {
       // An output that could not be written (a full disk): summary.json says which, if it could.
       *err << "budget-slam: error: " << withAlso(localizer->writeError(), localizer->summaryError())
            << std::endl;
-      return kExitFailed;
+      return runs::exitCode(runs::RunStatus::Failed, runs::ErrorKind::Output);
     }
     if (!cli_.quiet) {
       const auto sc = localizer->score();
@@ -391,18 +400,18 @@ int BudgetSlamApp::runLocalize() {
       *out << "at least " << metric_options.reloc_min_landmarks << " map landmarks observed at "
            << fixed(sc.coverage_pct, 1) << "% of the steps (mean " << fixed(sc.mean_landmarks, 2)
            << ")\n";
-      if (summary["localization"]["diverged_at_step"].is_number())
+      if (summary.given["localization"]["diverged_at_step"].is_number())
         *out << "the filter was lost for good at step "
-             << summary["localization"]["diverged_at_step"] << "\n";
+             << summary.given["localization"]["diverged_at_step"] << "\n";
       *out << "outputs in " << folder->path() << "/\n";
     }
-    return stdoutWritten(folder->path()) ? kExitOk : kExitFailed;
+    return runs::exitCode(stdoutWritten(folder->path()) ? runs::RunStatus::Ok
+                                                        : runs::RunStatus::Failed);
   } catch (const Interrupted&) {
-    return fail(
-        std::string("interrupted by ") + Cancellation::signalName() + " before the first step",
-        "interrupted");
+    return interrupted(std::string("interrupted by ") + Cancellation::signalName() +
+                       " before the first step");
   } catch (const std::exception& e) {
-    return fail(failureLine(e), "failed");
+    return failed(e, failureLine(e));
   }
 }
 

@@ -14,6 +14,7 @@
 #include "budget_slam/metrics/NeesAccumulator.h"
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFiles.h"
+#include "budget_slam/runs/SummaryJson.h"
 
 namespace budget_slam::app {
 namespace {
@@ -236,8 +237,8 @@ void Localizer::process(const Step& step) {
   steps_csv_.endRow();
 }
 
-nlohmann::json Localizer::finish(const std::string& status, const std::string& error,
-                                 const nlohmann::json& extra) {
+runs::RunOutcome Localizer::finish(runs::RunStatus status, runs::ErrorKind kind,
+                                   const std::string& error, const nlohmann::json& given) {
   // Every output is attempted (a full disk fails some); summary.json, last, says which were not.
   std::vector<std::string> not_written;
   const auto attempt = [&](const std::string& name, const std::function<void()>& write) {
@@ -280,11 +281,12 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
     attempt(name, [&] { report::writeMapFigure(folder_.file(name), map, format); });
   }
 
-  nlohmann::json j;
-  const bool write_failed = status == "ok" && !write_error_.empty();
-  j["status"] = write_failed ? "failed" : status;
-  j["error"] = write_failed ? write_error_ : error;
-  if (!not_written.empty()) j["files_not_written"] = not_written;
+  runs::RunOutcome o;
+  o.status = status, o.kind = kind, o.error = error;
+  if (o.ok() && !write_error_.empty())
+    o.fail(runs::RunStatus::Failed, runs::ErrorKind::Output, write_error_);
+  o.files_not_written = not_written;
+  nlohmann::json& j = o.given;  // localize's own blocks
   j["command"] = "localize";
   j["start_pose"] = poseJson(inputs_.start.mean);
   j["start_pose"]["source"] = inputs_.start_source;
@@ -325,13 +327,13 @@ nlohmann::json Localizer::finish(const std::string& status, const std::string& e
       {"diverged_why", diverged_why_}};
   j["timings"] = {{"steps_s", total_s_},
                   {"step_ms_mean", number(steps_done_ ? 1e3 * total_s_ / steps_done_ : NAN)}};
-  for (const auto& [key, v] : extra.items()) j[key] = v;
+  for (const auto& [key, v] : given.items()) j[key] = v;
   try {
-    report::writeSummaryJson(folder_.file("summary.json"), j);
+    runs::writeSummary(folder_.file("summary.json"), o);
   } catch (const std::exception& e) {
     summary_error_ = failureLine(e);
   }
-  return j;
+  return o;
 }
 
 }  // namespace budget_slam::app

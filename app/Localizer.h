@@ -18,6 +18,7 @@
 #include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/report/OutputFolder.h"
 #include "budget_slam/report/ReportOptions.h"
+#include "budget_slam/runs/RunOutcome.h"
 
 namespace budget_slam::app {
 
@@ -74,12 +75,13 @@ class Localizer {
   /// is lost from that step on (summary.json: diverged_at_step).
   void process(const Step& step);
 
-  /// Writes trajectory.tum, landmarks.csv, map.png, the truth's .tum and summary.json (with
-  /// `extra` merged in). Each is attempted even when another fails (a full disk): the first
-  /// failure is writeError() (and, for an ok localization, the summary's error), one of
-  /// summary.json itself summaryError(). Returns the summary.
-  nlohmann::json finish(const std::string& status, const std::string& error,
-                        const nlohmann::json& extra = {});
+  /// Writes trajectory.tum, landmarks.csv, map.png, the truth's .tum and summary.json
+  /// (runs::writeSummary; `given` merged in). Each is attempted even when another fails (a full
+  /// disk): the first failure is writeError() (and, for an ok localization, the outcome's error),
+  /// one of summary.json itself summaryError(). Returns the outcome summary.json was written from
+  /// (its localization blocks, command, start_pose, counts, localization and timings, in `given`).
+  runs::RunOutcome finish(runs::RunStatus status, runs::ErrorKind kind, const std::string& error,
+                          const nlohmann::json& given = {});
   /// The first output finish() could not write, "" when none.
   const std::string& writeError() const { return write_error_; }
   /// Why summary.json could not be written, "" when it was.

@@ -8,10 +8,8 @@
 #include <map>
 #include <mutex>
 #include <thread>
-#include <unordered_set>
 
 #include "Localizer.h"
-#include "ProcessProbes.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
@@ -19,6 +17,7 @@
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/report/CsvWriter.h"
+#include "budget_slam/runs/ProcessProbes.h"
 
 namespace budget_slam::app {
 namespace {
@@ -39,14 +38,6 @@ double ratio(double a, double b) {
 }
 
 }  // namespace
-
-bool withoutLandmarkIds(const std::vector<Step>& steps) {
-  for (const auto& s : steps)
-    if (s.scan)
-      for (const auto& r : s.scan->readings)
-        if (r.id != kNoLandmarkId) return false;
-  return true;
-}
 
 std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& params,
                                       const CommandLine& cli, const std::string& config_label) {
@@ -118,27 +109,27 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
                                           folder, m.landmarks, inputs);
         for (const auto& s : t.steps) {
           if (Cancellation::requested()) {
-            r.status = "interrupted";
+            r.status = runs::RunStatus::Interrupted, r.kind = runs::ErrorKind::Stopped;
             r.error = std::string("interrupted by ") + Cancellation::signalName();
             break;
           }
           loc->process(s);
         }
-        loc->finish(r.status, r.error,
+        loc->finish(r.status, r.kind, r.error,
                     {{"rawlog", t.rc.rawlog}, {"map", m.folder}, {"run", m.run}});
         r.score = loc->score();
       } catch (const std::exception& e) {
-        r.status = "failed";
+        r.status = runs::RunStatus::Failed, r.kind = runs::errorKindOf(e);
         r.error = e.what();
         if (loc) try {
-            loc->finish("failed", r.error, {{"rawlog", t.rc.rawlog}, {"map", m.folder}});
+            loc->finish(r.status, r.kind, r.error, {{"rawlog", t.rc.rawlog}, {"map", m.folder}});
           } catch (const std::exception&) {
           }
       }
     }
   };
   const std::size_t n = std::max<std::size_t>(
-      1, std::min<std::size_t>(threads ? threads : availableCpus(), results.size()));
+      1, std::min<std::size_t>(threads ? threads : runs::availableCpus(), results.size()));
   WorkerThreads(n, worker).join();
   return results;
 }
@@ -150,7 +141,7 @@ void writeRelocalizationCsv(const std::string& path,
   for (const auto& r : results) {
     csv.cell(r.run)
         .cell(r.traversal)
-        .cell(r.status)
+        .cell(runs::statusName(r.status))
         .cell(r.score.rmse_m)
         .cell(r.score.max_m)
         .cell(r.score.lost_pct)
@@ -169,7 +160,8 @@ void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
   for (const auto& r : results) by_run[r.run].push_back(&r);
   const auto mean = [&](const std::string& run, double metrics::LocalizationScore::*field) {
     std::vector<double> v;
-    for (const auto* r : by_run[run]) v.push_back(r->status == "ok" ? r->score.*field : NAN);
+    for (const auto* r : by_run[run])
+      v.push_back(r->status == runs::RunStatus::Ok ? r->score.*field : NAN);
     return meanOfFinite(v);
   };
   using S = metrics::LocalizationScore;
@@ -191,22 +183,6 @@ void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
     row.reloc_rmse_ratio = ratio(row.reloc_rmse_m, ref_rmse);
     row.reloc_lost_ratio = ratio(row.reloc_lost_pct, ref_lost);
   }
-}
-
-FinalCoverage coverageThroughReference(const RunDriver& reference, const RunDriver& run,
-                                       double gate_chi2) {
-  const auto pairs = metrics::matchLandmarks(run.backend().landmarks(),
-                                             reference.backend().landmarks(), gate_chi2);
-  std::unordered_set<LandmarkId> matched_reference;
-  for (const auto& [mine, theirs] : pairs) matched_reference.insert(theirs);
-  FinalCoverage c;
-  c.steps = reference.relocalization().steps();
-  c.coverage = metrics::coverageOf(
-      c.steps, [&](LandmarkId id) { return matched_reference.count(id) > 0; },
-      reference.relocalization().minLandmarks(), reference.relocalization().sampled());
-  c.source = "reference_association";
-  c.details = {{"landmarks_matched_to_reference", pairs.size()}, {"match_gate_chi2", gate_chi2}};
-  return c;
 }
 
 }  // namespace budget_slam::app

@@ -5,9 +5,12 @@
 
 #include "BudgetSlamApp.h"
 #include "RunConfig.h"
-#include "RunDriver.h"
+#include "budget_slam/core/Step.h"
+#include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/LocalizationScore.h"
+#include "budget_slam/metrics/MapAlignment.h"
 #include "budget_slam/report/ComparisonTable.h"
+#include "budget_slam/runs/RunStatus.h"
 
 namespace budget_slam::app {
 
@@ -37,7 +40,10 @@ struct MapOfRun {
 
 /// One localization of one traversal in one run's map.
 struct RelocalizationResult {
-  std::string run, traversal, status = "ok", error;
+  std::string run, traversal;
+  runs::RunStatus status = runs::RunStatus::Ok;
+  runs::ErrorKind kind = runs::ErrorKind::None;
+  std::string error;
   metrics::LocalizationScore score;
 };
 
@@ -61,14 +67,5 @@ void writeRelocalizationCsv(const std::string& path,
 void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
                               const std::vector<RelocalizationResult>& results,
                               const std::string& reference_run);
-
-/// For a rawlog without sensor IDs: the final map of `run` (after complete()) against the steps'
-/// observations as the `reference` run associated them: each of its landmarks paired with a
-/// reference landmark (metrics::matchLandmarks). Returns what RunDriver::finish should report.
-FinalCoverage coverageThroughReference(const RunDriver& reference, const RunDriver& run,
-                                       double gate_chi2);
-
-/// True when no reading of `steps` carries a sensor landmark ID.
-bool withoutLandmarkIds(const std::vector<Step>& steps);
 
 }  // namespace budget_slam::app

@@ -1,4 +1,5 @@
 #pragma once
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -93,6 +94,65 @@ inline CsvTable readCsvTable(const std::filesystem::path& p) {
   return t;
 }
 
+/// What a stderr line of budget-slam says after its program name (docs/OUTPUTS.md "Command line
+/// and exit codes"): a failure "error: ", a warning "warning: ", a note "note: "; a stop request
+/// and a bad command line say their message alone.
+enum class Said { Error, Warning, Note, Interrupted, CommandLine };
+
+inline const char* tagOf(Said said) {
+  switch (said) {
+    case Said::Error:
+      return "error: ";
+    case Said::Warning:
+      return "warning: ";
+    case Said::Note:
+      return "note: ";
+    default:
+      return "";
+  }
+}
+
+/// The one helper for what a command wrote on stderr: exactly one line, "<program>: ", the tag
+/// of `said`, then `message`. A failure names the part that differs (line count, program, tag,
+/// message) rather than two whole texts.
+inline ::testing::AssertionResult isOneLine(const std::string& err, Said said,
+                                            const std::string& message,
+                                            const std::string& program = "budget-slam") {
+  const auto fail = [&](const std::string& what) {
+    return ::testing::AssertionFailure() << what << "\n  stderr: " << err;
+  };
+  if (err.empty() || err.back() != '\n') return fail("not a whole line");
+  if (err.find('\n') != err.size() - 1) return fail("more than one line");
+  const std::string head = program + ": ";
+  if (err.compare(0, head.size(), head) != 0) return fail("does not start with '" + head + "'");
+  const std::string tag = tagOf(said);
+  const std::string rest = err.substr(head.size(), err.size() - 1 - head.size());
+  if (rest.compare(0, tag.size(), tag) != 0 ||
+      (tag.empty() && (rest.rfind("error: ", 0) == 0 || rest.rfind("warning: ", 0) == 0)))
+    return fail("not tagged '" + tag + "'");
+  if (rest.substr(tag.size()) != message)
+    return fail("message differs:\n  expected: " + message +
+                "\n  actual:   " + rest.substr(tag.size()));
+  return ::testing::AssertionSuccess();
+}
+
+/// The lines of `err`, each with its '\n' (a last line without one too), for isOneLine.
+inline std::vector<std::string> linesOf(const std::string& err) {
+  std::vector<std::string> lines;
+  for (std::size_t at = 0; at < err.size();) {
+    const std::size_t end = err.find('\n', at);
+    const std::size_t next = end == std::string::npos ? err.size() : end + 1;
+    lines.push_back(err.substr(at, next - at));
+    at = next;
+  }
+  return lines;
+}
+
+/// isOneLine for a failure: exit 1 and "budget-slam: error: <message>".
+inline ::testing::AssertionResult isErrorLine(const std::string& err, const std::string& message) {
+  return isOneLine(err, Said::Error, message);
+}
+
 /// Result of an executable run as a subprocess.
 struct Process {
   int exit_code = -1;
@@ -144,6 +204,26 @@ inline AppResult runApp(const std::vector<std::string>& args,
   r.out = out.str();
   r.err = err.str();
   return r;
+}
+
+/// `budget-slam run -c <config> -i <rawlog> -o <out> --quiet <extra...>` in-process.
+inline AppResult runOn(const std::string& rawlog, const std::filesystem::path& out,
+                       std::vector<std::string> extra = {}, const std::string& config = kMrptIni) {
+  std::vector<std::string> args = {"run",  "-c", config,       "-i",
+                                   rawlog, "-o", out.string(), "--quiet"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return runApp(args);
+}
+
+/// A run that failed: exit 1, `message` as the one error line and as summary.json's error.
+inline void expectFailedRun(const AppResult& r, const std::filesystem::path& out,
+                            const std::string& message) {
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(isErrorLine(r.err, message));
+  ASSERT_TRUE(std::filesystem::exists(out / "summary.json")) << r.err;
+  const auto s = readJson(out / "summary.json");
+  EXPECT_EQ(s["status"], "failed");
+  EXPECT_EQ(s["error"], message);
 }
 
 }  // namespace budget_slam::testing

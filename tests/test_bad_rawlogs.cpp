@@ -18,9 +18,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-AppResult runOn(const fs::path& rawlog, const fs::path& out) {
-  return runApp({"run", "-c", kMrptIni, "-i", rawlog.string(), "-o", out.string(), "--quiet",
-                 "--reducer", "oldest", "--cap", "15"});
+/// run on `rawlog` with reducer oldest and a cap of 15.
+AppResult runCapped(const fs::path& rawlog, const fs::path& out) {
+  return runOn(rawlog.string(), out, {"--reducer", "oldest", "--cap", "15"});
 }
 
 /// Exit 1, `message` as the one error line and as summary.json's error, and `steps` steps in
@@ -28,7 +28,7 @@ AppResult runOn(const fs::path& rawlog, const fs::path& out) {
 void expectFailedAfter(const AppResult& r, const fs::path& out, const std::string& message,
                        std::size_t steps) {
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "budget-slam: error: " + message + "\n");
+  EXPECT_TRUE(isErrorLine(r.err, message));
   ASSERT_TRUE(fs::exists(out / "summary.json")) << r.err;
   const auto s = readJson(out / "summary.json");
   EXPECT_EQ(s["status"], "failed");
@@ -62,7 +62,7 @@ TEST(BadRawlogs, GzipCrcFailureIsAnErrorNotASilentEnd) {
   std::string gz = slurp(kDemo);
   gz[gz.size() - 8] ^= 0x20;  // the CRC-32 of the gzip trailer
   std::ofstream(path, std::ios::binary) << gz;
-  expectFailedAfter(runOn(path, out), out,
+  expectFailedAfter(runCapped(path, out), out,
                     "rawlog '" + path.string() +
                         "': truncated or corrupt at step 249 (damaged gzip data, zlib: "
                         "incorrect data check)",
@@ -78,7 +78,7 @@ TEST(BadRawlogs, HugeDeclaredCountFailsBeforeAllocating) {
       plain.substr(0, plain.rfind(objectHeader("mrpt::obs::CActionCollection", 0)));
   std::ofstream(path, std::ios::binary) << cut << objectHeader("mrpt::obs::CActionCollection", 0)
                                         << std::string("\xf0\xff\xff\x7f") << std::string(64, '\0');
-  expectFailedAfter(runOn(path, out), out,
+  expectFailedAfter(runCapped(path, out), out,
                     "rawlog '" + path.string() +
                         "': truncated or corrupt at step 249 (a mrpt::obs::CActionCollection "
                         "declares 2147483632 actions but the file ends 64 bytes later)",
@@ -94,13 +94,14 @@ TEST(BadRawlogs, CorruptClassNameBytesKeepSummaryJsonValid) {
   ASSERT_NE(at, std::string::npos);
   plain[at + 12] = static_cast<char>(0xe9);  // "mrpt::obs::C\xe9ensoryFrame"
   std::ofstream(path, std::ios::binary) << plain;
-  const auto r = runOn(path, out);
+  const auto r = runCapped(path, out);
   ASSERT_EQ(r.exit_code, 1);
   const auto s = readJson(out / "summary.json");  // throws on invalid JSON
   EXPECT_EQ("budget-slam: error: " + s["error"].get<std::string>() + "\n", r.err);
-  EXPECT_EQ(r.err, "budget-slam: error: rawlog '" + path.string() +
-                       "': truncated or corrupt at step 125 (an object of unknown class "
-                       "'mrpt::obs::C\\xe9ensoryFrame')\n");
+  EXPECT_TRUE(
+      isErrorLine(r.err, "rawlog '" + path.string() +
+                             "': truncated or corrupt at step 125 (an object of unknown class "
+                             "'mrpt::obs::C\\xe9ensoryFrame')"));
   EXPECT_EQ(readCsv(out / "steps.csv").size(), 125u);
 }
 
@@ -132,7 +133,7 @@ TEST(BadRawlogs, ObservationsOnlyRawlogRuns) {
       ++scans;
     }
   }
-  const auto r = runOn(path, out);
+  const auto r = runCapped(path, out);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(readJson(out / "summary.json")["status"], "ok");
   EXPECT_EQ(readCsv(out / "steps.csv").size(), scans);

@@ -107,21 +107,20 @@ TEST(Cap, NoneOnlyWhereTheReducerDecidesTheMapSize) {
   auto r = runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", flag.string(), "--quiet", "--reducer",
                    "oldest", "--cap", "none"});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "budget-slam: error: --cap none" + why + "\n");
+  EXPECT_TRUE(isErrorLine(r.err, "--cap none" + why));
   EXPECT_EQ(readJson(flag / "summary.json")["error"], "--cap none" + why);
   // ...and in the ini, named with its file.
   const auto ini = freshDir("cap_none_oldest_ini");
   r = runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", ini.string(), "--quiet", "--reducer",
               "oldest", "--set", "LandmarkBudget.max_landmarks=none"});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "budget-slam: error: " + kMrptIni + ": [LandmarkBudget] max_landmarks = none" +
-                       why + "\n");
+  EXPECT_TRUE(isErrorLine(r.err, kMrptIni + ": [LandmarkBudget] max_landmarks = none" + why));
   // compare checks every reducer it runs, not the ini's.
   const auto cmp = freshDir("cap_none_compare");
   r = runApp({"compare", "-c", kMrptIni, "-i", kDemo, "-o", cmp.string(), "--quiet", "--reducers",
               "mi,oldest", "--cap", "none", "--set", "MutualInformationReducer.mode=objective"});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "budget-slam: error: --cap none" + why + "\n");
+  EXPECT_TRUE(isErrorLine(r.err, "--cap none" + why));
 
   // The unreduced run and mi's objective mode need no cap: summary.json says "cap": null.
   const auto reference = freshDir("cap_none_reference");

@@ -59,11 +59,11 @@ TEST(Failures, AFailingShadowReducerIsLoggedAndTheRunFinishes) {
   const std::size_t first = f["first_step"], last = f["last_step"], failures = f["failures"];
   EXPECT_GT(failures, 0u);
   EXPECT_EQ(f["first_error"], "step " + std::to_string(first) + kLostDefiniteness);
-  EXPECT_EQ(r.err, "budget-slam: warning: shadow reducer 'mi' failed at " +
-                       std::to_string(failures) + " drop decisions from step " +
-                       std::to_string(first) + " to " + std::to_string(last) + " (first: step " +
-                       std::to_string(first) + kLostDefiniteness +
-                       "); the active reducer's drops stand\n");
+  EXPECT_TRUE(isOneLine(r.err, Said::Warning,
+                        "shadow reducer 'mi' failed at " + std::to_string(failures) +
+                            " drop decisions from step " + std::to_string(first) + " to " +
+                            std::to_string(last) + " (first: step " + std::to_string(first) +
+                            kLostDefiniteness + "); the active reducer's drops stand"));
 
   // evictions.csv: a failed shadow has no choice ("mi::") and its error, of that very step.
   std::size_t logged = 0;
@@ -95,7 +95,7 @@ TEST(Failures, LostDefinitenessNamesTheStep) {
                               "--reducer", "mi", "--cap", "10"},
                              tinyNoise("1e-6")));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "budget-slam: error: step 1" + kLostDefiniteness + "\n");
+  EXPECT_TRUE(isErrorLine(r.err, "step 1" + kLostDefiniteness));
   const auto s = readJson(dir / "summary.json");
   EXPECT_EQ(s["status"], "failed");
   EXPECT_EQ(s["error"], "step 1" + kLostDefiniteness);

@@ -71,9 +71,9 @@ TEST(LocalizeHostile, AnAbsurdAlignmentIsRefusedNamingFileAndKey) {
     const auto r = localizeBinary(map, out);
     EXPECT_EQ(r.code, 1) << r.err;
     const std::string unit = std::string(key) == "yaw" ? "12.5664 rad" : "1e+06 m";
-    EXPECT_EQ(r.err, "budget-slam: error: " + (map / "summary.json").string() +
-                         ": ground_truth.map_alignment." + key +
-                         " = 1e+308 is out of range (at most " + unit + " either way)\n");
+    EXPECT_TRUE(
+        isErrorLine(r.err, (map / "summary.json").string() + ": ground_truth.map_alignment." + key +
+                               " = 1e+308 is out of range (at most " + unit + " either way)"));
     EXPECT_LT(r.seconds, 30);
     EXPECT_EQ(readJson(out / "summary.json")["status"], "failed");
   }
@@ -89,8 +89,8 @@ TEST(LocalizeHostile, AbsurdLandmarksAndDeepJsonAreRefused) {
   std::ofstream(map / "landmarks.csv") << csv;
   auto r = localizeBinary(map, freshDir("absurd_landmark_out"), {"--start-pose", "0,0,0"});
   EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.err, "budget-slam: error: " + (map / "landmarks.csv").string() +
-                       ":2: x = 1e300 is out of range (at most 1e+06 either way)\n");
+  EXPECT_TRUE(isErrorLine(r.err, (map / "landmarks.csv").string() +
+                                     ":2: x = 1e300 is out of range (at most 1e+06 either way)"));
 
   const auto deep = freshDir("deep_summary");
   fs::create_directories(deep);
@@ -98,8 +98,8 @@ TEST(LocalizeHostile, AbsurdLandmarksAndDeepJsonAreRefused) {
   std::ofstream(deep / "summary.json") << std::string(100000, '[') << std::string(100000, ']');
   r = localizeBinary(deep, freshDir("deep_summary_out"));
   EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.err, "budget-slam: error: " + (deep / "summary.json").string() +
-                       ": nested deeper than 16 levels, not a budget-slam summary\n");
+  EXPECT_TRUE(isErrorLine(r.err, (deep / "summary.json").string() +
+                                     ": nested deeper than 16 levels, not a budget-slam summary"));
 }
 
 TEST(LocalizeHostile, AnEmptyOrAbsurdStartPoseIsABadCommandLine) {
@@ -115,7 +115,7 @@ TEST(LocalizeHostile, AnEmptyOrAbsurdStartPoseIsABadCommandLine) {
     const auto r = runApp({"localize", "-c", kMrptIni, "-i", kDemo, "--map", demoMap().string(),
                            "-o", out.string(), "--start-pose", pose});
     EXPECT_EQ(r.exit_code, 2);
-    EXPECT_EQ(r.err, "budget-slam: " + message + "; see budget-slam localize --help\n");
+    EXPECT_TRUE(isOneLine(r.err, Said::CommandLine, message + "; see budget-slam localize --help"));
     EXPECT_FALSE(fs::exists(out));
   }
 }
@@ -131,7 +131,7 @@ TEST(LocalizeHostile, SignalsEndIt) {
                           };
                         });
   EXPECT_EQ(r.exit_code, 130);
-  EXPECT_EQ(r.err, "budget-slam: interrupted by Ctrl-C after step 20\n");
+  EXPECT_TRUE(isOneLine(r.err, Said::Interrupted, "interrupted by Ctrl-C after step 20"));
   const auto s = readJson(out / "summary.json");
   EXPECT_EQ(s["status"], "interrupted");
   EXPECT_EQ(s["counts"]["steps"], 21);
@@ -148,8 +148,7 @@ TEST(LocalizeHostile, AFolderThatNeverEndsOrTwoSignalsEndItAtOnce) {
   ASSERT_EQ(::mkfifo((map / "summary.json").c_str(), 0644), 0);
   auto r = localizeBinary(map, freshDir("fifo_summary_out"));
   EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.err,
-            "budget-slam: error: " + (map / "summary.json").string() + ": not a regular file\n");
+  EXPECT_TRUE(isErrorLine(r.err, (map / "summary.json").string() + ": not a regular file"));
   EXPECT_LT(r.seconds, 30);
 
   const auto dir = freshDir("localize_signals_at_start");
@@ -170,6 +169,6 @@ TEST(LocalizeHostile, AFolderThatNeverEndsOrTwoSignalsEndItAtOnce) {
   const std::string err = slurp(dir / "err");
   ASSERT_FALSE(e.signaled()) << "killed by signal " << -e.code << ": " << err;
   EXPECT_EQ(e.code, 130);
-  EXPECT_EQ(err, "budget-slam: interrupted by Ctrl-C before the first step\n");
+  EXPECT_TRUE(isOneLine(err, Said::Interrupted, "interrupted by Ctrl-C before the first step"));
   EXPECT_EQ(readJson(out / "summary.json")["status"], "interrupted");
 }

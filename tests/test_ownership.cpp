@@ -123,7 +123,7 @@ TEST(Ownership, ASecondRunIntoAFolderInUseIsRefusedNamingTheHolder) {
     if (force) second_args.push_back("--force");
     const auto second = runApp(second_args);
     EXPECT_EQ(second.exit_code, 1);
-    EXPECT_EQ(second.err, "budget-slam: error: " + inUse(out, first.pid()) + "\n");
+    EXPECT_TRUE(isErrorLine(second.err, inUse(out, first.pid())));
   }
   // Nothing of the second run: no earlier_run_ folder, no summary yet.
   EXPECT_FALSE(fs::exists(out / "summary.json"));
@@ -151,11 +151,11 @@ TEST(Ownership, CompareHoldsItsRunFolders) {
   const auto r = runApp(
       {"run", "-c", kMrptIni, "-i", kDemo, "-o", (out / "oldest").string(), "--quiet", "--force"});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "budget-slam: error: " + inUse(out / "oldest", compare.pid()) + "\n");
+  EXPECT_TRUE(isErrorLine(r.err, inUse(out / "oldest", compare.pid())));
   const auto top = runApp({"compare", "-c", kMrptIni, "-i", kDemo, "-o", out.string(), "--quiet",
                            "--force", "--reducers", "oldest"});
   EXPECT_EQ(top.exit_code, 1);
-  EXPECT_EQ(top.err, "budget-slam: error: " + inUse(out, compare.pid()) + "\n");
+  EXPECT_TRUE(isErrorLine(top.err, inUse(out, compare.pid())));
   compare.release();
   EXPECT_EQ(compare.wait(), 0);
   EXPECT_EQ(readCsv(out / "comparison.csv").size(), 2u);
@@ -183,9 +183,9 @@ TEST(Ownership, AFailedStartDoesNotBlockTheRetry) {
   args.insert(args.end(), {"--set", "LandmarkBudget.max_landmarks=abc"});
   const auto bad = runApp(args);
   EXPECT_EQ(bad.exit_code, 1);
-  EXPECT_EQ(bad.err,
-            "budget-slam: error: --set 'LandmarkBudget.max_landmarks=abc': [LandmarkBudget] "
-            "max_landmarks = 'abc': not an integer (or none for no cap)\n");
+  EXPECT_TRUE(isErrorLine(bad.err,
+                          "--set 'LandmarkBudget.max_landmarks=abc': [LandmarkBudget] "
+                          "max_landmarks = 'abc': not an integer (or none for no cap)"));
   const auto s = readJson(out / "summary.json");
   EXPECT_EQ(s["status"], "failed");
   EXPECT_EQ(s["started"], false);
@@ -203,8 +203,8 @@ TEST(Ownership, AFailedStartDoesNotBlockTheRetry) {
   // A run that failed later (a started one) still needs --force: its files are kept.
   const auto again = runApp(args);
   EXPECT_EQ(again.exit_code, 1);
-  EXPECT_EQ(again.err, "budget-slam: error: output folder '" + out.string() +
-                           "' is not empty (use --force to write into it)\n");
+  EXPECT_TRUE(isErrorLine(again.err, "output folder '" + out.string() +
+                                         "' is not empty (use --force to write into it)"));
 }
 
 TEST(Ownership, AFailedStartOfCompareAndLocalizeDoesNotBlockEither) {
@@ -243,7 +243,8 @@ TEST(Ownership, AValueFromTheSidecarIsNamedWithTheSidecar) {
   const auto r = runApp(
       {"run", "-c", kMrptIni, "-i", (dir / "demo.rawlog").string(), "-o", out.string(), "--quiet"});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "budget-slam: error: " + (dir / "demo.ini").string() +
-                       ": [RangeBearingKFSLAM] std_sensor_range = 0: must be > 0 (a standard "
-                       "deviation)\n");
+  EXPECT_TRUE(
+      isErrorLine(r.err, (dir / "demo.ini").string() +
+                             ": [RangeBearingKFSLAM] std_sensor_range = 0: must be > 0 (a standard "
+                             "deviation)"));
 }

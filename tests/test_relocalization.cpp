@@ -259,8 +259,8 @@ TEST(Relocalization, MapFolderWithoutLandmarksIsOneLineError) {
   const auto r = runApp({"localize", "-c", kConfig, "--map", map.string(), "-i", kRoomsRevisit,
                          "-o", out.string(), "--quiet"});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "budget-slam: error: " + (map / "landmarks.csv").string() +
-                       ": cannot open (no such file)\n");
+  EXPECT_TRUE(
+      isErrorLine(r.err, (map / "landmarks.csv").string() + ": cannot open (no such file)"));
   const auto s = readJson(out / "summary.json");
   EXPECT_EQ(s["status"], "failed");
   EXPECT_EQ(s["error"], (map / "landmarks.csv").string() + ": cannot open (no such file)");
@@ -269,8 +269,8 @@ TEST(Relocalization, MapFolderWithoutLandmarksIsOneLineError) {
   const auto bad = runApp({"localize", "-c", kConfig, "--map", map.string(), "-i", kRoomsRevisit,
                            "-o", out.string(), "--quiet", "--force"});
   EXPECT_EQ(bad.exit_code, 1);
-  EXPECT_EQ(bad.err, "budget-slam: error: " + (map / "landmarks.csv").string() +
-                         ":1: not a budget-slam landmarks.csv header: 'id,x,y'\n");
+  EXPECT_TRUE(isErrorLine(bad.err, (map / "landmarks.csv").string() +
+                                       ":1: not a budget-slam landmarks.csv header: 'id,x,y'"));
   EXPECT_EQ(runApp({"localize", "-c", kConfig, "--map", map.string(), "-i", kRoomsRevisit,
                     "--start-pose", "1,2", "-o", out.string()})
                 .err,

@@ -8,8 +8,8 @@
 
 #include <Eigen/Core>
 #include <algorithm>
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -18,10 +18,12 @@
 #include "ListCommand.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
-#include "budget_slam/core/Progress.h"
 #include "budget_slam/core/IniText.h"
+#include "budget_slam/core/Progress.h"
 #include "budget_slam/gaussian/GaussianStateBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/runs/RunStatus.h"
+#include "budget_slam/runs/SummaryJson.h"
 
 namespace py = pybind11;
 
@@ -210,6 +212,35 @@ py::dict reducerScores(const std::string& name, const py::array_t<double>& mean_
   return d;
 }
 
+/// A JSON document as Python objects (through Python's json module: numbers, null, nesting as
+/// json.load gives them).
+py::object toPython(const nlohmann::json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+/// runs::readSummary for Python: the document, and the outcome's typed fields.
+py::dict readSummary(const std::string& path) {
+  const runs::SummaryFile f = runs::readSummary(path);
+  py::dict d;
+  d["json"] = toPython(f.json);
+  d["status"] = f.status_text;
+  d["ok"] = f.outcome.ok();
+  d["error"] = f.outcome.error;
+  d["exit_code"] = runs::exitCode(f.outcome);
+  return d;
+}
+
+/// runs::exitCode by the words summary.json and errorKindName use.
+int exitCodeOf(const std::string& status, const std::string& kind) {
+  const auto s = runs::parseStatus(status);
+  if (!s) throw ConfigError("status '" + status + "': none of ok, failed, interrupted, not_found");
+  for (const auto k : {runs::ErrorKind::None, runs::ErrorKind::CommandLine, runs::ErrorKind::Config,
+                       runs::ErrorKind::Input, runs::ErrorKind::Diverged, runs::ErrorKind::Output,
+                       runs::ErrorKind::Stopped, runs::ErrorKind::Internal})
+    if (kind == runs::errorKindName(k)) return runs::exitCode(*s, k);
+  throw ConfigError("error kind '" + kind + "': not one of the run layer's kinds");
+}
+
 }  // namespace
 }  // namespace budget_slam::python
 
@@ -237,6 +268,16 @@ PYBIND11_MODULE(_core, m) {
         "Runs `budget-slam <args>` in this process (params: in-memory ini text; progress: called "
         "with a dict of how far it has come). Returns exit_code, out, err; raises ConfigError "
         "when the command line is refused, and what the progress callback raised.");
+  m.def("read_summary", &readSummary, py::arg("path"),
+        "Reads a summary.json through the run layer's one reader (bounded; a bad file raises "
+        "Error naming it). Returns a dict: json (the document), status, ok, error, exit_code.");
+  m.def(
+      "summary_keys", [] { return budget_slam::runs::summaryKeys(); },
+      "summary.json's top-level keys the run layer writes (the others are what the command "
+      "was given).");
+  m.def("exit_code", &exitCodeOf, py::arg("status"), py::arg("kind") = "none",
+        "The exit code of a command that ended `status` (ok, failed, interrupted) with error "
+        "`kind` (none, command_line, config, input, diverged, output, stopped, internal).");
   m.def("reducer_names", [] { return budget_slam::reducers::builtinReducers().names(); });
   m.def("reducer_scores", &reducerScores, py::arg("name"), py::arg("mean"), py::arg("cov"),
         py::arg("ids"), py::arg("n_obs") = py::none(), py::arg("obs_mean") = py::none(),

@@ -95,6 +95,17 @@ class RunMatchesTheCommandLine(unittest.TestCase):
         self.assertEqual(self.r["summary"]["counts"]["landmarks_final"], 20)
         self.assertEqual(self.r["outdir"], self.py_dir)
 
+    def test_summary_read_through_the_run_layer(self):
+        path = os.path.join(self.cli_dir, "summary.json")
+        with open(path) as f:
+            want = json.load(f)
+        got = budget_slam._core.read_summary(path)
+        self.assertEqual(got["json"], want)
+        self.assertEqual((got["status"], got["ok"], got["error"], got["exit_code"]), ("ok", True, "", 0))
+        # Every key the run layer writes is one summary_keys() lists; the rest were given.
+        given = {"rawlog", "sidecar_ini", "config", "started", "session_state"}
+        self.assertEqual(set(want) - given, set(want) & set(budget_slam._core.summary_keys()))
+
     def test_steps_trajectory_landmarks_evictions_are_the_cli_numbers(self):
         assertColumnsEqual(self, self.r["steps"], csv_rows(os.path.join(self.cli_dir, "steps.csv")),
                            skip=TIMING_COLUMNS)
@@ -155,6 +166,33 @@ class RunMatchesTheCommandLine(unittest.TestCase):
         assertColumnsEqual(self, r["landmarks"], csv_rows(os.path.join(out, "landmarks.csv")))
         self.assertEqual(r["summary"]["reducer"], "info-content")
         self.assertEqual(r["summary"]["config"], "config")  # in-memory: no file name
+
+
+class SummaryKeysOfTheScripts(unittest.TestCase):
+    def test_sweeplib_reads_only_keys_the_run_layer_writes(self):
+        # The experiment scripts read summary.json as JSON, through the run layer's key list
+        # (docs/ARCHITECTURE.md "A run"): every block they take is one summary_keys() names.
+        sys.path.insert(0, os.path.join(ROOT, "tools", "experiments"))
+        try:
+            import sweeplib
+        finally:
+            sys.path.pop(0)
+        keys = set(budget_slam._core.summary_keys())
+        for name, (block, _) in sweeplib.SUMMARY_METRICS:
+            self.assertIn(block, keys, name)
+        self.assertTrue({"status", "counts"} <= keys)
+
+
+class ExitCodes(unittest.TestCase):
+    def test_the_run_layers_one_mapping(self):
+        code = budget_slam._core.exit_code
+        self.assertEqual(code("ok"), 0)
+        self.assertEqual(code("failed", "input"), 1)
+        self.assertEqual(code("failed", "command_line"), 2)
+        self.assertEqual(code("interrupted", "stopped"), 130)
+        self.assertEqual(code("not_found"), 3)
+        with self.assertRaises(budget_slam._core.ConfigError):
+            code("done")
 
 
 class CompareMatchesTheCommandLine(unittest.TestCase):

@@ -147,10 +147,6 @@ RunOutputs::EndFilesResult RunOutputs::writeEndFiles(const RunEndFiles& files) {
   return result;
 }
 
-void RunOutputs::writeSummary(const nlohmann::json& summary) const {
-  writeSummaryJson(folder_.file("summary.json"), summary);
-}
-
 void writeGroundTruthTum(const std::string& path, const std::vector<TrajectoryPoint>& trajectory,
                          const dataset::GroundTruth& truth, std::size_t steps_in_rawlog) {
   const auto gt = metrics::toEstimateFrame(truth);

@@ -97,9 +97,6 @@ class RunOutputs {
   };
   EndFilesResult writeEndFiles(const RunEndFiles& files);
 
-  /// summary.json (writeJson). Throws Error when it cannot be written.
-  void writeSummary(const nlohmann::json& summary) const;
-
  private:
   OutputFolder folder_;
   CsvWriter steps_csv_, evictions_csv_;

@@ -1,17 +1,18 @@
-#include "RunMapContent.h"
+#include "budget_slam/runs/RunMapContent.h"
 
 #include <unordered_map>
 
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/reducers/KMeans.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 report::MapContent runMapContent(std::string title, const std::vector<TrajectoryPoint>& trajectory,
                                  const std::vector<LandmarkView>& landmarks,
                                  const reducers::CoverageOptions& clusters,
                                  const std::vector<Eigen::Vector2d>& dropped,
-                                 const FinalCoverage* coverage, const dataset::GroundTruth* truth) {
+                                 const FinalRelocCoverage* coverage,
+                                 const dataset::GroundTruth* truth) {
   report::MapContent map;
   map.title = std::move(title);
   for (const auto& p : trajectory) map.trajectory.push_back(p.pose);
@@ -44,4 +45,4 @@ report::MapContent runMapContent(std::string title, const std::vector<Trajectory
   return map;
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -1,10 +1,10 @@
-#include "RunSummary.h"
+#include "budget_slam/runs/ShadowReducers.h"
 
 #include <cmath>
 
 #include "budget_slam/report/RunSummaryJson.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 nlohmann::json agreementJson(const reducers::BudgetManager& manager) {
   nlohmann::json agreement = nlohmann::json::array();
@@ -35,4 +35,4 @@ std::string shadowFailureLine(const reducers::ShadowFailures& f) {
          " (first: " + f.first_error + "); the active reducer's drops stand";
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

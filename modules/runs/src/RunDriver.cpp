@@ -1,4 +1,4 @@
-#include "RunDriver.h"
+#include "budget_slam/runs/RunDriver.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,20 +6,18 @@
 #include <optional>
 #include <unordered_set>
 
-#include "BuiltinBackends.h"
-#include "MappingOptions.h"
-#include "ProcessProbes.h"
-#include "RunMapContent.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
-#include "budget_slam/report/RunSummaryJson.h"
+#include "budget_slam/runs/ProcessProbes.h"
+#include "budget_slam/runs/RunMapContent.h"
+#include "budget_slam/runs/SummaryJson.h"
 #include "budget_slam/session/SessionStateFile.h"
 #include "budget_slam/session/SessionStateOwner.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 namespace {
 
 std::vector<std::unique_ptr<Reducer>> makeShadows(const mrpt::config::CConfigFileBase& ini,
@@ -32,8 +30,6 @@ std::vector<std::unique_ptr<Reducer>> makeShadows(const mrpt::config::CConfigFil
   return out;
 }
 
-/// map.png marks at most this many dropped landmarks (a lifelong run drops millions).
-constexpr std::size_t kMaxDroppedMarks = 20000;
 /// Without per-step history, the relocalization coverage follows at most this many evenly spread
 /// steps (bounded memory on lifelong runs; docs/OUTPUTS.md).
 constexpr std::size_t kMaxCoverageSteps = 4096;
@@ -50,42 +46,33 @@ std::size_t relocMinLandmarks(const mrpt::config::CConfigFileBase& ini) {
   return m.reloc_min_landmarks;
 }
 
-double nanIfEmpty(std::size_t n, double v) {
-  return n ? v : std::numeric_limits<double>::quiet_NaN();
-}
-
 bool finite(const LandmarkView& l) {
   return l.mean.allFinite() && l.cov.allFinite() && l.obs_mean.allFinite();
 }
 
-report::EvictionRow evictionRow(const reducers::Eviction& e) {
-  return {e.step,    e.id,     e.reducer, e.score,        e.n_before,
-          e.n_after, e.reason, e.shadow,  e.shadow_errors};
-}
-
 }  // namespace
 
-RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
-                     const reducers::BudgetOptions& budget, report::OutputFolder folder,
-                     std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history)
-    : backend_(builtinBackends().create(backend, ini, BackendSettings{keep_history})),
+RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegistry& backends,
+                     const DriverSpec& spec, report::OutputFolder folder,
+                     std::shared_ptr<const dataset::GroundTruth> truth)
+    : save_3d_scene_(spec.save_3d_scene),
+      scene_every_steps_(spec.scene_every_steps),
+      backend_(backends.create(spec.backend, ini, BackendSettings{spec.keep_history})),
       manager_(std::make_unique<reducers::BudgetManager>(
-          budget, reducers::builtinReducers().create(budget.reducer, ini, budget.seed),
-          makeShadows(ini, budget))),
+          spec.budget,
+          reducers::builtinReducers().create(spec.budget.reducer, ini, spec.budget.seed),
+          makeShadows(ini, spec.budget))),
       truth_(std::move(truth)),
       outputs_(std::move(folder)),
-      keep_history_(keep_history),
-      reloc_(relocMinLandmarks(ini), keep_history ? 0 : kMaxCoverageSteps),
+      keep_history_(spec.keep_history),
+      rawlog_name_(spec.rawlog_name),
+      reloc_(relocMinLandmarks(ini), spec.keep_history ? 0 : kMaxCoverageSteps),
       heap_release_(kReleaseHeapEverySteps) {
+  const auto& budget = spec.budget;
   if (truth_ && !truth_->path.empty()) nees_.emplace(*truth_);
-  // map.png colours the kept landmarks by the coverage clusters ([CoverageReducer], run's seed).
-  coverage_.seed = budget.seed;
-  coverage_.loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
-  MappingOptions mapping;
-  mapping.loadFromConfigFile(ini, MappingOptions::kSection);
-  save_3d_scene_ = mapping.save_3d_scene;
-  scene_every_steps_ = mapping.scene_every_steps;
-  rawlog_name_ = std::filesystem::path(mapping.rawlog_file).filename().string();
+  // map.png colours the kept landmarks by the picture's clusters ([CoverageReducer], run's seed).
+  picture_clusters_.seed = budget.seed;
+  picture_clusters_.loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
   report::ReportOptions report_options;
   report_options.loadFromConfigFile(ini, report::ReportOptions::kSection);
   figure_formats_ = report_options.figure_formats;
@@ -95,8 +82,7 @@ RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const std::string
 }
 
 void RunDriver::process(const Step& raw) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const double cpu0 = threadCpuSeconds();
+  probes_.start();
   // Without the readings of landmarks dropped for good and of refused newcomers still waiting.
   const Step filtered = manager_->admissible(raw);
 
@@ -104,7 +90,7 @@ void RunDriver::process(const Step& raw) {
   backend_->process(filtered);
   // The landmarks the step's readings went to are in the map now (new ones included).
   const std::vector<LandmarkId> assoc = backend_->lastAssociation();
-  for (const LandmarkId id : assoc) reloc_.landmarkAdded(id);
+  reloc_.added(assoc);
   const std::size_t added = backend_->landmarkCount() - before;
   const auto diverged = [](const PoseEstimate& p) {
     return !std::isfinite(p.mean.x) || !std::isfinite(p.mean.y) || !std::isfinite(p.mean.phi) ||
@@ -115,11 +101,10 @@ void RunDriver::process(const Step& raw) {
                 " estimate diverged (the robot pose or its covariance is not finite)");
   const auto drops = manager_->enforce(*backend_, filtered, raw);
   heap_release_.afterStep();  // timed with the step: its cost is the run's
-  const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const double cpu = threadCpuSeconds() - cpu0;
+  const StepProbes::Sample times = probes_.stop();
   // The coverage over time counts the map as it stands after this step's drops.
-  for (const auto& e : drops) reloc_.landmarkRemoved(e.id);
-  const std::size_t reloc_landmarks = trackCoverage(raw, filtered, assoc);
+  reloc_.removed(drops);
+  const std::size_t reloc_landmarks = reloc_.observe(raw, filtered, assoc);
   const std::size_t n = backend_->landmarkCount();
   const PoseEstimate pose = backend_->robotPose();
 
@@ -133,8 +118,8 @@ void RunDriver::process(const Step& raw) {
   for (const auto& e : drops) ++(e.reason == "refused" ? row.refused : row.dropped);
   row.poses = backend_->poseCount();
   row.pose = pose;
-  row.step_ms = 1e3 * dt;
-  row.cpu_ms = 1e3 * cpu;
+  row.step_ms = 1e3 * times.wall_s;
+  row.cpu_ms = 1e3 * times.cpu_s;
   row.rss_bytes = residentBytes();
   row.reloc_landmarks = reloc_landmarks;
   row.reloc_coverage_so_far_pct = reloc_.coverageSoFarPct();
@@ -143,14 +128,13 @@ void RunDriver::process(const Step& raw) {
   ++steps_done_;
   last_step_ = raw.index;
   landmarks_added_ += added;
-  total_step_s_ += dt;
-  max_step_s_ = std::max(max_step_s_, dt);
+  probes_.count(times);
   peak_landmarks_ = std::max(peak_landmarks_, n);
   if (keep_history_) counts_.push_back(n);
   if (keep_history_) online_.push_back({raw.index, pose});
   if (nees_) nees_->add(raw.index, pose);
 
-  logEvictions(drops);
+  evictions_.log(drops, outputs_);
   if (scene_every_steps_ && raw.index % scene_every_steps_ == 0) {
     char name[48];
     std::snprintf(name, sizeof name, "kf_state_%05llu.3Dscene",
@@ -160,58 +144,20 @@ void RunDriver::process(const Step& raw) {
   }
 }
 
-std::size_t RunDriver::trackCoverage(const Step& raw, const Step& filtered,
-                                     const std::vector<LandmarkId>& assoc) {
-  // A reading with a sensor ID observes that landmark (whether the map holds it or not); one
-  // without is known only through the backend's association.
-  std::vector<LandmarkId> observed;
-  if (raw.scan)
-    for (const auto& r : raw.scan->readings)
-      if (r.id != kNoLandmarkId) observed.push_back(r.id), saw_ids_ = true;
-  if (filtered.scan)
-    for (std::size_t r = 0; r < filtered.scan->readings.size(); ++r)
-      if (filtered.scan->readings[r].id == kNoLandmarkId) {
-        saw_idless_ = true;
-        if (r < assoc.size()) observed.push_back(assoc[r]);
-      }
-  return reloc_.addStep(raw.index, observed);
-}
-
-FinalCoverage RunDriver::finalCoverage() const {
-  FinalCoverage c;
-  std::unordered_set<LandmarkId> ids;
-  for (const auto& l : backend_->landmarks()) ids.insert(l.id);
-  c.steps = reloc_.steps();
-  c.coverage = metrics::coverageOf(
-      c.steps, [&](LandmarkId id) { return ids.count(id) > 0; }, reloc_.minLandmarks(),
-      reloc_.sampled());
-  c.source = saw_idless_ ? (saw_ids_ ? "landmark_ids_and_own_association" : "own_association")
-                         : "landmark_ids";
-  return c;
-}
-
-void RunDriver::logEvictions(const std::vector<reducers::Eviction>& drops) {
-  for (const auto& e : drops) {
-    // A refused newcomer never held a place between steps: counted apart from the drops.
-    const bool refused = e.reason == "refused";
-    ++(refused ? refused_ : evictions_);
-    if (!refused && dropped_.size() < kMaxDroppedMarks) dropped_.push_back(e.mean);
-    outputs_.addEviction(evictionRow(e));
-  }
-}
+FinalRelocCoverage RunDriver::finalRelocCoverage() const { return reloc_.finalCoverage(*backend_); }
 
 report::MapContent RunDriver::mapContent(const std::vector<TrajectoryPoint>& trajectory,
                                          const std::vector<LandmarkView>& landmarks,
-                                         const FinalCoverage* coverage) const {
+                                         const FinalRelocCoverage* coverage) const {
   const auto& budget = manager_->options();
   std::string title = (rawlog_name_.empty() ? "" : rawlog_name_ + ": ") + backend_->name() +
                       ", reducer " + budget.reducer +
                       (manager_->capped() ? ", cap " + std::to_string(*budget.max_landmarks) : "") +
                       ": " + std::to_string(landmarks.size()) + " landmarks kept, " +
-                      std::to_string(evictions_) + " dropped" +
-                      (refused_ ? ", " + std::to_string(refused_) + " refused" : std::string());
-  return runMapContent(std::move(title), trajectory, landmarks, coverage_, dropped_, coverage,
-                       truth_.get());
+                      std::to_string(evictions()) + " dropped" +
+                      (refused() ? ", " + std::to_string(refused()) + " refused" : std::string());
+  return runMapContent(std::move(title), trajectory, landmarks, picture_clusters_,
+                       evictions_.droppedMarks(), coverage, truth_.get());
 }
 
 void RunDriver::restoreSession(const session::SessionState& state) {
@@ -240,16 +186,16 @@ void RunDriver::complete() {
   // then the backend's (the graph's solve to the batch optimum).
   if (steps_done_ > 0) {
     const auto drops = manager_->finish(*backend_, last_step_);
-    for (const auto& e : drops) reloc_.landmarkRemoved(e.id);
-    logEvictions(drops);
+    reloc_.removed(drops);
+    evictions_.log(drops, outputs_);
   }
   Cancellation::check();  // drops cut short by a stop request are logged above
   if (PoseHistoryBackend* h = poseHistory(backend_.get())) h->finish();
 }
 
-RunResult RunDriver::finish(const std::string& status, const std::string& error,
-                            std::size_t steps_in_rawlog, const nlohmann::json& extra) {
-  if (status == "ok") {
+RunOutcome RunDriver::finish(RunStatus status, ErrorKind kind, const std::string& error,
+                             std::size_t steps_in_rawlog, const nlohmann::json& given) {
+  if (status == RunStatus::Ok) {
     complete();
     Cancellation::check();  // a stop request before the outputs: the run ends as interrupted
   }
@@ -277,17 +223,18 @@ RunResult RunDriver::finish(const std::string& status, const std::string& error,
     files.landmarks.push_back(l);
     if (!negative) continue;
     const auto r = negative->records().find(l.id);
-    files.confirmations.push_back(r == negative->records().end()
-                                      ? report::LandmarkConfirmation{l.last_step, 0}
-                                      : report::LandmarkConfirmation{r->second.last_confirmed_step,
-                                                                     r->second.misses});
+    files.confirmations.push_back(
+        r == negative->records().end()
+            ? report::LandmarkConfirmation{l.last_step, 0}
+            : report::LandmarkConfirmation{r->second.last_confirmed_step, r->second.misses});
   }
   const std::vector<TrajectoryPoint>& trajectory = files.trajectory;
   const std::vector<LandmarkView>& landmarks = files.landmarks;
 
   // Every output is attempted; the first failure (a full disk) is the run's error.
-  const FinalCoverage coverage = final_coverage_ ? *final_coverage_ : finalCoverage();
-  files.map = [&] { return mapContent(trajectory, landmarks, &coverage); };
+  const FinalRelocCoverage reloc =
+      final_reloc_coverage_ ? *final_reloc_coverage_ : finalRelocCoverage();
+  files.map = [&] { return mapContent(trajectory, landmarks, &reloc); };
   files.scene = save_3d_scene_;
   files.figure_formats = figure_formats_;
   if (save_3d_scene_) files.robot = backend_->robotPose().mean;
@@ -296,72 +243,60 @@ RunResult RunDriver::finish(const std::string& status, const std::string& error,
   const auto written = outputs_.writeEndFiles(files);
   std::string first_error = written.first_error;
 
-  RunResult result;
-  result.status = status;
-  result.error = error;
-  if (result.status == "ok" && (poses_not_finite || landmarks_not_finite)) {
-    result.status = "failed";
-    result.error = "the " + backend_->name() + " estimate is not finite at the end of the run (" +
-                   std::to_string(poses_not_finite) + " poses, " +
-                   std::to_string(landmarks_not_finite) + " landmarks)";
-  }
-  if (result.status == "ok" && !first_error.empty())
-    result.status = "failed", result.error = first_error;
+  RunOutcome o;
+  o.status = status, o.kind = kind, o.error = error;
+  if (o.ok() && (poses_not_finite || landmarks_not_finite))
+    o.fail(RunStatus::Failed, ErrorKind::Diverged,
+           "the " + backend_->name() + " estimate is not finite at the end of the run (" +
+               std::to_string(poses_not_finite) + " poses, " +
+               std::to_string(landmarks_not_finite) + " landmarks)");
+  if (o.ok() && !first_error.empty()) o.fail(RunStatus::Failed, ErrorKind::Output, first_error);
+  o.files_not_written = written.not_written;
 
   const auto& budget = manager_->options();
-  nlohmann::json j;
-  j["status"] = result.status;
-  j["error"] = result.error;
-  if (!written.not_written.empty()) j["files_not_written"] = written.not_written;
-  j["backend"] = backend_->name();
-  j["reducer"] = budget.reducer;
-  j["cap"] = manager_->capped() ? nlohmann::json(*budget.max_landmarks) : nlohmann::json();
-  j["counts"] = {{"steps", steps_done_},
-                 {"landmarks_final", landmarks.size()},
-                 {"landmarks_not_finite", landmarks_not_finite},
-                 {"poses_not_finite", poses_not_finite},
-                 {"landmarks_peak", peak_landmarks_},
-                 {"landmarks_added", landmarks_added_},
-                 {"evictions", evictions_},
-                 {"refused", refused_},
-                 {"poses_kept", backend_->poseCount()},
-                 {"poses_marginalized", manager_->posesMarginalized()}};
-  j["timings"] = {{"steps_s", total_step_s_},
-                  {"step_ms_mean",
-                   report::jsonNumber(nanIfEmpty(
-                       steps_done_, 1e3 * total_step_s_ / std::max<std::size_t>(1, steps_done_)))},
-                  {"step_ms_max", 1e3 * max_step_s_},
-                  {"peak_rss_bytes", peakResidentBytes()}};
-  j["agreement"] = agreementJson(*manager_);
-  j["shadow_failures"] = shadowFailuresJson(*manager_);
+  RunOutcome::Run& run = o.run.emplace();
+  run.backend = backend_->name();
+  run.reducer = budget.reducer;
+  if (manager_->capped()) run.cap = *budget.max_landmarks;
+  run.counts.steps = steps_done_;
+  run.counts.landmarks_final = landmarks.size();
+  run.counts.landmarks_not_finite = landmarks_not_finite;
+  run.counts.poses_not_finite = poses_not_finite;
+  run.counts.landmarks_peak = peak_landmarks_;
+  run.counts.landmarks_added = landmarks_added_;
+  run.counts.evictions = evictions();
+  run.counts.refused = refused();
+  run.counts.poses_kept = backend_->poseCount();
+  run.counts.poses_marginalized = manager_->posesMarginalized();
+  run.timings = probes_.timings(steps_done_);
+  run.agreement = agreementJson(*manager_);
+  run.shadow_failures = shadowFailuresJson(*manager_);
 
   if (truth_ && !truth_->empty()) {
-    metrics::GroundTruthErrors e;
+    GroundTruthOutcome& gt = o.ground_truth.emplace();
+    gt.landmarks_file = truth_->landmarks_file;
+    gt.path_file = truth_->path_file;
     try {
-      e = metrics::groundTruthErrors(trajectory, landmarks, *truth_, steps_in_rawlog);
+      gt.errors = metrics::groundTruthErrors(trajectory, landmarks, *truth_, steps_in_rawlog);
     } catch (const Error& x) {
       if (first_error.empty()) first_error = x.what();  // a bug: inputs are finite here
     }
-    if (nees_) result.nees = nees_->result(steps_in_rawlog);
+    if (nees_) gt.nees = nees_->result(steps_in_rawlog);
     // Where the ground truth's frame sits in the map's (budget-slam localize starts another
     // traversal's robot there; docs/OUTPUTS.md).
     alignment_ = metrics::mapAlignment(landmarks, trajectory, *truth_, steps_in_rawlog);
-    j["ground_truth"] = report::groundTruthJson(*truth_, e, result.nees, alignment_);
-    result.ground_truth = e;
+    gt.alignment = alignment_;
   }
-  result.relocalization = coverage.coverage;
-  j["relocalization"] =
-      report::relocalizationJson(coverage.coverage, coverage.source, coverage.details);
-  for (const auto& [k, v] : extra.items()) j[k] = v;
+  run.relocalization = {reloc.coverage, reloc.source, reloc.details};
+  o.given = given.is_object() ? given : nlohmann::json::object();
   try {
-    outputs_.writeSummary(j);
+    writeSummary(outputs_.folder().file("summary.json"), o);
   } catch (const std::exception& e) {
     summary_error_ = exceptionLine(e);
     if (first_error.empty()) first_error = summary_error_;
   }
   write_error_ = first_error;
-  result.summary = std::move(j);
-  return result;
+  return o;
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

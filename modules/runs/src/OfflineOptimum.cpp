@@ -1,4 +1,4 @@
-#include "OfflineOptimum.h"
+#include "budget_slam/runs/OfflineOptimum.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include "budget_slam/reducers/PlaceCoverageOptimum.h"
 #include "budget_slam/reducers/PlaceCoverageReducer.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 std::string writeOfflineOptimum(const std::string& csv_path,
                                 const mrpt::config::CConfigFileBase& ini,
@@ -86,4 +86,4 @@ std::string writeOfflineOptimum(const std::string& csv_path,
   return md.str();
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -4,7 +4,7 @@
 
 #include "budget_slam/reducers/BudgetManager.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// summary.json "agreement": how often each pair of active and shadow reducers chose the same
 /// landmark (docs/OUTPUTS.md).
@@ -15,4 +15,4 @@ nlohmann::json shadowFailuresJson(const reducers::BudgetManager& manager);
 /// One line saying how a shadow reducer failed over a run (a warning on stderr).
 std::string shadowFailureLine(const reducers::ShadowFailures& f);
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -6,10 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "FinalCoverage.h"
-#include "RunResult.h"
-#include "RunSummary.h"
 #include "budget_slam/core/Backend.h"
+#include "budget_slam/core/BackendRegistry.h"
 #include "budget_slam/core/HeapRelease.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
@@ -22,9 +20,27 @@
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/ReportOptions.h"
 #include "budget_slam/report/RunOutputs.h"
+#include "budget_slam/runs/FinalRelocCoverage.h"
+#include "budget_slam/runs/RunObservers.h"
+#include "budget_slam/runs/RunOutcome.h"
+#include "budget_slam/runs/ShadowReducers.h"
 #include "budget_slam/session/SessionState.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
+
+/// What a run driver is given besides the ini: the backend's name, the budget, and the values of
+/// [MappingApplication] it acts on (read by the caller: app/MappingOptions.h).
+struct DriverSpec {
+  std::string backend = "ekf";     ///< a name of the backend registry
+  reducers::BudgetOptions budget;  ///< [LandmarkBudget], with the flags applied
+  /// false keeps no per-step records in memory (no online poses, no landmark counts, the EKF
+  /// keeps only its latest pose): memory stays flat over arbitrarily long runs, everything per
+  /// step is still in steps.csv, and NEES is accumulated online.
+  bool keep_history = true;
+  bool save_3d_scene = true;          ///< [MappingApplication] save_3d_scene
+  std::size_t scene_every_steps = 0;  ///< kf-slam's SAVE_3D_SCENES / SAVE_LOG_FREQUENCY
+  std::string rawlog_name;            ///< the rawlog's file name, in map.png's title
+};
 
 /// The run driver: one SLAM run under a budget, backend + budget manager, fed one step at a time
 /// (docs/ARCHITECTURE.md "Data flow"). It measures as it goes (timings, relocalization coverage,
@@ -32,12 +48,10 @@ namespace budget_slam::app {
 /// evictions.csv as the steps happen, the rest in finish(); docs/OUTPUTS.md).
 class RunDriver {
  public:
-  /// `keep_history` = false keeps no per-step records in memory (no online poses, no landmark
-  /// counts, the EKF keeps only its latest pose): memory stays flat over arbitrarily long runs,
-  /// everything per step is still in steps.csv, and NEES is accumulated online.
-  RunDriver(const mrpt::config::CConfigFileBase& ini, const std::string& backend,
-            const reducers::BudgetOptions& budget, report::OutputFolder folder,
-            std::shared_ptr<const dataset::GroundTruth> truth, bool keep_history = true);
+  /// The backend `spec.backend` of `backends` and the budget's reducers, built from `ini`.
+  RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegistry& backends,
+            const DriverSpec& spec, report::OutputFolder folder,
+            std::shared_ptr<const dataset::GroundTruth> truth);
 
   /// Runs one step: backend update (evicted landmarks filtered out when readmission is off), then
   /// the budget, then its steps.csv row. Throws Error on bad data, on a diverged estimate and when
@@ -56,20 +70,20 @@ class RunDriver {
   void writeSessionState(const session::SessionHeader& header);
 
   /// Runs the reducer's and the backend's end-of-run work (active minimization, the graph's final
-  /// solve) once; finish("ok") calls it too. Throws Interrupted on a stop request.
+  /// solve) once; finish(RunStatus::Ok) calls it too. Throws Interrupted on a stop request.
   void complete();
 
   /// Writes every output (steps.csv and evictions.csv flushed to disk, trajectory.tum,
-  /// landmarks.csv, map.png, ground_truth.tum) and then summary.json with `status` (ok | failed |
-  /// interrupted) and `error`. Only the steps that completed and only finite estimates are written
-  /// or drawn (a diverged estimate leaves its non-finite poses and landmarks out, counted in
-  /// summary.json). Each output is attempted even when another fails; an ok run whose outputs
-  /// could not all be written becomes failed, with the first write error (see writeError()).
-  /// `steps_in_rawlog` maps ground truth rows. Returns the summary and, in memory, its numbers.
-  /// With status ok, throws Interrupted when a stop request came before the outputs were
-  /// written.
-  RunResult finish(const std::string& status, const std::string& error, std::size_t steps_in_rawlog,
-                   const nlohmann::json& extra = {});
+  /// landmarks.csv, map.png, ground_truth.tum) and then summary.json (runs::writeSummary) from
+  /// the outcome: `status`, `kind` and `error`, the driver's blocks, and `given`. Only the steps
+  /// that completed and only finite estimates are written or drawn (a diverged estimate leaves its
+  /// non-finite poses and landmarks out, counted in summary.json). Each output is attempted even
+  /// when another fails; an ok run whose outputs could not all be written becomes failed, with the
+  /// first write error (see writeError()). `steps_in_rawlog` maps ground truth rows. Returns the
+  /// outcome summary.json was written from. With status ok, throws Interrupted when a stop request
+  /// came before the outputs were written.
+  RunOutcome finish(RunStatus status, ErrorKind kind, const std::string& error,
+                    std::size_t steps_in_rawlog, const nlohmann::json& given = {});
   /// The first output finish() could not write ("" when all were written).
   const std::string& writeError() const { return write_error_; }
   /// Why finish() could not write summary.json ("" when it did).
@@ -85,64 +99,62 @@ class RunDriver {
   const report::OutputFolder& folder() const { return outputs_.folder(); }
   std::size_t stepsDone() const { return steps_done_; }
   /// Landmarks dropped after holding a place in the map (evictions.csv rows but the refusals).
-  std::size_t evictions() const { return evictions_; }
+  std::size_t evictions() const { return evictions_.evictions(); }
   /// Newcomers refused at admission (evictions.csv rows with reason refused).
-  std::size_t refused() const { return refused_; }
+  std::size_t refused() const { return evictions_.refused(); }
   /// The online robot pose after each step (for NEES and the metrics against the reference).
   const std::vector<metrics::PoseRecord>& onlinePoses() const { return online_; }
   const std::vector<std::size_t>& landmarkCounts() const { return counts_; }
-  double totalStepSeconds() const { return total_step_s_; }
+  double totalStepSeconds() const { return probes_.totalSeconds(); }
 
-  /// The tracker's steps against the backend's landmarks now (call after complete()).
-  FinalCoverage finalCoverage() const;
-  /// Replaces what finish() reports (compare on ID-less rawlogs: through the reference run).
-  void setFinalCoverage(FinalCoverage coverage) { final_coverage_ = std::move(coverage); }
+  /// The relocalization tracker's steps against the backend's landmarks now (call after
+  /// complete()).
+  FinalRelocCoverage finalRelocCoverage() const;
+  /// Replaces the relocalization coverage finish() reports (compare on ID-less rawlogs: through
+  /// the reference run).
+  void setFinalRelocCoverage(FinalRelocCoverage coverage) {
+    final_reloc_coverage_ = std::move(coverage);
+  }
   /// Which landmarks each step observed, and the coverage so far.
-  const metrics::RelocalizationTracker& relocalization() const { return reloc_; }
+  const metrics::RelocalizationTracker& relocalization() const { return reloc_.tracker(); }
   /// Set by finish() when the rawlog has ground truth: the ground truth's frame in the map's.
   const std::optional<metrics::MapAlignment>& mapAlignment() const { return alignment_; }
 
  private:
-  /// evictions.csv rows, counts and map marks of drops.
-  void logEvictions(const std::vector<reducers::Eviction>& drops);
   /// What map.png and map.3Dscene show (runMapContent); with `coverage`, the path coloured by
   /// the final map's landmarks in view.
   report::MapContent mapContent(const std::vector<TrajectoryPoint>& trajectory,
                                 const std::vector<LandmarkView>& landmarks,
-                                const FinalCoverage* coverage) const;
-  /// Gives the coverage tracker the landmarks the step observed (`assoc`: the backend's
-  /// association of `filtered`'s readings), after the step's map changes; returns how many
-  /// landmarks of the map held after the step it observed.
-  std::size_t trackCoverage(const Step& raw, const Step& filtered,
-                            const std::vector<LandmarkId>& assoc);
+                                const FinalRelocCoverage* coverage) const;
 
-  reducers::CoverageOptions coverage_;  ///< how map.png clusters the kept landmarks
-  bool save_3d_scene_ = true;           ///< [MappingApplication] save_3d_scene
-  std::size_t scene_every_steps_ = 0;   ///< kf-slam's SAVE_3D_SCENES / SAVE_LOG_FREQUENCY
+  /// How map.png and map.3Dscene colour the kept landmarks: the picture's k-means clusters
+  /// ([CoverageReducer]'s settings, the run's seed), not a reducer.
+  reducers::CoverageOptions picture_clusters_;
+  bool save_3d_scene_ = true;          ///< [MappingApplication] save_3d_scene
+  std::size_t scene_every_steps_ = 0;  ///< kf-slam's SAVE_3D_SCENES / SAVE_LOG_FREQUENCY
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<reducers::BudgetManager> manager_;
   std::shared_ptr<const dataset::GroundTruth> truth_;
   report::RunOutputs outputs_;
   std::vector<metrics::PoseRecord> online_;
   bool keep_history_ = true;
-  std::optional<metrics::NeesAccumulator> nees_;  ///< when the ground truth has a path
   std::vector<std::size_t> counts_;
-  std::vector<Eigen::Vector2d> dropped_;  ///< where dropped landmarks were, for map.png
-  std::string rawlog_name_;               ///< the rawlog's file name, in map.png's title
+  std::string rawlog_name_;  ///< the rawlog's file name, in map.png's title
   std::vector<report::FigureFormat> figure_formats_;  ///< [Report] figure_format
-  metrics::RelocalizationTracker reloc_;
+  // The observers of the step loop, each filling its block of the outcome.
+  StepProbes probes_;                             ///< timings
+  EvictionLog evictions_;                         ///< evictions.csv, drop counts, map marks
+  RelocCoverageTracking reloc_;                   ///< relocalization coverage
+  std::optional<metrics::NeesAccumulator> nees_;  ///< when the ground truth has a path
   /// Gives the heap's free pages back every kReleaseHeapEverySteps steps (core/HeapRelease.h:
   /// the filter's reallocated state leaves holes in the heap that free() keeps resident).
   HeapRelease heap_release_;
-  bool saw_ids_ = false, saw_idless_ = false;  ///< readings with / without sensor IDs
-  std::optional<FinalCoverage> final_coverage_;
+  std::optional<FinalRelocCoverage> final_reloc_coverage_;  ///< set by compare, else computed
   std::optional<metrics::MapAlignment> alignment_;
   bool completed_ = false;
   std::string write_error_, summary_error_;
   StepIndex last_step_ = 0;
-  std::size_t steps_done_ = 0, evictions_ = 0, refused_ = 0, peak_landmarks_ = 0,
-              landmarks_added_ = 0;
-  double total_step_s_ = 0, max_step_s_ = 0;
+  std::size_t steps_done_ = 0, peak_landmarks_ = 0, landmarks_added_ = 0;
 };
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -6,21 +6,24 @@
 #include <string>
 #include <vector>
 
-#include "RunDriver.h"
-#include "RunResult.h"
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/Step.h"
+#include "budget_slam/runs/RunDriver.h"
+#include "budget_slam/runs/RunOutcome.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// One driver of `compare` and how it ended.
 struct CompareRun {
   std::string name;  ///< reference, or the reducer's name (its folder's name)
   std::unique_ptr<RunDriver> driver;
   std::atomic<std::size_t> steps_done{0};
-  std::string status = "ok", error;
+  RunStatus status = RunStatus::Ok;
+  ErrorKind kind = ErrorKind::None;
+  std::string error;
   /// What RunDriver::finish reported (none when it could not finish).
-  std::optional<RunResult> result;
+  std::optional<RunOutcome> result;
+  bool ok() const { return status == RunStatus::Ok; }
 };
 
 /// Runs every driver over `steps` in `threads` threads (each taking whole runs), up to and
@@ -33,7 +36,17 @@ std::string runInThreads(std::vector<std::unique_ptr<CompareRun>>& runs,
                          const std::vector<Step>& steps, std::size_t threads,
                          const std::function<void()>& on_end_phase, ProgressReporter& progress);
 
+/// True when no reading of `steps` carries a sensor landmark ID.
+bool withoutLandmarkIds(const std::vector<Step>& steps);
+
+/// For a rawlog without sensor IDs: the final map of `run` (after complete()) against the steps'
+/// observations as the `reference` run associated them: each of its landmarks paired with a
+/// reference landmark (metrics::matchLandmarks). Returns the relocalization coverage
+/// RunDriver::finish should report.
+FinalRelocCoverage relocCoverageThroughReference(const RunDriver& reference, const RunDriver& run,
+                                                 double gate_chi2);
+
 /// "interrupted by SIGINT<where> after step k" (or "before the first step") for run `r`.
 std::string interruptedLine(const CompareRun& r, const char* where);
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -3,13 +3,13 @@
 #include <string>
 #include <vector>
 
-#include "FinalCoverage.h"
 #include "budget_slam/core/Estimates.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/reducers/CoverageOptions.h"
 #include "budget_slam/report/Pictures.h"
+#include "budget_slam/runs/FinalRelocCoverage.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// What map.png and map.3Dscene show of a run (docs/OUTPUTS.md): `title`, the path, the kept
 /// landmarks coloured by coverage clusters of their observation positions (k-means with
@@ -20,6 +20,7 @@ report::MapContent runMapContent(std::string title, const std::vector<Trajectory
                                  const std::vector<LandmarkView>& landmarks,
                                  const reducers::CoverageOptions& clusters,
                                  const std::vector<Eigen::Vector2d>& dropped,
-                                 const FinalCoverage* coverage, const dataset::GroundTruth* truth);
+                                 const FinalRelocCoverage* coverage,
+                                 const dataset::GroundTruth* truth);
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

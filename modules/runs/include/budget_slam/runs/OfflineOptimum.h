@@ -8,7 +8,7 @@
 #include "budget_slam/core/Step.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// One final map of a comparison: its run and the ids it kept.
 struct FinalMap {
@@ -30,4 +30,4 @@ std::string writeOfflineOptimum(const std::string& csv_path,
                                 const std::vector<metrics::PoseRecord>& reference_poses,
                                 const std::vector<FinalMap>& maps, std::size_t cap);
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -1,7 +1,7 @@
 #pragma once
 #include <cstddef>
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// CPU time of the calling thread [s]: per run even when compare runs several in one process,
 /// and unaffected by other processes on a shared machine.
@@ -19,4 +19,4 @@ std::size_t availableCpus();
 /// would take from the limit without using it. No effect without a limit.
 void fitMallocToAddressSpaceLimit();
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

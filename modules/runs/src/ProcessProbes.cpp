@@ -1,4 +1,4 @@
-#include "ProcessProbes.h"
+#include "budget_slam/runs/ProcessProbes.h"
 
 #include <malloc.h>
 #include <sched.h>
@@ -10,7 +10,7 @@
 #include <fstream>
 #include <thread>
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 double threadCpuSeconds() {
   timespec ts{};
@@ -44,4 +44,4 @@ std::size_t availableCpus() {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs
