@@ -13,12 +13,8 @@
 #include <set>
 #include <sstream>
 
-#include "BuiltinBackends.h"
 #include "CommandLineFlags.h"
 #include "ListCommand.h"
-#include "RunConfig.h"
-#include "RunSession.h"
-#include "RunSpecs.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
@@ -30,6 +26,10 @@
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/Figure.h"
+#include "budget_slam/runs/BuiltinBackends.h"
+#include "budget_slam/runs/RunConfig.h"
+#include "budget_slam/runs/RunSession.h"
+#include "budget_slam/runs/RunSpecs.h"
 #include "budget_slam/runs/Runs.h"
 
 namespace budget_slam::app {
@@ -42,7 +42,7 @@ std::string topLevelHelp() {
       "USAGE:\n\n"
       "   budget-slam run     -c config.ini [-i in.rawlog] [-o outdir] [--reducer NAME]\n"
       "                       [--cap N|none] [--backend " +
-      builtinBackends().joinedNames("|") +
+      runs::builtinBackends().joinedNames("|") +
       "] [--set Section.key=value]...\n"
       "   budget-slam compare -c config.ini [-i in.rawlog] [-o outdir] [--reducers a,b,c]\n"
       "                       [--cap N|none] [--threads N] [--relocalize a.rawlog,b.rawlog]\n"
@@ -108,11 +108,11 @@ std::string fixed(double v, int digits) {
 }
 
 /// The values of run's and compare's flags (TCLAP checked their types).
-void checkFlagValues(const CommandLine& cli) {
+void checkFlagValues(const runs::Request& cli) {
   if (cli.cap) checkCapFlag(*cli.cap);
-  if (!cli.backend.empty()) checkBackendFlag(cli.backend);
+  if (!cli.backend.empty()) runs::checkBackendFlag(cli.backend);
   checkReducerFlags(cli.reducer, cli.reducers);
-  for (const auto& set : cli.sets) checkSet(set);
+  for (const auto& set : cli.sets) runs::checkSet(set);
 }
 
 }  // namespace
@@ -122,7 +122,7 @@ void BudgetSlamApp::initialize(int argc, const char* const* argv) {
 }
 
 void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
-  cli_ = CommandLine();
+  cli_ = runs::Request();
   help_.clear();
   const std::string command = args.size() >= 2 ? args[1] : "";
   if (command == "--help" || command == "-h") {
@@ -232,8 +232,8 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
                                    false, "", "N|none", cmd);
   TCLAP::ValueArg<std::string> backend(
       "", "backend",
-      builtinBackends().joinedNames(" or ") + "; overrides [MappingApplication] backend", false, "",
-      builtinBackends().joinedNames("|"), cmd);
+      runs::builtinBackends().joinedNames(" or ") + "; overrides [MappingApplication] backend",
+      false, "", runs::builtinBackends().joinedNames("|"), cmd);
   TCLAP::MultiArg<std::string> sets("", "set", "overrides any ini key", false, "Section.key=value",
                                     cmd);
   TCLAP::SwitchArg quiet("", "quiet", "no progress bar and no summary on stdout", cmd);
@@ -363,10 +363,10 @@ int BudgetSlamApp::runRun() {
     return runs::exitCode(status, kind);
   };
 
-  RunConfig rc;
+  runs::RunConfig rc;
   try {
     loadConfig();
-    rc = loadRunConfig(params, cli_, config_label_);
+    rc = runs::loadRunConfig(params, cli_, config_label_);
   } catch (const std::exception& e) {
     // Error: a bad value, key or file; anything else (MRPT's own exceptions) in one line.
     const std::string why =
@@ -385,14 +385,14 @@ int BudgetSlamApp::runRun() {
   spec.given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", config_label_}};
   // A session to continue is read and checked before the output folder is touched: a bad state
   // file or a mismatched option is one line, exit 1, and nothing is written (docs/OUTPUTS.md).
-  spec.resume_options = resumeOptions(rc.ini);
+  spec.resume_options = runs::resumeOptions(rc.ini);
   if (!cli_.resume.empty()) {
     try {
       std::error_code ec;
       if (std::filesystem::equivalent(cli_.resume, rc.outdir, ec))
         throw ConfigError("--resume " + cli_.resume +
                           ": the output folder must be another one (the saved session stays)");
-      spec.resumed = loadResumeState(cli_.resume, rc.mapping.backend, spec.resume_options);
+      spec.resumed = runs::loadResumeState(cli_.resume, rc.mapping.backend, spec.resume_options);
     } catch (const std::exception& e) {
       return ended(runs::RunStatus::Failed, runs::errorKindOf(e), printable(e.what()));
     }
@@ -400,7 +400,7 @@ int BudgetSlamApp::runRun() {
     if (cli_.wake_up) {
       // Before any output: a robot not found is one line, exit 1, nothing written.
       try {
-        const WakeUpOutcome w = wakeUpOnMap(rc, *spec.resumed, cli_.skip_steps);
+        const runs::WakeUpOutcome w = runs::wakeUpOnMap(rc, *spec.resumed, cli_.skip_steps);
         spec.given["wake_up"] = w.json;
         if (!w.found)
           return ended(runs::RunStatus::Failed, runs::ErrorKind::Input, "--wake-up: " + w.why);
@@ -411,8 +411,8 @@ int BudgetSlamApp::runRun() {
     }
   }
   spec.ini = rc.ini;
-  spec.backends = &builtinBackends();
-  spec.driver = driverSpec(rc);
+  spec.backends = &runs::builtinBackends();
+  spec.driver = runs::driverSpec(rc);
   spec.rawlog = rc.rawlog;
   spec.ground_truth_file = rc.mapping.ground_truth_file;
   spec.ground_truth_file_robot = rc.mapping.ground_truth_file_robot;

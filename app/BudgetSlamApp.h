@@ -8,35 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "MappingOptions.h"
 #include "budget_slam/core/Ids.h"
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/reducers/BudgetOptions.h"
 #include "budget_slam/report/ReportOptions.h"
+#include "budget_slam/runs/Request.h"
 
 namespace budget_slam::app {
-
-/// What the command line asked for (docs/ARCHITECTURE.md "Command line").
-struct CommandLine {
-  std::string command;  ///< run | compare | localize
-  std::string config;   ///< -c; "" = keep params as set by the caller, or ./config.ini
-  std::string rawlog, outdir, reducer, backend;
-  std::optional<std::string> cap;        ///< --cap as given: a number >= 1, or none
-  std::vector<std::string> sets;         ///< --set Section.key=value
-  std::vector<std::string> reducers;     ///< compare: --reducers a,b,c
-  unsigned threads = 0;                  ///< compare: --threads, 0 = one a core
-  bool offline_optimum = false;          ///< compare: --offline-optimum
-  std::optional<std::size_t> max_steps;  ///< --max-steps (0 = all)
-  std::vector<std::uint64_t> seeds;      ///< compare: --seeds, empty = the ini's seed
-  bool quiet = false, force = false;
-  std::string map_dir;                    ///< localize: --map RUN_DIR
-  std::optional<std::string> start_pose;  ///< localize: --start-pose x,y,yaw_deg (none: derive)
-  std::string reference_trajectory;       ///< localize, compare: --reference-trajectory
-  std::vector<std::string> relocalize;    ///< compare: --relocalize a.rawlog,b.rawlog
-  std::string resume;                     ///< run: --resume RUN_DIR ("" = a first session)
-  std::size_t skip_steps = 0;  ///< run: --skip-steps N (the rawlog's first N steps unread)
-  bool wake_up = false;        ///< run: --wake-up (find the robot on the resumed map)
-};
 
 /// The budget-slam application: a thin main() calls initialize() and run(); tests drive it with an
 /// in-memory config (`params`) and a temporary output folder, as MRPT's KFSLAMApp.
@@ -67,7 +45,7 @@ class BudgetSlamApp {
   /// Progress of run, compare and localize (Python's progress=), whatever stderr shows; called
   /// from the calling thread, at most 5 times a second and once at the end; must not throw.
   ProgressCallback on_progress;
-  const CommandLine& commandLine() const { return cli_; }
+  const runs::Request& commandLine() const { return cli_; }
 
  private:
   int runRun();
@@ -89,7 +67,7 @@ class BudgetSlamApp {
   /// nothing with --quiet; and on_progress.
   ProgressSettings progressSettings(const report::ReportOptions& report) const;
 
-  CommandLine cli_;
+  runs::Request cli_;
   std::string config_label_ = "config";
   std::optional<std::string> config_text_;  ///< the -c file, until loadConfig()
   bool config_defaulted_ = false;           ///< no -c: ./config.ini was read

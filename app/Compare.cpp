@@ -8,10 +8,6 @@
 #include <thread>
 
 #include "BudgetSlamApp.h"
-#include "BuiltinBackends.h"
-#include "Relocalize.h"
-#include "RunConfig.h"
-#include "RunSpecs.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
@@ -27,9 +23,13 @@
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/report/RunFiles.h"
+#include "budget_slam/runs/BuiltinBackends.h"
 #include "budget_slam/runs/Comparison.h"
 #include "budget_slam/runs/OfflineOptimum.h"
 #include "budget_slam/runs/ProcessProbes.h"
+#include "budget_slam/runs/Relocalize.h"
+#include "budget_slam/runs/RunConfig.h"
+#include "budget_slam/runs/RunSpecs.h"
 #include "budget_slam/runs/ShadowReducers.h"
 #include "budget_slam/runs/SummaryJson.h"
 
@@ -45,19 +45,17 @@ using Runs = runs::CompareRuns;
 
 /// --relocalize: every final map of an ok run (the reference's too) localizes each traversal;
 /// fills the reloc_* columns of `rows` and adds the failed localizations to `outcome`.
-std::vector<RelocalizationResult> relocalizeMaps(const Runs& compared,
-                                                 const std::vector<Traversal>& traversals,
-                                                 const std::vector<TrajectoryPoint>* reference,
-                                                 const CommandLine& cli,
-                                                 std::vector<report::ComparisonRow>& rows,
-                                                 CompareOutcome& outcome) {
+std::vector<runs::RelocalizationResult> relocalizeMaps(
+    const Runs& compared, const std::vector<runs::Traversal>& traversals,
+    const std::vector<TrajectoryPoint>* reference, const runs::Request& cli,
+    std::vector<report::ComparisonRow>& rows, CompareOutcome& outcome) {
   // One mapped area for every map (the reference run's path, when it ended ok), so that every
   // map is scored on the same steps.
   std::vector<mrpt::math::TPose2D> reference_path;
   if (compared.front()->ok())
     for (const auto& p : compared.front()->driver->backend().trajectory())
       reference_path.push_back(p.pose);
-  std::vector<MapOfRun> maps;
+  std::vector<runs::MapOfRun> maps;
   for (const auto& r : compared)
     if (r->ok()) {
       std::vector<mrpt::math::TPose2D> own;
@@ -66,9 +64,9 @@ std::vector<RelocalizationResult> relocalizeMaps(const Runs& compared,
       maps.push_back({r->name, r->driver->folder().path(), r->driver->backend().landmarks(),
                       r->driver->mapAlignment(), reference_path.empty() ? own : reference_path});
     }
-  auto relocalized =
-      relocalizeAll(maps, traversals, reference, cli.reference_trajectory, cli.threads, cli.force);
-  addRelocalizationColumns(rows, relocalized, runs::kReferenceRun);
+  auto relocalized = runs::relocalizeAll(maps, traversals, reference, cli.reference_trajectory,
+                                         cli.threads, cli.force);
+  runs::addRelocalizationColumns(rows, relocalized, runs::kReferenceRun);
   for (const auto& r : relocalized)
     if (r.status != RunStatus::Ok)
       outcome.add(r.status, r.kind,
@@ -77,7 +75,7 @@ std::vector<RelocalizationResult> relocalizeMaps(const Runs& compared,
 }
 
 /// --offline-optimum: offline_optimum.csv; returns its table (for comparison.md).
-std::string writeOfflineOptimumFiles(const report::OutputFolder& top, const RunConfig& rc,
+std::string writeOfflineOptimumFiles(const report::OutputFolder& top, const runs::RunConfig& rc,
                                      const Runs& compared, const std::vector<Step>& steps) {
   if (!rc.budget.max_landmarks) throw InputError("--offline-optimum needs a cap (not --cap none)");
   std::vector<runs::FinalMap> maps;
@@ -129,16 +127,16 @@ int BudgetSlamApp::runCompare() {
     return fail(why, RunStatus::Failed, runs::errorKindOf(e));
   };
 
-  RunConfig rc;
+  runs::RunConfig rc;
   std::vector<std::string> names = cli_.reducers;
   try {
     loadConfig();
-    rc = loadRunConfig(params, cli_, config_label_);
+    rc = runs::loadRunConfig(params, cli_, config_label_);
     // --reducers was checked with the command line (BudgetSlamApp::initialize).
     if (names.empty())
       for (const auto& n : reducers::builtinReducers().names())
         if (n != "none") names.push_back(n);
-    for (const auto& n : names) checkCapFor(rc, cli_, n, config_label_);
+    for (const auto& n : names) runs::checkCapFor(rc, cli_, n, config_label_);
   } catch (const Error& e) {
     if (!cli_.outdir.empty()) try {
         top.emplace(cli_.outdir, cli_.force);
@@ -160,11 +158,11 @@ int BudgetSlamApp::runCompare() {
 
   std::shared_ptr<dataset::GroundTruth> truth;
   std::vector<Step> steps;
-  std::vector<Traversal> traversals;           // --relocalize
+  std::vector<runs::Traversal> traversals;     // --relocalize
   std::vector<TrajectoryPoint> reference_tum;  // --reference-trajectory
   try {
     Cancellation::check();  // a stop request that came while the program started
-    traversals = loadTraversals(params, cli_, config_label_);
+    traversals = runs::loadTraversals(params, cli_, config_label_);
     if (!cli_.reference_trajectory.empty())
       reference_tum = report::readTrajectoryTum(cli_.reference_trajectory, 50'000'000);
     writeFileAtomically(top->file("config_used.ini"), rc.ini.getContent());
@@ -177,8 +175,8 @@ int BudgetSlamApp::runCompare() {
           std::string("interrupted by ") + Cancellation::signalName() + " while reading the rawlog",
           RunStatus::Interrupted, ErrorKind::Stopped);
     steps = std::move(*read);
-    runs::makeRuns(rc.ini, builtinBackends(), driverSpec(rc), names, cli_.seeds, *top, cli_.force,
-                   truth, compared);
+    runs::makeRuns(rc.ini, runs::builtinBackends(), runs::driverSpec(rc), names, cli_.seeds, *top,
+                   cli_.force, truth, compared);
   } catch (const Interrupted&) {
     return fail(
         std::string("interrupted by ") + Cancellation::signalName() + " before the first step",
@@ -226,7 +224,7 @@ int BudgetSlamApp::runCompare() {
     rows.push_back(runs::comparisonRow(*r, m, ref_landmarks, ref_poses));
   }
 
-  std::vector<RelocalizationResult> relocalized;
+  std::vector<runs::RelocalizationResult> relocalized;
   if (!traversals.empty())
     relocalized = relocalizeMaps(compared, traversals,
                                  cli_.reference_trajectory.empty() ? nullptr : &reference_tum, cli_,
@@ -247,7 +245,7 @@ int BudgetSlamApp::runCompare() {
   attempt("comparison.csv", [&] { report::writeComparisonCsv(top->file("comparison.csv"), rows); });
   if (!traversals.empty())
     attempt("relocalization.csv",
-            [&] { writeRelocalizationCsv(top->file("relocalization.csv"), relocalized); });
+            [&] { runs::writeRelocalizationCsv(top->file("relocalization.csv"), relocalized); });
   std::string seed_text = "seed " + std::to_string(rc.budget.seed);
   if (!cli_.seeds.empty()) {
     const bool range = cli_.seeds.back() - cli_.seeds.front() + 1 == cli_.seeds.size();

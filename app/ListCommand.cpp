@@ -2,9 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "BuiltinBackends.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/runs/BuiltinBackends.h"
 
 namespace budget_slam::app {
 namespace {
@@ -49,7 +49,7 @@ std::string listCommand(const std::vector<std::string>& args) {
   const bool json = args.size() == 4;
   if (json && args[3] != "--json") throw UsageError(usage);
   if (args[2] == "reducers") return listed(reducers::builtinReducers(), json);
-  if (args[2] == "backends") return listed(builtinBackends(), json);
+  if (args[2] == "backends") return listed(runs::builtinBackends(), json);
   throw UsageError(usage);
 }
 

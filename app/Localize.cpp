@@ -8,9 +8,6 @@
 
 #include "BudgetSlamApp.h"
 #include "CommandLineFlags.h"
-#include "Localizer.h"
-#include "MapFolder.h"
-#include "RunConfig.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
@@ -22,6 +19,9 @@
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/report/RunFiles.h"
+#include "budget_slam/runs/Localizer.h"
+#include "budget_slam/runs/MapFolder.h"
+#include "budget_slam/runs/RunConfig.h"
 #include "budget_slam/runs/SummaryJson.h"
 #include "budget_slam/wakeup/WakeUpRun.h"
 
@@ -102,7 +102,7 @@ nlohmann::json wakeUpJson(const wakeup::WakeUpRun& w, const wakeup::WakeUpOption
 }  // namespace
 
 void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
-  cli_ = CommandLine();
+  cli_ = runs::Request();
   help_.clear();
   cli_.command = "localize";
   CapturedUsage usage(  // outlives cmd, which only borrows it
@@ -187,7 +187,7 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
 
 int BudgetSlamApp::runLocalize() {
   std::optional<report::OutputFolder> folder;
-  std::unique_ptr<Localizer> localizer;
+  std::unique_ptr<runs::Localizer> localizer;
   nlohmann::json wake_json;  ///< summary.json's wake_up block, when the robot woke up
   // One line, which also says why summary.json could not be written when it could not.
   const auto fail = [&](const std::string& why, runs::RunStatus status, runs::ErrorKind kind) {
@@ -221,10 +221,10 @@ int BudgetSlamApp::runLocalize() {
     return fail(why, runs::RunStatus::Failed, runs::errorKindOf(e));
   };
 
-  RunConfig rc;
+  runs::RunConfig rc;
   try {
     loadConfig();
-    rc = loadRunConfig(params, cli_, config_label_);
+    rc = runs::loadRunConfig(params, cli_, config_label_);
     for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
     folder.emplace(rc.outdir, cli_.force);
   } catch (const Error& e) {
@@ -240,7 +240,8 @@ int BudgetSlamApp::runLocalize() {
     writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
     metrics::MetricsOptions metric_options;
     metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);
-    const MapFolder map = loadMapFolder(cli_.map_dir, rc.localization.max_map_landmarks);
+    const runs::MapFolder map =
+        runs::loadMapFolder(cli_.map_dir, rc.localization.max_map_landmarks);
     std::vector<TrajectoryPoint> reference;
     if (!cli_.reference_trajectory.empty())
       reference = report::readTrajectoryTum(cli_.reference_trajectory, kMaxReferencePoses);
@@ -313,9 +314,10 @@ int BudgetSlamApp::runLocalize() {
       }
       given = woke->result.pose.mean;
     }
-    auto inputs = resolveLocalization(steps, in_rawlog, truth, map.alignment, given,
-                                      cli_.reference_trajectory.empty() ? nullptr : &reference,
-                                      cli_.reference_trajectory, rc.localization);
+    auto inputs =
+        runs::resolveLocalization(steps, in_rawlog, truth, map.alignment, given,
+                                  cli_.reference_trajectory.empty() ? nullptr : &reference,
+                                  cli_.reference_trajectory, rc.localization);
     if (woke) {
       // The steps that woke the robot up are not localized: the filter starts at the pose found,
       // at the last of them, with its covariance.
@@ -337,9 +339,9 @@ int BudgetSlamApp::runLocalize() {
     }
     // A path of one pose is a run without history (keep_history = false): no area to score in.
     if (map.path.size() >= 2) inputs.mapping_path = map.path;
-    localizer =
-        std::make_unique<Localizer>(rc.ini, rc.localization, metric_options.reloc_min_landmarks,
-                                    *folder, map.landmarks, inputs);
+    localizer = std::make_unique<runs::Localizer>(rc.ini, rc.localization,
+                                                  metric_options.reloc_min_landmarks, *folder,
+                                                  map.landmarks, inputs);
     ProgressReporter progress(*err, "localize", progressSettings(rc.report));
     for (const auto& s : steps) {
       localizer->process(s);

@@ -9,16 +9,16 @@
 #include <string>
 
 #include "BudgetSlamApp.h"
-#include "RunConfig.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniText.h"
+#include "budget_slam/runs/RunConfig.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::string text(reinterpret_cast<const char*>(data), size);
-  budget_slam::app::CommandLine cli;
+  budget_slam::runs::Request cli;
   cli.command = "run";
   cli.rawlog = "/nonexistent/fuzz.rawlog";  // no sidecar ini, no file read
-  cli.outdir = "/nonexistent/fuzz_out";     // never created: loadRunConfig only names it
+  cli.outdir = "/nonexistent/fuzz_out";     // never created: runs::loadRunConfig only names it
   const std::string kSet = "--set ";
   while (text.compare(0, kSet.size(), kSet) == 0) {
     const auto eol = text.find('\n');
@@ -29,7 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     mrpt::config::CConfigFileMemory params;
     budget_slam::loadIniText(params, text, "fuzz.ini");  // as BudgetSlamApp reads -c
-    budget_slam::app::loadRunConfig(params, cli, "fuzz.ini");
+    budget_slam::runs::loadRunConfig(params, cli, "fuzz.ini");
   } catch (const budget_slam::Error& e) {
     for (const char* p = e.what(); *p; ++p)
       if (*p == '\n') __builtin_trap();

@@ -13,13 +13,13 @@
 #include <sstream>
 
 #include "FuzzFiles.h"
-#include "LocalizationOptions.h"
-#include "Localizer.h"
-#include "MapFolder.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/dataset/RawlogReader.h"
+#include "budget_slam/runs/LocalizationOptions.h"
+#include "budget_slam/runs/Localizer.h"
+#include "budget_slam/runs/MapFolder.h"
 
 namespace {
 
@@ -29,7 +29,7 @@ constexpr std::size_t kSteps = 10;
 
 struct Traversal {
   mrpt::config::CConfigFileMemory ini;
-  app::LocalizationOptions options;
+  runs::LocalizationOptions options;
   std::vector<Step> steps;
   std::size_t in_rawlog = 0;
   dataset::GroundTruth truth;
@@ -65,15 +65,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fz::writeFile(dir / "landmarks.csv", files[0]);
   if (!files[1].empty()) fz::writeFile(dir / "summary.json", files[1]);
   try {
-    const auto map = app::loadMapFolder(dir.string(), t.options.max_map_landmarks);
+    const auto map = runs::loadMapFolder(dir.string(), t.options.max_map_landmarks);
     // Without an alignment the command asks for --start-pose: the origin, as a user would give.
     const std::optional<mrpt::math::TPose2D> start =
         map.alignment ? std::nullopt : std::optional<mrpt::math::TPose2D>(mrpt::math::TPose2D());
-    const auto inputs = app::resolveLocalization(t.steps, t.in_rawlog, t.truth, map.alignment,
-                                                 start, nullptr, "", t.options);
-    app::Localizer localizer(t.ini, t.options, 2,
-                             report::OutputFolder((dir / "out").string(), false), map.landmarks,
-                             inputs);
+    const auto inputs = runs::resolveLocalization(t.steps, t.in_rawlog, t.truth, map.alignment,
+                                                  start, nullptr, "", t.options);
+    runs::Localizer localizer(t.ini, t.options, 2,
+                              report::OutputFolder((dir / "out").string(), false), map.landmarks,
+                              inputs);
     for (const auto& s : t.steps) localizer.process(s);
   } catch (const budget_slam::Error& e) {
     fz::requireOneLine(e.what());

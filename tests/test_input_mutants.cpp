@@ -18,10 +18,10 @@
 
 #include "AppTestUtil.h"
 #include "ChildProcess.h"
-#include "RunConfig.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/InputLimits.h"
 #include "budget_slam/dataset/RawlogReader.h"
+#include "budget_slam/runs/RunConfig.h"
 
 using namespace budget_slam;
 using namespace budget_slam::testing;
@@ -256,11 +256,11 @@ std::string checkConverted(const fs::path& rawlog) {
     }
     mrpt::config::CConfigFileMemory params;
     loadIniText(params, slurp(kMrptIni), kMrptIni);
-    app::CommandLine cli;
+    runs::Request cli;
     cli.command = "run";
     cli.rawlog = rawlog.string();
     cli.outdir = (rawlog.parent_path() / "never_made").string();
-    app::loadRunConfig(params, cli, kMrptIni);  // the sidecar and its values checked
+    runs::loadRunConfig(params, cli, kMrptIni);  // the sidecar and its values checked
   } catch (const std::exception& e) {
     return e.what();
   }

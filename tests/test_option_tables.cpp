@@ -6,13 +6,13 @@
 #include <algorithm>
 #include <sstream>
 
-#include "LocalizationOptions.h"
-#include "MappingOptions.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BudgetOptions.h"
 #include "budget_slam/reducers/CoverageOptions.h"
 #include "budget_slam/reducers/MutualInformationOptions.h"
 #include "budget_slam/reducers/PlaceCoverageReducer.h"
+#include "budget_slam/runs/LocalizationOptions.h"
+#include "budget_slam/runs/MappingOptions.h"
 
 using namespace budget_slam;
 
@@ -49,27 +49,27 @@ void expectRoundTrip(const O& o) {
 TEST(OptionTables, MaxStepsKeepsTheCurrentValueWhenAbsent) {
   mrpt::config::CConfigFileMemory ini;
   ini.write("MappingApplication", "backend", "ekf");
-  app::MappingOptions m;
+  runs::MappingOptions m;
   m.max_steps = 40;
-  m.loadFromConfigFile(ini, app::MappingOptions::kSection);
+  m.loadFromConfigFile(ini, runs::MappingOptions::kSection);
   EXPECT_EQ(m.max_steps, 40u);
-  app::LocalizationOptions l;
+  runs::LocalizationOptions l;
   l.max_steps = 12;
-  l.loadFromConfigFile(ini, app::LocalizationOptions::kSection);
+  l.loadFromConfigFile(ini, runs::LocalizationOptions::kSection);
   EXPECT_EQ(l.max_steps, 12u);
   ini.write("MappingApplication", "max_steps", "5");
-  m.loadFromConfigFile(ini, app::MappingOptions::kSection);
+  m.loadFromConfigFile(ini, runs::MappingOptions::kSection);
   EXPECT_EQ(m.max_steps, 5u);
 }
 
 TEST(OptionTables, SavedOptionsLoadBackTheSame) {
-  app::MappingOptions m;
+  runs::MappingOptions m;
   m.max_steps = 9;
   m.backend = "graph";
   m.scene_every_steps = 4;
   expectRoundTrip(m);
-  expectRoundTrip(app::MappingOptions{});
-  app::LocalizationOptions l;
+  expectRoundTrip(runs::MappingOptions{});
+  runs::LocalizationOptions l;
   l.gate_chi2 = 13.8;
   expectRoundTrip(l);
   reducers::BudgetOptions b;
@@ -109,7 +109,7 @@ TEST(OptionTables, ErrorMessagesNameSectionKeyAndValue) {
   }
   ini.write("MappingApplication", "kf_implementation", "CRangeBearingKFSLAM");
   try {
-    app::MappingOptions().loadFromConfigFile(ini, app::MappingOptions::kSection);
+    runs::MappingOptions().loadFromConfigFile(ini, runs::MappingOptions::kSection);
     FAIL() << "no error";
   } catch (const ConfigError& e) {
     EXPECT_STREQ(e.what(),

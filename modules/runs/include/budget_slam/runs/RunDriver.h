@@ -29,7 +29,7 @@
 namespace budget_slam::runs {
 
 /// What a run driver is given besides the ini: the backend's name, the budget, and the values of
-/// [MappingApplication] it acts on (read by the caller: app/MappingOptions.h).
+/// [MappingApplication] it acts on (read by the caller: runs/MappingOptions.h).
 struct DriverSpec {
   std::string backend = "ekf";     ///< a name of the backend registry
   reducers::BudgetOptions budget;  ///< [LandmarkBudget], with the flags applied

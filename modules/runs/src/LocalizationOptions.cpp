@@ -1,6 +1,6 @@
-#include "LocalizationOptions.h"
+#include "budget_slam/runs/LocalizationOptions.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 const OptionTable<LocalizationOptions>& LocalizationOptions::table() {
   using O = LocalizationOptions;
@@ -27,4 +27,4 @@ const OptionTable<LocalizationOptions>& LocalizationOptions::table() {
   return t;
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

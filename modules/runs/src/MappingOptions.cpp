@@ -1,9 +1,9 @@
-#include "MappingOptions.h"
+#include "budget_slam/runs/MappingOptions.h"
 
-#include "BuiltinBackends.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/runs/BuiltinBackends.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 namespace {
 
 using O = MappingOptions;
@@ -76,4 +76,4 @@ const OptionTable<MappingOptions>& MappingOptions::table() {
   return t;
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -1,4 +1,4 @@
-#include "RunConfig.h"
+#include "budget_slam/runs/RunConfig.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -7,8 +7,6 @@
 #include <map>
 #include <sstream>
 
-#include "BuiltinBackends.h"
-#include "LocalizationOptions.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSchema.h"
 #include "budget_slam/core/IniText.h"
@@ -17,11 +15,13 @@
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/runs/BuiltinBackends.h"
+#include "budget_slam/runs/LocalizationOptions.h"
 #include "budget_slam/wakeup/WakeUpOptions.h"
 
 namespace fs = std::filesystem;
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 namespace {
 
 IniSchema knownKeys() {
@@ -172,7 +172,7 @@ void checkBackendFlag(const std::string& backend) {
         ConfigErrorKind::UnknownName, "--backend");
 }
 
-void checkCapFor(const RunConfig& rc, const CommandLine& cli, const std::string& reducer,
+void checkCapFor(const RunConfig& rc, const Request& cli, const std::string& reducer,
                  const std::string& config_label) {
   if (rc.budget.max_landmarks) return;
   std::unique_ptr<Reducer> r;
@@ -190,7 +190,7 @@ void checkCapFor(const RunConfig& rc, const CommandLine& cli, const std::string&
   }
 }
 
-RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const CommandLine& cli,
+RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Request& cli,
                         const std::string& config_label) {
   RunConfig rc;
   copyIni(params, rc.ini);  // no second ${...} expansion of the values
@@ -265,4 +265,4 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Com
   return rc;
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -6,10 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "RunConfig.h"
+#include "budget_slam/runs/RunConfig.h"
 #include "budget_slam/session/SessionState.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// The options a resumed run must share with the session it continues ("Section.key" -> value of
 /// the merged ini): every key but those of [Report], [Metrics], [WakeUp] and the
@@ -38,4 +38,4 @@ struct WakeUpOutcome {
 /// "Waking up on a saved map"). Ambiguous is never a pose.
 WakeUpOutcome wakeUpOnMap(const RunConfig& rc, session::SessionState& state, std::size_t skip);
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

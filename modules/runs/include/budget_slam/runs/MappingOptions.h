@@ -4,7 +4,7 @@
 
 #include "budget_slam/core/OptionTable.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// [MappingApplication]: MRPT kf-slam's application section, read the way kf-slam reads it, plus
 /// budget-slam's `backend`.
@@ -34,4 +34,4 @@ struct MappingOptions : public TabledOptions<MappingOptions> {
   static const std::vector<std::string>& backends();  ///< builtinBackends().names()
 };
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -1,5 +1,5 @@
 // compare --relocalize: every run's final map localizes other traversals (docs/OUTPUTS.md).
-#include "Relocalize.h"
+#include "budget_slam/runs/Relocalize.h"
 
 #include <atomic>
 #include <cmath>
@@ -9,7 +9,6 @@
 #include <mutex>
 #include <thread>
 
-#include "Localizer.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
@@ -17,9 +16,10 @@
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/report/CsvWriter.h"
+#include "budget_slam/runs/Localizer.h"
 #include "budget_slam/runs/ProcessProbes.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 namespace {
 
 double meanOfFinite(const std::vector<double>& v) {
@@ -40,11 +40,11 @@ double ratio(double a, double b) {
 }  // namespace
 
 std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& params,
-                                      const CommandLine& cli, const std::string& config_label) {
+                                      const Request& cli, const std::string& config_label) {
   std::vector<Traversal> out;
   for (const auto& path : cli.relocalize) {
     Traversal t;
-    CommandLine c = cli;
+    Request c = cli;
     c.rawlog = path;
     t.rc = loadRunConfig(params, c, config_label);
     t.name = std::filesystem::path(path).stem().string();
@@ -185,4 +185,4 @@ void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
   }
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -1,4 +1,4 @@
-#include "RunSession.h"
+#include "budget_slam/runs/RunSession.h"
 
 #include <chrono>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include "budget_slam/session/SessionStateFile.h"
 #include "budget_slam/wakeup/GlobalLocalizer.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 std::map<std::string, std::string> resumeOptions(const mrpt::config::CConfigFileBase& ini) {
   // Per-session keys: what this session reads and writes, how long, and how it reports.
@@ -99,4 +99,4 @@ WakeUpOutcome wakeUpOnMap(const RunConfig& rc, session::SessionState& state, std
   return out;
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -1,4 +1,4 @@
-#include "Localizer.h"
+#include "budget_slam/runs/Localizer.h"
 
 #include <mrpt/poses/CPose2D.h>
 
@@ -16,7 +16,7 @@
 #include "budget_slam/report/RunFiles.h"
 #include "budget_slam/runs/SummaryJson.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 namespace {
 
 constexpr double kDeg = M_PI / 180;
@@ -336,4 +336,4 @@ runs::RunOutcome Localizer::finish(runs::RunStatus status, runs::ErrorKind kind,
   return o;
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -4,7 +4,7 @@
 
 #include "budget_slam/core/OptionTable.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// [Localization]: `budget-slam localize` and `compare --relocalize` (docs/OUTPUTS.md). MRPT's
 /// EKF options ([RangeBearingKFSLAM], [RangeBearingKFSLAM_KalmanFilter]) apply as for mapping.
@@ -43,4 +43,4 @@ struct LocalizationOptions : public TabledOptions<LocalizationOptions> {
   static const OptionTable<LocalizationOptions>& table();
 };
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -3,16 +3,16 @@
 #include <string>
 #include <vector>
 
-#include "BudgetSlamApp.h"
-#include "RunConfig.h"
 #include "budget_slam/core/Step.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/LocalizationScore.h"
 #include "budget_slam/metrics/MapAlignment.h"
 #include "budget_slam/report/ComparisonTable.h"
+#include "budget_slam/runs/Request.h"
+#include "budget_slam/runs/RunConfig.h"
 #include "budget_slam/runs/RunStatus.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// A traversal of `compare --relocalize`, read once: its rawlog, settings (its own sidecar
 /// applied), steps and ground truth.
@@ -26,7 +26,7 @@ struct Traversal {
 
 /// Reads every --relocalize rawlog with `cli`'s flags and `params` (errors name the file).
 std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& params,
-                                      const CommandLine& cli, const std::string& config_label);
+                                      const Request& cli, const std::string& config_label);
 
 /// A run's final map as compare hands it to the localizations.
 struct MapOfRun {
@@ -68,4 +68,4 @@ void addRelocalizationColumns(std::vector<report::ComparisonRow>& rows,
                               const std::vector<RelocalizationResult>& results,
                               const std::string& reference_run);
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

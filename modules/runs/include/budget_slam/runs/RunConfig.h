@@ -4,13 +4,13 @@
 #include <string>
 #include <vector>
 
-#include "BudgetSlamApp.h"
-#include "LocalizationOptions.h"
-#include "MappingOptions.h"
 #include "budget_slam/reducers/BudgetOptions.h"
 #include "budget_slam/report/ReportOptions.h"
+#include "budget_slam/runs/LocalizationOptions.h"
+#include "budget_slam/runs/MappingOptions.h"
+#include "budget_slam/runs/Request.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// The settings of one invocation, merged in order (later wins): the ini (`params`), the rawlog's
 /// sidecar `<rawlog>.ini` when it sits next to the rawlog, --set overrides, then the flags
@@ -30,7 +30,7 @@ struct RunConfig {
 };
 
 /// Throws ConfigError whose message names the file, flag or key at fault.
-RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const CommandLine& cli,
+RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Request& cli,
                         const std::string& config_label);
 
 /// Throws ConfigError unless `set` reads Section.key=value (--set).
@@ -42,7 +42,7 @@ void checkBackendFlag(const std::string& backend);
 
 /// Throws ConfigError, naming --cap or the ini key, when the run's cap is `none` and `reducer`
 /// (with its options from rc.ini) needs a cap (reducers::checkCap).
-void checkCapFor(const RunConfig& rc, const CommandLine& cli, const std::string& reducer,
+void checkCapFor(const RunConfig& rc, const Request& cli, const std::string& reducer,
                  const std::string& config_label);
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -1,4 +1,4 @@
-#include "MapFolder.h"
+#include "budget_slam/runs/MapFolder.h"
 
 #include <filesystem>
 
@@ -8,7 +8,7 @@
 
 namespace fs = std::filesystem;
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 MapFolder loadMapFolder(const std::string& dir, std::size_t max_landmarks,
                         std::size_t max_path_poses) {
@@ -30,4 +30,4 @@ MapFolder loadMapFolder(const std::string& dir, std::size_t max_landmarks,
   return m;
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -6,7 +6,7 @@
 #include "budget_slam/core/Estimates.h"
 #include "budget_slam/metrics/MapAlignment.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// A run's output folder read back as a map to localize in (budget-slam localize --map RUN_DIR).
 struct MapFolder {
@@ -28,4 +28,4 @@ struct MapFolder {
 MapFolder loadMapFolder(const std::string& dir, std::size_t max_landmarks,
                         std::size_t max_path_poses = 50'000'000);
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "LocalizationOptions.h"
 #include "budget_slam/core/PlaceGrid.h"
 #include "budget_slam/core/Step.h"
 #include "budget_slam/dataset/GroundTruth.h"
@@ -18,9 +17,10 @@
 #include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/report/OutputFolder.h"
 #include "budget_slam/report/ReportOptions.h"
+#include "budget_slam/runs/LocalizationOptions.h"
 #include "budget_slam/runs/RunOutcome.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 /// What a localization's position error is measured against, in the map's frame, one pose a
 /// step of the traversal (nullopt: nothing for that step).
@@ -116,4 +116,4 @@ class Localizer {
   double total_s_ = 0;
 };
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

@@ -1,8 +1,8 @@
-#include "RunSpecs.h"
+#include "budget_slam/runs/RunSpecs.h"
 
 #include <filesystem>
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 
 runs::DriverSpec driverSpec(const RunConfig& rc) {
   runs::DriverSpec d;
@@ -15,4 +15,4 @@ runs::DriverSpec driverSpec(const RunConfig& rc) {
   return d;
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

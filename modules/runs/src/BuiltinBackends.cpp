@@ -1,9 +1,9 @@
-#include "BuiltinBackends.h"
+#include "budget_slam/runs/BuiltinBackends.h"
 
 #include "budget_slam/ekf/EkfBackend.h"
 #include "budget_slam/graph/GraphBackend.h"
 
-namespace budget_slam::app {
+namespace budget_slam::runs {
 namespace {
 
 BackendRegistry makeRegistry() {
@@ -21,4 +21,4 @@ const BackendRegistry& builtinBackends() {
   return registry;
 }
 
-}  // namespace budget_slam::app
+}  // namespace budget_slam::runs

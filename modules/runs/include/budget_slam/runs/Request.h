@@ -1,0 +1,33 @@
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace budget_slam::runs {
+
+/// What a caller asked for, typed (docs/ARCHITECTURE.md "Command line"): the command line parses
+/// into it, the Python module fills it from its arguments. With the ini it is all a run, a
+/// comparison or a localization is given (loadRunConfig merges the two).
+struct Request {
+  std::string command;  ///< run | compare | localize
+  std::string config;   ///< -c; "" = keep params as set by the caller, or ./config.ini
+  std::string rawlog, outdir, reducer, backend;
+  std::optional<std::string> cap;        ///< --cap as given: a number >= 1, or none
+  std::vector<std::string> sets;         ///< --set Section.key=value
+  std::vector<std::string> reducers;     ///< compare: --reducers a,b,c
+  unsigned threads = 0;                  ///< compare: --threads, 0 = one a core
+  bool offline_optimum = false;          ///< compare: --offline-optimum
+  std::optional<std::size_t> max_steps;  ///< --max-steps (0 = all)
+  std::vector<std::uint64_t> seeds;      ///< compare: --seeds, empty = the ini's seed
+  bool quiet = false, force = false;
+  std::string map_dir;                    ///< localize: --map RUN_DIR
+  std::optional<std::string> start_pose;  ///< localize: --start-pose x,y,yaw_deg (none: derive)
+  std::string reference_trajectory;       ///< localize, compare: --reference-trajectory
+  std::vector<std::string> relocalize;    ///< compare: --relocalize a.rawlog,b.rawlog
+  std::string resume;                     ///< run: --resume RUN_DIR ("" = a first session)
+  std::size_t skip_steps = 0;  ///< run: --skip-steps N (the rawlog's first N steps unread)
+  bool wake_up = false;        ///< run: --wake-up (find the robot on the resumed map)
+};
+
+}  // namespace budget_slam::runs
