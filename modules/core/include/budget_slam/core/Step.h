@@ -40,8 +40,11 @@ struct RangeBearingScan {
 };
 
 /// One action-observation pair of a rawlog, parsed once and shared read-only by every run.
-/// `action` and `frame` are the rawlog's own MRPT objects, kept so that the EKF backend feeds
-/// MRPT exactly what MRPT's kf-slam would; backends must never modify them.
+/// `odometry` and `scan` are what every module reads. `action` and `frame` are the rawlog's own
+/// MRPT objects, read only by the EKF backend so that it feeds MRPT exactly what MRPT's kf-slam
+/// would (per-reading covariances and all); nothing modifies them. When `scan` holds fewer
+/// readings than the frame (core/StepFilter.h), `scan` is right: the EKF restricts the frame's
+/// observation to them (ekf::mrptStepInput).
 struct Step {
   StepIndex index = 0;
   double t = 0;  ///< timestamp [s]; the step index when the rawlog has no usable timestamps
