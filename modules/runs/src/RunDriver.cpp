@@ -1,10 +1,7 @@
 #include "budget_slam/runs/RunDriver.h"
 
-#include <algorithm>
-#include <cstdio>
 #include <filesystem>
 #include <optional>
-#include <unordered_set>
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
@@ -56,7 +53,6 @@ RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegi
                      const DriverSpec& spec, report::OutputFolder folder,
                      std::shared_ptr<const dataset::GroundTruth> truth)
     : save_3d_scene_(spec.save_3d_scene),
-      scene_every_steps_(spec.scene_every_steps),
       backend_(backends.create(spec.backend, ini, BackendSettings{spec.keep_history})),
       manager_(std::make_unique<reducers::BudgetManager>(
           spec.budget,
@@ -64,12 +60,22 @@ RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegi
           makeShadows(ini, spec.budget))),
       truth_(std::move(truth)),
       outputs_(std::move(folder)),
-      keep_history_(spec.keep_history),
       rawlog_name_(spec.rawlog_name),
-      reloc_(relocMinLandmarks(ini), spec.keep_history ? 0 : kMaxCoverageSteps),
       heap_release_(kReleaseHeapEverySteps) {
   const auto& budget = spec.budget;
-  if (truth_ && !truth_->path.empty()) nees_.emplace(*truth_);
+  // The observers, in the order they are called: the probes first (their afterDrops closes the
+  // step's timed window), the eviction log after the map's counts and the NEES, the periodic
+  // scenes last (their title counts the step's drops).
+  probes_ = &addObserver<StepProbes>();
+  reloc_ = &addObserver<RelocCoverageTracking>(relocMinLandmarks(ini),
+                                               spec.keep_history ? 0 : kMaxCoverageSteps);
+  map_counts_ = &addObserver<MapCounts>(spec.keep_history);
+  if (truth_ && !truth_->path.empty()) addObserver<NeesTracking>(*truth_);
+  evictions_ = &addObserver<EvictionLog>(outputs_);
+  if (spec.scene_every_steps)
+    addObserver<SceneSnapshots>(spec.scene_every_steps, outputs_, [this] {
+      return mapContent(backend_->trajectory(), backend_->landmarks(), nullptr);
+    });
   // map.png colours the kept landmarks by the picture's clusters ([CoverageReducer], run's seed).
   picture_clusters_.seed = budget.seed;
   picture_clusters_.loadFromConfigFile(ini, reducers::CoverageOptions::kSection);
@@ -82,15 +88,15 @@ RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegi
 }
 
 void RunDriver::process(const Step& raw) {
-  probes_.start();
+  for (const auto& o : observers_) o->stepStarts();
   // Without the readings of landmarks dropped for good and of refused newcomers still waiting.
   const Step filtered = manager_->admissible(raw);
 
   const std::size_t before = backend_->landmarkCount();
   backend_->process(filtered);
   // The landmarks the step's readings went to are in the map now (new ones included).
-  const std::vector<LandmarkId> assoc = backend_->lastAssociation();
-  reloc_.added(assoc);
+  StepEvent event{raw, filtered, backend_->lastAssociation(), {}, *backend_};
+  for (const auto& o : observers_) o->afterUpdate(event);
   const std::size_t added = backend_->landmarkCount() - before;
   const auto diverged = [](const PoseEstimate& p) {
     return !std::isfinite(p.mean.x) || !std::isfinite(p.mean.y) || !std::isfinite(p.mean.phi) ||
@@ -99,52 +105,29 @@ void RunDriver::process(const Step& raw) {
   if (diverged(backend_->robotPose()))
     throw Error("step " + std::to_string(raw.index) + ": the " + backend_->name() +
                 " estimate diverged (the robot pose or its covariance is not finite)");
-  const auto drops = manager_->enforce(*backend_, filtered, raw);
+  event.drops = manager_->enforce(*backend_, filtered, raw);
   heap_release_.afterStep();  // timed with the step: its cost is the run's
-  const StepProbes::Sample times = probes_.stop();
-  // The coverage over time counts the map as it stands after this step's drops.
-  reloc_.removed(drops);
-  const std::size_t reloc_landmarks = reloc_.observe(raw, filtered, assoc);
-  const std::size_t n = backend_->landmarkCount();
-  const PoseEstimate pose = backend_->robotPose();
 
-  // The row first: a step whose row cannot be written (a full disk) does not count, so that
-  // steps.csv, trajectory.tum and summary.json agree on the steps done.
+  // The row: the observers' columns (the probes' first, which ends the timed window), then the
+  // map as the step leaves it and the memory read last.
   report::StepRow row;
+  for (const auto& o : observers_) o->afterDrops(event, row);
   row.step = raw.index;
   row.t = raw.t;
-  row.landmarks = n;
+  row.landmarks = backend_->landmarkCount();
   row.added = added;
-  for (const auto& e : drops) ++(e.reason == "refused" ? row.refused : row.dropped);
+  for (const auto& e : event.drops) ++(e.reason == "refused" ? row.refused : row.dropped);
   row.poses = backend_->poseCount();
-  row.pose = pose;
-  row.step_ms = 1e3 * times.wall_s;
-  row.cpu_ms = 1e3 * times.cpu_s;
+  row.pose = backend_->robotPose();
   row.rss_bytes = residentBytes();
-  row.reloc_landmarks = reloc_landmarks;
-  row.reloc_coverage_so_far_pct = reloc_.coverageSoFarPct();
+  // The row first: a step whose row cannot be written (a full disk) does not count, so that
+  // steps.csv, trajectory.tum and summary.json agree on the steps done.
   outputs_.addStep(row);
 
   ++steps_done_;
   last_step_ = raw.index;
-  landmarks_added_ += added;
-  probes_.count(times);
-  peak_landmarks_ = std::max(peak_landmarks_, n);
-  if (keep_history_) counts_.push_back(n);
-  if (keep_history_) online_.push_back({raw.index, pose});
-  if (nees_) nees_->add(raw.index, pose);
-
-  evictions_.log(drops, outputs_);
-  if (scene_every_steps_ && raw.index % scene_every_steps_ == 0) {
-    char name[48];
-    std::snprintf(name, sizeof name, "kf_state_%05llu.3Dscene",
-                  static_cast<unsigned long long>(raw.index));
-    outputs_.writeScene(name, mapContent(backend_->trajectory(), backend_->landmarks(), nullptr),
-                        backend_->robotPose().mean);
-  }
+  for (const auto& o : observers_) o->stepDone(event, row);
 }
-
-FinalRelocCoverage RunDriver::finalRelocCoverage() const { return reloc_.finalCoverage(*backend_); }
 
 report::MapContent RunDriver::mapContent(const std::vector<TrajectoryPoint>& trajectory,
                                          const std::vector<LandmarkView>& landmarks,
@@ -157,7 +140,7 @@ report::MapContent RunDriver::mapContent(const std::vector<TrajectoryPoint>& tra
                       std::to_string(evictions()) + " dropped" +
                       (refused() ? ", " + std::to_string(refused()) + " refused" : std::string());
   return runMapContent(std::move(title), trajectory, landmarks, picture_clusters_,
-                       evictions_.droppedMarks(), coverage, truth_.get());
+                       evictions_->droppedMarks(), coverage, truth_.get());
 }
 
 void RunDriver::restoreSession(const session::SessionState& state) {
@@ -186,8 +169,7 @@ void RunDriver::complete() {
   // then the backend's (the graph's solve to the batch optimum).
   if (steps_done_ > 0) {
     const auto drops = manager_->finish(*backend_, last_step_);
-    reloc_.removed(drops);
-    evictions_.log(drops, outputs_);
+    for (const auto& o : observers_) o->endOfRunDrops(drops);
   }
   Cancellation::check();  // drops cut short by a stop request are logged above
   if (PoseHistoryBackend* h = poseHistory(backend_.get())) h->finish();
@@ -232,8 +214,7 @@ RunOutcome RunDriver::finish(RunStatus status, ErrorKind kind, const std::string
   const std::vector<LandmarkView>& landmarks = files.landmarks;
 
   // Every output is attempted; the first failure (a full disk) is the run's error.
-  const FinalRelocCoverage reloc =
-      final_reloc_coverage_ ? *final_reloc_coverage_ : finalRelocCoverage();
+  const FinalRelocCoverage& reloc = reloc_->settle(*backend_);
   files.map = [&] { return mapContent(trajectory, landmarks, &reloc); };
   files.scene = save_3d_scene_;
   files.figure_formats = figure_formats_;
@@ -262,32 +243,30 @@ RunOutcome RunDriver::finish(RunStatus status, ErrorKind kind, const std::string
   run.counts.landmarks_final = landmarks.size();
   run.counts.landmarks_not_finite = landmarks_not_finite;
   run.counts.poses_not_finite = poses_not_finite;
-  run.counts.landmarks_peak = peak_landmarks_;
-  run.counts.landmarks_added = landmarks_added_;
-  run.counts.evictions = evictions();
-  run.counts.refused = refused();
   run.counts.poses_kept = backend_->poseCount();
   run.counts.poses_marginalized = manager_->posesMarginalized();
-  run.timings = probes_.timings(steps_done_);
   run.agreement = agreementJson(*manager_);
   run.shadow_failures = shadowFailuresJson(*manager_);
-
   if (truth_ && !truth_->empty()) {
     GroundTruthOutcome& gt = o.ground_truth.emplace();
     gt.landmarks_file = truth_->landmarks_file;
     gt.path_file = truth_->path_file;
+  }
+  // The observers' blocks: timings, relocalization, the map's and the drops' counts, the NEES.
+  for (const auto& ob : observers_) ob->fill(o, steps_in_rawlog);
+
+  if (o.ground_truth) {
+    GroundTruthOutcome& gt = *o.ground_truth;
     try {
       gt.errors = metrics::groundTruthErrors(trajectory, landmarks, *truth_, steps_in_rawlog);
     } catch (const Error& x) {
       if (first_error.empty()) first_error = x.what();  // a bug: inputs are finite here
     }
-    if (nees_) gt.nees = nees_->result(steps_in_rawlog);
     // Where the ground truth's frame sits in the map's (budget-slam localize starts another
     // traversal's robot there; docs/OUTPUTS.md).
     alignment_ = metrics::mapAlignment(landmarks, trajectory, *truth_, steps_in_rawlog);
     gt.alignment = alignment_;
   }
-  run.relocalization = {reloc.coverage, reloc.source, reloc.details};
   o.given = given.is_object() ? given : nlohmann::json::object();
   try {
     writeSummary(outputs_.folder().file("summary.json"), o);

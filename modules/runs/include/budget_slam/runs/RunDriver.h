@@ -1,10 +1,11 @@
 #pragma once
 #include <mrpt/config/CConfigFileBase.h>
 
-#include <chrono>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/core/BackendRegistry.h"
@@ -12,7 +13,6 @@
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/metrics/MapAlignment.h"
-#include "budget_slam/metrics/NeesAccumulator.h"
 #include "budget_slam/metrics/RelocalizationCoverage.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/CoverageOptions.h"
@@ -24,6 +24,7 @@
 #include "budget_slam/runs/RunObservers.h"
 #include "budget_slam/runs/RunOutcome.h"
 #include "budget_slam/runs/ShadowReducers.h"
+#include "budget_slam/runs/StepObserver.h"
 #include "budget_slam/session/SessionState.h"
 
 namespace budget_slam::runs {
@@ -42,16 +43,23 @@ struct DriverSpec {
   std::string rawlog_name;            ///< the rawlog's file name, in map.png's title
 };
 
-/// The run driver: one SLAM run under a budget, backend + budget manager, fed one step at a time
-/// (docs/ARCHITECTURE.md "Data flow"). It measures as it goes (timings, relocalization coverage,
-/// the NEES: metrics::NeesAccumulator) and hands every file to report::RunOutputs (steps.csv and
-/// evictions.csv as the steps happen, the rest in finish(); docs/OUTPUTS.md).
+/// The run driver: one SLAM run under a budget, fed one step at a time (docs/ARCHITECTURE.md
+/// "Data flow"). Its step loop is the backend's update and the budget's drops; what the run
+/// measures and records besides (timings, relocalization coverage, the map's counts and online
+/// poses, the NEES, the eviction log, the periodic scenes) is a list of observers
+/// (RunObservers.h) it calls in order, each filling its own block of the outcome. Every file goes
+/// through report::RunOutputs (steps.csv and evictions.csv as the steps happen, the rest in
+/// finish(); docs/OUTPUTS.md).
 class RunDriver {
  public:
-  /// The backend `spec.backend` of `backends` and the budget's reducers, built from `ini`.
+  /// The backend `spec.backend` of `backends`, the budget's reducers, and the observers, built
+  /// from `ini`.
   RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegistry& backends,
             const DriverSpec& spec, report::OutputFolder folder,
             std::shared_ptr<const dataset::GroundTruth> truth);
+  // The observers and the budget's state dumps hold on to the driver's members.
+  RunDriver(const RunDriver&) = delete;
+  RunDriver& operator=(const RunDriver&) = delete;
 
   /// Runs one step: backend update (evicted landmarks filtered out when readmission is off), then
   /// the budget, then its steps.csv row. Throws Error on bad data, on a diverged estimate and when
@@ -99,24 +107,27 @@ class RunDriver {
   const report::OutputFolder& folder() const { return outputs_.folder(); }
   std::size_t stepsDone() const { return steps_done_; }
   /// Landmarks dropped after holding a place in the map (evictions.csv rows but the refusals).
-  std::size_t evictions() const { return evictions_.evictions(); }
+  std::size_t evictions() const { return evictions_->evictions(); }
   /// Newcomers refused at admission (evictions.csv rows with reason refused).
-  std::size_t refused() const { return evictions_.refused(); }
-  /// The online robot pose after each step (for NEES and the metrics against the reference).
-  const std::vector<metrics::PoseRecord>& onlinePoses() const { return online_; }
-  const std::vector<std::size_t>& landmarkCounts() const { return counts_; }
-  double totalStepSeconds() const { return probes_.totalSeconds(); }
+  std::size_t refused() const { return evictions_->refused(); }
+  /// The online robot pose after each step (for the metrics against the reference; empty
+  /// without history).
+  const std::vector<metrics::PoseRecord>& onlinePoses() const { return map_counts_->onlinePoses(); }
+  /// The landmarks in the map after each step (empty without history).
+  const std::vector<std::size_t>& landmarkCounts() const { return map_counts_->landmarkCounts(); }
+  /// The wall time of the steps done [s].
+  double totalStepSeconds() const { return probes_->totalSeconds(); }
 
   /// The relocalization tracker's steps against the backend's landmarks now (call after
   /// complete()).
-  FinalRelocCoverage finalRelocCoverage() const;
+  FinalRelocCoverage finalRelocCoverage() const { return reloc_->finalCoverage(*backend_); }
   /// Replaces the relocalization coverage finish() reports (compare on ID-less rawlogs: through
   /// the reference run).
   void setFinalRelocCoverage(FinalRelocCoverage coverage) {
-    final_reloc_coverage_ = std::move(coverage);
+    reloc_->replaceFinal(std::move(coverage));
   }
   /// Which landmarks each step observed, and the coverage so far.
-  const metrics::RelocalizationTracker& relocalization() const { return reloc_.tracker(); }
+  const metrics::RelocalizationTracker& relocalization() const { return reloc_->tracker(); }
   /// Set by finish() when the rawlog has ground truth: the ground truth's frame in the map's.
   const std::optional<metrics::MapAlignment>& mapAlignment() const { return alignment_; }
 
@@ -127,34 +138,38 @@ class RunDriver {
                                 const std::vector<LandmarkView>& landmarks,
                                 const FinalRelocCoverage* coverage) const;
 
+  /// Adds an observer at the end of the list.
+  template <class O, class... Args>
+  O& addObserver(Args&&... args) {
+    observers_.push_back(std::make_unique<O>(std::forward<Args>(args)...));
+    return static_cast<O&>(*observers_.back());
+  }
+
   /// How map.png and map.3Dscene colour the kept landmarks: the picture's k-means clusters
   /// ([CoverageReducer]'s settings, the run's seed), not a reducer.
   reducers::CoverageOptions picture_clusters_;
-  bool save_3d_scene_ = true;          ///< [MappingApplication] save_3d_scene
-  std::size_t scene_every_steps_ = 0;  ///< kf-slam's SAVE_3D_SCENES / SAVE_LOG_FREQUENCY
+  bool save_3d_scene_ = true;  ///< [MappingApplication] save_3d_scene
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<reducers::BudgetManager> manager_;
   std::shared_ptr<const dataset::GroundTruth> truth_;
   report::RunOutputs outputs_;
-  std::vector<metrics::PoseRecord> online_;
-  bool keep_history_ = true;
-  std::vector<std::size_t> counts_;
   std::string rawlog_name_;  ///< the rawlog's file name, in map.png's title
   std::vector<report::FigureFormat> figure_formats_;  ///< [Report] figure_format
-  // The observers of the step loop, each filling its block of the outcome.
-  StepProbes probes_;                             ///< timings
-  EvictionLog evictions_;                         ///< evictions.csv, drop counts, map marks
-  RelocCoverageTracking reloc_;                   ///< relocalization coverage
-  std::optional<metrics::NeesAccumulator> nees_;  ///< when the ground truth has a path
+  /// The observers of the step loop, called in this order (RunObservers.h), and those the
+  /// driver's accessors read.
+  std::vector<std::unique_ptr<StepObserver>> observers_;
+  StepProbes* probes_ = nullptr;
+  RelocCoverageTracking* reloc_ = nullptr;
+  MapCounts* map_counts_ = nullptr;
+  EvictionLog* evictions_ = nullptr;
   /// Gives the heap's free pages back every kReleaseHeapEverySteps steps (core/HeapRelease.h:
   /// the filter's reallocated state leaves holes in the heap that free() keeps resident).
   HeapRelease heap_release_;
-  std::optional<FinalRelocCoverage> final_reloc_coverage_;  ///< set by compare, else computed
   std::optional<metrics::MapAlignment> alignment_;
   bool completed_ = false;
   std::string write_error_, summary_error_;
   StepIndex last_step_ = 0;
-  std::size_t steps_done_ = 0, peak_landmarks_ = 0, landmarks_added_ = 0;
+  std::size_t steps_done_ = 0;
 };
 
 }  // namespace budget_slam::runs
