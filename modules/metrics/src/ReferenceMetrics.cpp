@@ -7,6 +7,8 @@
 #include <map>
 #include <unordered_map>
 
+#include "budget_slam/core/AbandonOnStop.h"
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 
 namespace budget_slam::metrics {
@@ -78,12 +80,22 @@ ReferenceMetrics compareWithReference(const Backend& reference, const Backend& r
   std::size_t rows = 0;
   for (const auto& v : vars) rows += v.dim();
   if (rows == 0 || rows > eig_max_rows) return m;
+  // Seconds at a few thousand rows: a stop request skips what is left (EIG stays NaN; the
+  // caller sees the request), and the eigen-decomposition, which has no place to look at it,
+  // is abandoned rather than waited for (core/AbandonOnStop.h).
   try {
-    const Eigen::MatrixXd diff = reference.jointCovariance(vars) - reduced.jointCovariance(vars);
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (diff + diff.transpose()),
-                                                            Eigen::EigenvaluesOnly);
-    m.eig_min = es.eigenvalues().minCoeff();
-    m.eig_max = es.eigenvalues().maxCoeff();
+    if (Cancellation::requested()) return m;
+    Eigen::MatrixXd diff = reference.jointCovariance(vars);
+    if (Cancellation::requested()) return m;
+    diff -= reduced.jointCovariance(vars);
+    const auto extremes = unlessStopped<std::pair<double, double>>(
+        [sym = Eigen::MatrixXd(0.5 * (diff + diff.transpose()))] {
+          const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(sym, Eigen::EigenvaluesOnly);
+          return std::make_pair(es.eigenvalues().minCoeff(), es.eigenvalues().maxCoeff());
+        });
+    if (!extremes) return m;
+    m.eig_min = extremes->first;
+    m.eig_max = extremes->second;
     m.eig_rows = rows;
   } catch (const std::invalid_argument&) {
     // A backend that cannot give one of the variables: EIG stays NaN.

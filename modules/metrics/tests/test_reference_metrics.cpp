@@ -2,7 +2,9 @@
 #include <mrpt/config/CConfigFile.h>
 
 #include <cmath>
+#include <csignal>
 
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/ekf/EkfBackend.h"
 #include "budget_slam/metrics/ReferenceMetrics.h"
@@ -69,4 +71,15 @@ TEST(ReferenceMetrics, EkfAgainstItselfIsZeroAndReducedRunIsMeasured) {
   const auto skipped = compareWithReference(ref, reduced, 10);
   EXPECT_TRUE(std::isnan(skipped.eig_min));
   EXPECT_EQ(skipped.eig_rows, 0u);
+
+  // A stop request skips EIG (seconds on long graph runs) and nothing else.
+  Cancellation::request(SIGTERM);
+  const auto stopped = compareWithReference(ref, reduced, 10000);
+  Cancellation::clear();
+  EXPECT_TRUE(std::isnan(stopped.eig_min));
+  EXPECT_TRUE(std::isnan(stopped.eig_max));
+  EXPECT_EQ(stopped.eig_rows, 0u);
+  EXPECT_EQ(stopped.ate, m.ate);
+  EXPECT_EQ(stopped.ud_percent, m.ud_percent);
+  EXPECT_EQ(stopped.landmarks, m.landmarks);
 }

@@ -137,14 +137,19 @@ void makeRuns(const mrpt::config::CConfigFileMemory& merged, const BackendRegist
 metrics::ReferenceMetrics finishRun(CompareRun& r, const CompareRun& ref, std::size_t steps,
                                     std::size_t eig_max_rows, nlohmann::json extra) {
   metrics::ReferenceMetrics m;
-  // A stop request after a run's end phase: its outputs are still written (quickly), marked.
-  if (r.ok() && Cancellation::requested()) {
-    r.status = RunStatus::Interrupted, r.kind = ErrorKind::Stopped;
-    r.error = interruptedLine(r, " before its outputs were written,");
-  }
+  // A stop request after a run's end phase, or while its metrics were computed (EIG: seconds on
+  // long graph runs): its outputs are still written (quickly), marked.
+  const auto mark_stopped = [&r] {
+    if (r.ok() && Cancellation::requested()) {
+      r.status = RunStatus::Interrupted, r.kind = ErrorKind::Stopped;
+      r.error = interruptedLine(r, " before its outputs were written,");
+    }
+  };
+  mark_stopped();
   if (ref.ok() && r.ok()) {
     m = metrics::compareWithReference(ref.driver->backend(), r.driver->backend(), eig_max_rows);
     extra["reference_metrics"] = toJson(m);
+    mark_stopped();
   }
   try {
     r.result = r.driver->finish(r.status, r.kind, r.error, steps, extra);

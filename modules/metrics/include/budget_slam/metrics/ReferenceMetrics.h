@@ -36,7 +36,9 @@ ReferenceMetrics compareTrajectories(const std::vector<TrajectoryPoint>& referen
 
 /// All metrics, including UD and EIG from the backends' covariances. EIG is computed over the
 /// latest pose (every kept pose for backends that keep past poses, up to the size limit) and the
-/// kept landmarks, and skipped when that covariance would exceed `eig_max_rows` rows.
+/// kept landmarks, and skipped when that covariance would exceed `eig_max_rows` rows, or when a
+/// stop request (core/Cancellation.h) comes before or while it is computed: the caller, which
+/// sees the request, ends the run as interrupted.
 ReferenceMetrics compareWithReference(const Backend& reference, const Backend& reduced,
                                       std::size_t eig_max_rows);
 
