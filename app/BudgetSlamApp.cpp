@@ -2,15 +2,8 @@
 
 #include <tclap/CmdLine.h>
 
-#include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <set>
 #include <sstream>
 
 #include "CommandLineFlags.h"
@@ -18,18 +11,15 @@
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
-#include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/StopSignals.h"
 #include "budget_slam/core/Text.h"
-#include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/Figure.h"
 #include "budget_slam/runs/BuiltinBackends.h"
-#include "budget_slam/runs/RunConfig.h"
-#include "budget_slam/runs/RunSession.h"
-#include "budget_slam/runs/RunSpecs.h"
+#include "budget_slam/runs/Commands.h"
+#include "budget_slam/runs/RequestChecks.h"
 #include "budget_slam/runs/Runs.h"
 
 namespace budget_slam::app {
