@@ -2,15 +2,8 @@
 
 #include <tclap/CmdLine.h>
 
-#include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <set>
 #include <sstream>
 
 #include "CommandLineFlags.h"
@@ -18,18 +11,15 @@
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
-#include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/StopSignals.h"
 #include "budget_slam/core/Text.h"
-#include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/Figure.h"
 #include "budget_slam/runs/BuiltinBackends.h"
-#include "budget_slam/runs/RunConfig.h"
-#include "budget_slam/runs/RunSession.h"
-#include "budget_slam/runs/RunSpecs.h"
+#include "budget_slam/runs/Commands.h"
+#include "budget_slam/runs/RequestChecks.h"
 #include "budget_slam/runs/Runs.h"
 
 namespace budget_slam::app {
@@ -59,38 +49,6 @@ std::string topLevelHelp() {
   return text + "\nExit codes: 0 ok, 1 failed run, 2 bad command line, 130 interrupted.\n";
 }
 
-constexpr const char* kVersion = "0.1";
-
-/// --cap: a number of landmarks >= 1, or none (no cap).
-void checkCapFlag(const std::string& v) {
-  if (v == "none") return;
-  char* end = nullptr;
-  errno = 0;
-  const long long n = std::strtoll(v.c_str(), &end, 10);
-  if (v.empty() || end != v.c_str() + v.size() || errno == ERANGE)
-    throw UsageError("--cap '" + v + "': not a number of landmarks, nor none");
-  if (n < 1) throw UsageError("--cap " + v + ": must be at least 1 (or none for no cap)");
-}
-
-/// --reducer and --reducers name registered reducers; compare's list holds each once and never
-/// `none` (its reference run is always there).
-void checkReducerFlags(const std::string& reducer, const std::vector<std::string>& compared) {
-  const auto known = [](const std::string& flag, const std::string& name) {
-    try {
-      reducers::builtinReducers().entry(name);
-    } catch (const ConfigError& e) {
-      throw UsageError(flag + ": " + e.what());
-    }
-  };
-  if (!reducer.empty()) known("--reducer", reducer);
-  for (const auto& n : compared) {
-    known("--reducers", n);
-    if (n == "none") throw UsageError("--reducers: 'none' is the reference run, always included");
-  }
-  if (std::set<std::string>(compared.begin(), compared.end()).size() != compared.size())
-    throw UsageError("--reducers: a reducer is listed twice");
-}
-
 std::vector<std::string> splitList(const std::string& s) {
   std::vector<std::string> out;
   std::stringstream ss(s);
@@ -105,14 +63,6 @@ std::string fixed(double v, int digits) {
   o.precision(digits);
   o << v;
   return o.str();
-}
-
-/// The values of run's and compare's flags (TCLAP checked their types).
-void checkFlagValues(const runs::Request& cli) {
-  if (cli.cap) checkCapFlag(*cli.cap);
-  if (!cli.backend.empty()) runs::checkBackendFlag(cli.backend);
-  checkReducerFlags(cli.reducer, cli.reducers);
-  for (const auto& set : cli.sets) runs::checkSet(set);
 }
 
 }  // namespace
@@ -275,8 +225,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   if (compare) cli_.reference_trajectory = reference_trajectory.getValue();
   if (compare) cli_.offline_optimum = offline_optimum.getValue();
   if (!compare) cli_.resume = resume.getValue(), cli_.wake_up = wake_up.getValue();
-  if (cli_.wake_up && cli_.resume.empty())
-    throw UsageError("--wake-up: needs --resume RUN_DIR (the saved map to wake up on)");
+  runs::checkWakeUp(cli_);
   cli_.quiet = quiet.getValue();
   cli_.force = force.getValue();
   // Flag values are part of the command line: a bad one exits 2 before anything is written.
@@ -286,7 +235,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
     if (max_steps.isSet()) cli_.max_steps = parseMaxSteps(max_steps.getValue());
     if (skip_steps.isSet()) cli_.skip_steps = parseSkipSteps(skip_steps.getValue());
     if (seeds.isSet()) cli_.seeds = parseSeeds(seeds.getValue());
-    checkFlagValues(cli_);
+    runs::checkRequest(cli_);
   } catch (const ConfigError& e) {
     throw UsageError(e.what() + std::string("; see budget-slam ") + cli_.command + " --help");
   }
@@ -353,94 +302,47 @@ bool BudgetSlamApp::stdoutWritten(const std::string& outdir) {
                      outdir.empty() ? "" : "; the outputs are in " + outdir + "/");
 }
 
-int BudgetSlamApp::runRun() {
-  nlohmann::json given = {{"config", config_label_}};  // what the run was given, in summary.json
-  if (!cli_.rawlog.empty()) given["rawlog"] = cli_.rawlog;
-  // The one error line of a run that ended `status` (nothing else on stderr says it).
-  const auto ended = [&](runs::RunStatus status, runs::ErrorKind kind, const std::string& line) {
-    *err << "budget-slam: " << (status == runs::RunStatus::Interrupted ? "" : "error: ") << line
-         << std::endl;
-    return runs::exitCode(status, kind);
-  };
+runs::RequestContext BudgetSlamApp::requestContext() {
+  runs::RequestContext context;
+  context.params = params;
+  context.config_text = std::move(config_text_);  // parsed by the command (its errors are its)
+  config_text_.reset();
+  context.config_label = config_label_;
+  context.writer = std::string("budget-slam ") + kVersion;
+  return context;
+}
 
-  runs::RunConfig rc;
-  try {
-    loadConfig();
-    rc = runs::loadRunConfig(params, cli_, config_label_);
-  } catch (const std::exception& e) {
-    // Error: a bad value, key or file; anything else (MRPT's own exceptions) in one line.
-    const std::string why =
-        printable(dynamic_cast<const Error*>(&e) ? std::string(e.what())
-                                                 : config_label_ + ": " + failureLine(e));
-    runs::RunOutcome early;
-    early.fail(runs::RunStatus::Failed, runs::errorKindOf(e), why);
-    early.given = given;
-    early.given["started"] = false;
-    const std::string not_saved = runs::writeEarlySummary(cli_.outdir, cli_.force, early);
-    return ended(early.status, early.kind, withAlso(why, not_saved));
-  }
-
-  for (const auto& w : rc.warnings) *err << "budget-slam: warning: " << w << std::endl;
-  runs::RunSpec spec;
-  spec.given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", config_label_}};
-  // A session to continue is read and checked before the output folder is touched: a bad state
-  // file or a mismatched option is one line, exit 1, and nothing is written (docs/OUTPUTS.md).
-  spec.resume_options = runs::resumeOptions(rc.ini);
-  if (!cli_.resume.empty()) {
-    try {
-      std::error_code ec;
-      if (std::filesystem::equivalent(cli_.resume, rc.outdir, ec))
-        throw ConfigError("--resume " + cli_.resume +
-                          ": the output folder must be another one (the saved session stays)");
-      spec.resumed = runs::loadResumeState(cli_.resume, rc.mapping.backend, spec.resume_options);
-    } catch (const std::exception& e) {
-      return ended(runs::RunStatus::Failed, runs::errorKindOf(e), printable(e.what()));
-    }
-    spec.given["resumed_from"] = cli_.resume;
-    if (cli_.wake_up) {
-      // Before any output: a robot not found is one line, exit 1, nothing written.
-      try {
-        const runs::WakeUpOutcome w = runs::wakeUpOnMap(rc, *spec.resumed, cli_.skip_steps);
-        spec.given["wake_up"] = w.json;
-        if (!w.found)
-          return ended(runs::RunStatus::Failed, runs::ErrorKind::Input, "--wake-up: " + w.why);
-        spec.wake_up_steps = w.steps;
-      } catch (const std::exception& e) {
-        return ended(runs::RunStatus::Failed, runs::errorKindOf(e), printable(e.what()));
-      }
-    }
-  }
-  spec.ini = rc.ini;
-  spec.backends = &runs::builtinBackends();
-  spec.driver = runs::driverSpec(rc);
-  spec.rawlog = rc.rawlog;
-  spec.ground_truth_file = rc.mapping.ground_truth_file;
-  spec.ground_truth_file_robot = rc.mapping.ground_truth_file_robot;
-  spec.outdir = rc.outdir;
-  spec.force = cli_.force;
-  spec.max_steps = rc.mapping.max_steps;
-  spec.skip_steps = cli_.skip_steps;
-  spec.writer = std::string("budget-slam ") + kVersion;
-
+runs::RunHooks BudgetSlamApp::requestHooks() const {
   runs::RunHooks hooks;
   hooks.progress_out = err;
-  hooks.progress = progressSettings(rc.report);
+  hooks.progress = progressSettings(report::ReportOptions());  // lines: the ini's [Report]
   hooks.on_step = on_step;
   hooks.on_end_phase = on_end_phase;
   // Notes go to stderr unless --quiet (an error stays one line).
-  hooks.note = [&](const std::string& line) {
+  hooks.note = [this](const std::string& line) {
     if (!cli_.quiet) *err << "budget-slam: note: " << line << std::endl;
   };
-  const runs::RunReport report = runs::runSlam(spec, hooks);
-  for (const auto& w : report.warnings) *err << "budget-slam: warning: " << w << std::endl;
+  hooks.warning = [this](const std::string& line) {
+    *err << "budget-slam: warning: " << line << std::endl;
+  };
+  return hooks;
+}
+
+int BudgetSlamApp::runRun() {
+  const runs::RunReport report = runs::run(cli_, requestContext(), requestHooks());
   const runs::RunOutcome& o = report.outcome;
-  if (!o.ok()) return ended(o.status, o.kind, report.line);
+  if (!o.ok()) {
+    // The one error line of a run that did not end ok (nothing else on stderr says it).
+    *err << "budget-slam: " << (o.status == runs::RunStatus::Interrupted ? "" : "error: ")
+         << report.line << std::endl;
+    return runs::exitCode(o);
+  }
   if (!cli_.quiet) {
     const auto& pose = *report.final_pose;
     const auto& run = *o.run;
-    *out << "budget-slam run: " << report.steps << " steps, backend " << rc.mapping.backend
-         << ", reducer " << rc.budget.reducer;
-    if (run.cap) *out << ", cap " << *rc.budget.max_landmarks;
+    *out << "budget-slam run: " << report.steps << " steps, backend " << run.backend << ", reducer "
+         << run.reducer;
+    if (run.cap) *out << ", cap " << *run.cap;
     *out << ": " << report.landmarks << " landmarks kept, " << run.counts.evictions << " dropped";
     if (run.counts.refused) *out << ", " << run.counts.refused << " newcomers refused";
     *out << "\n"

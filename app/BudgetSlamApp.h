@@ -12,9 +12,13 @@
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/reducers/BudgetOptions.h"
 #include "budget_slam/report/ReportOptions.h"
+#include "budget_slam/runs/Commands.h"
 #include "budget_slam/runs/Request.h"
 
 namespace budget_slam::app {
+
+/// budget-slam's version (--version, the session state's writer "budget-slam <version>").
+inline constexpr const char* kVersion = "0.1";
 
 /// The budget-slam application: a thin main() calls initialize() and run(); tests drive it with an
 /// in-memory config (`params`) and a temporary output folder, as MRPT's KFSLAMApp.
@@ -50,6 +54,11 @@ class BudgetSlamApp {
  private:
   int runRun();
   int runCompare();
+  /// What run and compare run with besides cli_: params, or the -c text still to parse (handed
+  /// over: the command parses it), its label and the writer.
+  runs::RequestContext requestContext();
+  /// Progress on `err`, on_step, on_end_phase, notes (unless --quiet) and warnings on `err`.
+  runs::RunHooks requestHooks() const;
   /// Flushes `out`. False, after one line on `err`, when stdout cannot take it (a closed pipe):
   /// the command then exits 1, its outputs (in `outdir`, when given) complete.
   bool stdoutWritten(const std::string& outdir);

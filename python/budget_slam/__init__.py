@@ -11,10 +11,10 @@ registered reducer's scores on a Gaussian state (docs/PYTHON.md).
     s = budget_slam.load_state("OUT/states/step_120.txt")
     budget_slam.reducer_scores("mi", s["mean"], s["cov"], s["ids"])["scores"]
 
-The runs are budget-slam's own (BudgetSlamApp driven in-process, not a subprocess): the same
-options, checks, outputs and numbers as the command line. A refused argument raises ConfigError, a
-failed run raises Error, both carrying the application's one-line message; Ctrl-C ends the run
-cleanly and raises KeyboardInterrupt.
+The runs are budget-slam's own (the run layer's runs::run and runs::compare in-process, from a
+typed request, not a subprocess): the same options, checks, outputs and numbers as the command
+line. A refused argument raises ConfigError, a failed run raises Error, both carrying the
+application's one-line message; Ctrl-C ends the run cleanly and raises KeyboardInterrupt.
 """
 import csv
 import json
@@ -32,7 +32,6 @@ from . import _core
 __all__ = ["run", "compare", "reducer_scores", "reducer_names", "load_state", "read_run", "Error",
            "ConfigError"]
 
-_PREFIX = "budget-slam: "
 # Columns of budget-slam's CSV files that hold text: they stay str even when every field is empty
 # (an evictions.csv without a failed shadow, a relocalization.csv without an error).
 _TEXT_COLUMNS = {"reducer", "reason", "shadow_choices", "shadow_errors", "run", "backend", "status",
@@ -186,85 +185,78 @@ def _value(v):
 
 
 def _sets(overrides):
-    """{"Section.key": value} or {"Section": {"key": value}} as --set arguments."""
+    """{"Section.key": value} or {"Section": {"key": value}} as --set values."""
     if overrides is None:
         return []
     if not isinstance(overrides, dict):
         raise TypeError("overrides: expected a dict like {'LandmarkBudget.seed': 3}")
-    args = []
+    sets = []
     for k, v in overrides.items():
         if isinstance(v, dict):
-            args += [a for kk, vv in v.items() for a in ("--set", f"{k}.{kk}={_value(vv)}")]
+            sets += [f"{k}.{kk}={_value(vv)}" for kk, vv in v.items()]
         else:
-            args += ["--set", f"{k}={_value(v)}"]
-    return args
+            sets.append(f"{k}={_value(v)}")
+    return sets
 
 
-def _cap_flag(cap):
-    """--cap of run() and compare(): a whole number of landmarks >= 1, or "none" (no cap)."""
+def _cap(cap):
+    """cap of run() and compare(): a whole number of landmarks >= 1, or "none" (no cap)."""
     if cap is None:
-        return []
+        return None
     if isinstance(cap, str):
         if cap == "none":
-            return ["--cap", "none"]
+            return "none"
         raise ConfigError(f"cap={cap!r}: a number of landmarks or 'none'")
     if isinstance(cap, bool) or not isinstance(cap, numbers.Integral):
         raise TypeError(f"cap={cap!r}: expected a whole number of landmarks (int) or 'none'")
-    return ["--cap", str(int(cap))]
+    return str(int(cap))
 
 
-def _count_flag(name, value):
-    """A flag taking a whole number (--max-steps, --threads)."""
+def _count(name, value):
+    """An argument taking a whole number (max_steps, skip_steps, threads, a seed)."""
     if value is None:
-        return []
+        return None
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"{name.lstrip('-').replace('-', '_')}={value!r}: expected an int")
-    return [name, str(int(value))]
+        raise TypeError(f"{name}={value!r}: expected an int")
+    return int(value)
 
 
-def _invoke(command, config, rawlog, overrides, outdir, force, flags, progress=None):
-    args, params = [command], None
+def _invoke(command, config, rawlog, overrides, outdir, force, request, progress=None):
+    """Runs `command` (run, compare) through the run layer with the typed request the arguments
+    fill (python/src/module.cpp run_request); returns the output folder and whether it is a
+    temporary one."""
+    params = None
     if isinstance(config, dict):
         params = _ini_text(config) if config else "[MappingApplication]\n"
     elif config is not None:
-        args += ["-c", os.fspath(config)]
+        request["config"] = os.fspath(config)
     else:
         raise TypeError("config: give an ini file path or a dict {section: {key: value}}")
     if rawlog is not None:
-        args += ["-i", os.fspath(rawlog)]
+        request["rawlog"] = os.fspath(rawlog)
     temporary = outdir is None
     folder = tempfile.mkdtemp(prefix="budget_slam_") if temporary else os.fspath(outdir)
-    args += ["-o", folder, "--quiet"] + (["--force"] if force else []) + flags + _sets(overrides)
+    request.update(outdir=folder, force=bool(force), sets=_sets(overrides))
     try:
         if progress is not None and not callable(progress):
             raise TypeError("progress: expected a callable taking one dict")
         try:
-            outcome = _core.run_app(args, params, progress)
+            outcome = _core.run_request(command, request, params, progress)
         except _core.ConfigError as e:
             raise ConfigError(str(e)) from None
-        for line in outcome.err.splitlines():  # what the CLI warns of on stderr
-            if line.startswith(_PREFIX + "warning: "):
-                warnings.warn(line[len(_PREFIX + "warning: "):], RuntimeWarning, stacklevel=3)
+        for line in outcome.warnings:
+            warnings.warn(line, RuntimeWarning, stacklevel=3)
         if outcome.exit_code == 130:
-            raise KeyboardInterrupt(_message(outcome.err) or "interrupted")
+            raise KeyboardInterrupt(outcome.message or "interrupted")
         if outcome.exit_code != 0:
             kind = ConfigError if outcome.exit_code == 2 else Error
-            raise kind(_message(outcome.err) or f"exit code {outcome.exit_code}", outcome.exit_code,
+            raise kind(outcome.message or f"exit code {outcome.exit_code}", outcome.exit_code,
                         None if temporary else folder)
         return folder, temporary
     except BaseException:
         if temporary:
             shutil.rmtree(folder, ignore_errors=True)
         raise
-
-
-def _message(err):
-    """The application's last one-line message, without its `budget-slam: [error: ]` prefix."""
-    for line in reversed(err.splitlines()):
-        if line.startswith(_PREFIX):
-            text = line[len(_PREFIX):]
-            return text[len("error: "):] if text.startswith("error: ") else text
-    return err.strip().splitlines()[-1] if err.strip() else ""
 
 
 def run(config, rawlog=None, overrides=None, outdir=None, *, reducer=None, cap=None, backend=None,
@@ -281,17 +273,15 @@ def run(config, rawlog=None, overrides=None, outdir=None, *, reducer=None, cap=N
     resume: a run folder whose session_state.txt this run continues (--resume); skip_steps: leave
     the rawlog's first N steps unread (--skip-steps); wake_up: with resume, find the robot on the
     saved map from its first readings (--wake-up). docs/OUTPUTS.md "Session state"."""
-    flags = _cap_flag(cap) + _count_flag("--max-steps", max_steps)
-    flags += _count_flag("--skip-steps", skip_steps)
+    request = {"cap": _cap(cap), "max_steps": _count("max_steps", max_steps),
+               "skip_steps": _count("skip_steps", skip_steps), "wake_up": bool(wake_up)}
     if resume is not None:
-        flags += ["--resume", os.fspath(resume)]
-    if wake_up:
-        flags += ["--wake-up"]
+        request["resume"] = os.fspath(resume)
     if reducer is not None:
-        flags += ["--reducer", str(reducer)]
+        request["reducer"] = str(reducer)
     if backend is not None:
-        flags += ["--backend", str(backend)]
-    folder, temporary = _invoke("run", config, rawlog, overrides, outdir, force, flags, progress)
+        request["backend"] = str(backend)
+    folder, temporary = _invoke("run", config, rawlog, overrides, outdir, force, request, progress)
     try:
         result = read_run(folder)
     finally:
@@ -309,21 +299,18 @@ def compare(config, rawlog=None, reducers=None, overrides=None, outdir=None, *, 
     ints (a run a reducer and seed, named "<reducer>/seed<S>"). Returns a dict: summary (the
     comparison's summary.json), comparison (comparison.csv as a structured array), runs
     ({"reference": ..., reducer: ...}, each as run() returns it), outdir."""
-    flags = _cap_flag(cap) + _count_flag("--max-steps", max_steps)
+    request = {"cap": _cap(cap), "max_steps": _count("max_steps", max_steps)}
     if reducers is not None:
-        if isinstance(reducers, str):
-            reducers = [reducers]
-        flags += ["--reducers", ",".join(reducers)]
+        request["reducers"] = [reducers] if isinstance(reducers, str) else [str(r) for r in reducers]
     if backend is not None:
-        flags += ["--backend", str(backend)]
+        request["backend"] = str(backend)
     if threads:
-        flags += _count_flag("--threads", threads)
+        request["threads"] = _count("threads", threads)
     if seeds is not None:
-        if isinstance(seeds, str):
-            flags += ["--seeds", seeds]
-        else:
-            flags += ["--seeds", ",".join(_count_flag("--seeds", x)[1] for x in seeds)]
-    folder, temporary = _invoke("compare", config, rawlog, overrides, outdir, force, flags, progress)
+        request["seeds"] = seeds if isinstance(seeds, str) else ",".join(
+            str(_count("seeds", x)) for x in seeds)
+    folder, temporary = _invoke("compare", config, rawlog, overrides, outdir, force, request,
+                                progress)
     try:
         with open(os.path.join(folder, "summary.json")) as f:
             summary = json.load(f)

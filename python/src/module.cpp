@@ -1,6 +1,7 @@
 // budget_slam._core: the C++ half of the budget_slam Python module (python/budget_slam/__init__.py
-// is the other). It drives BudgetSlamApp in-process and scores Gaussian states with the
-// registered reducers; reading the run's files into numpy arrays is left to the Python half.
+// is the other). It runs `run` and `compare` in-process through the run layer (runs::run,
+// runs::compare, with a typed request) and scores Gaussian states with the registered reducers;
+// reading the run's files into numpy arrays is left to the Python half.
 #include <mrpt/config/CConfigFileMemory.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -12,7 +13,6 @@
 #include <csignal>
 #include <optional>
 #include <set>
-#include <sstream>
 
 #include "BudgetSlamApp.h"
 #include "ListCommand.h"
@@ -20,8 +20,13 @@
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Progress.h"
+#include "budget_slam/core/StopSignals.h"
+#include "budget_slam/core/Text.h"
 #include "budget_slam/gaussian/GaussianStateBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/report/Figure.h"
+#include "budget_slam/runs/Commands.h"
+#include "budget_slam/runs/RequestChecks.h"
 #include "budget_slam/runs/RunStatus.h"
 #include "budget_slam/runs/SummaryJson.h"
 
@@ -30,14 +35,16 @@ namespace py = pybind11;
 namespace budget_slam::python {
 namespace {
 
-/// Result of one in-process `budget-slam <args>`: exit code and what it wrote on stdout/stderr.
-struct AppOutcome {
+/// How a run() or compare() ended, typed: its exit code (runs::exitCode), status and error kind
+/// (summary.json's words), the one line of a command that did not end ok (as the command line
+/// prints it on stderr, without "budget-slam: " and "error: "), and its warnings in order.
+struct CommandOutcome {
   int exit_code = 0;
-  std::string out, err;
+  std::string status, kind;
+  std::string message;
+  std::vector<std::string> warnings;
 };
 
-/// `args` without the program name. `params`: the ini text (in-memory config) or none (-c is
-/// then among `args`). A command line the app refuses raises ConfigError with its message.
 /// A progress report as the dict Python's progress= callback receives (docs/PYTHON.md).
 py::dict progressDict(const ProgressSnapshot& s) {
   py::dict d;
@@ -53,17 +60,93 @@ py::dict progressDict(const ProgressSnapshot& s) {
   return d;
 }
 
-AppOutcome runApp(const std::vector<std::string>& args, const std::optional<std::string>& params,
-                  const std::optional<py::function>& progress) {
-  app::BudgetSlamApp a;
-  std::ostringstream out, err;
-  a.out = &out;
-  a.err = &err;
+/// The typed request of run() and compare() from their arguments (python/budget_slam/__init__.py
+/// _invoke): the same checks, in the same order and with the same messages, as the command
+/// line's (BudgetSlamApp::initialize). A refused value raises ConfigError.
+runs::Request requestOf(const std::string& command, const py::dict& d) {
+  const auto text = [&](const char* key) {
+    return d.contains(key) && !d[key].is_none()
+               ? std::optional<std::string>(py::str(d[key]).cast<std::string>())
+               : std::nullopt;
+  };
+  runs::Request r;
+  r.command = command;
+  r.config = text("config").value_or("");
+  r.rawlog = text("rawlog").value_or("");
+  r.outdir = text("outdir").value_or("");
+  r.reducer = text("reducer").value_or("");
+  r.backend = text("backend").value_or("");
+  r.cap = text("cap");
+  r.resume = text("resume").value_or("");
+  r.quiet = true;  // nothing on stdout, no progress on stderr: the callback has it
+  r.force = d.contains("force") && d["force"].cast<bool>();
+  r.wake_up = d.contains("wake_up") && d["wake_up"].cast<bool>();
+  if (d.contains("sets")) r.sets = d["sets"].cast<std::vector<std::string>>();
+  std::optional<std::string> reducers;
+  if (d.contains("reducers") && !d["reducers"].is_none()) {
+    std::string joined;
+    for (const auto& n : d["reducers"].cast<std::vector<std::string>>()) {
+      joined += (joined.empty() ? "" : ",") + n;
+      if (!n.empty()) r.reducers.push_back(n);
+    }
+    reducers = joined;
+  }
+  if (d.contains("threads")) r.threads = static_cast<unsigned>(d["threads"].cast<long long>());
+  runs::checkWakeUp(r);
+  try {
+    // A flag given with an empty value (the command line's refuseEmptyValues, its order).
+    const std::pair<const char*, std::optional<std::string>> given[] = {
+        {"config", text("config")},
+        {"input", text("rawlog")},
+        {"out", text("outdir")},
+        {"reducer", text("reducer")},
+        {"reducers", reducers},
+        {"seeds", text("seeds")},
+        {"cap", r.cap},
+        {"backend", text("backend")},
+        {"resume", text("resume")}};
+    for (const auto& [flag, value] : given)
+      if (value && value->empty())
+        throw UsageError(std::string("--") + flag +
+                         " '': an empty value (leave the flag out "
+                         "instead)");
+    if (const auto v = text("max_steps")) r.max_steps = runs::parseMaxSteps(*v);
+    if (const auto v = text("skip_steps")) r.skip_steps = runs::parseSkipSteps(*v);
+    if (const auto v = text("seeds")) r.seeds = runs::parseSeeds(*v);
+    runs::checkRequest(r);
+  } catch (const ConfigError& e) {
+    throw UsageError(e.what() + std::string("; see budget-slam ") + command + " --help");
+  }
+  return r;
+}
+
+/// `budget-slam run` or `compare` (command) in this process, through runs::run and
+/// runs::compare. `params`: the ini text (in-memory config), else request["config"] is read as
+/// the -c file. A refused request raises ConfigError with the command line's message.
+CommandOutcome runRequest(const std::string& command, const py::dict& request_args,
+                          const std::optional<std::string>& params,
+                          const std::optional<py::function>& progress) {
+  if (command != "run" && command != "compare")
+    throw UsageError("unknown command '" + command + "' (expected run or compare)");
+  runs::RequestContext context;
+  // The same text checks as a -c file (core/IniText.h): a bad value is a ConfigError, never an
+  // abort inside MRPT's variable expansion.
+  if (params) loadIniText(context.params, *params, "config");
+  const runs::Request request = requestOf(command, request_args);
+  if (!params) {
+    context.config_label = request.config.empty() ? "config.ini" : request.config;
+    context.config_text =
+        readIniFile(context.config_label, "config file '" + context.config_label + "'");
+  }
+  context.writer = std::string("budget-slam ") + app::kVersion;
+
+  CommandOutcome r;
+  runs::RunHooks hooks;
   // The callback runs on this thread with the GIL taken back; an exception it raises stops the
   // run as Ctrl-C does (every output written) and is raised again once the run has ended.
   std::optional<py::error_already_set> callback_error;
   if (progress)
-    a.on_progress = [&](const ProgressSnapshot& s) {
+    hooks.progress.callback = [&](const ProgressSnapshot& s) {
       if (callback_error) return;
       py::gil_scoped_acquire gil;
       try {
@@ -73,23 +156,38 @@ AppOutcome runApp(const std::vector<std::string>& args, const std::optional<std:
         Cancellation::request(SIGINT);
       }
     };
-  // The same text checks as a -c file (core/IniText.h): a bad value is a ConfigError, never an
-  // abort inside MRPT's variable expansion.
-  if (params) loadIniText(a.params, *params, "config");
-  std::vector<std::string> argv = {"budget-slam"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  a.initialize(argv);  // throws ConfigError, translated below
-  AppOutcome r;
+  hooks.warning = [&](const std::string& line) { r.warnings.push_back(line); };
   {
-    py::gil_scoped_release release;  // Ctrl-C reaches the app's own handler meanwhile
-    r.exit_code = a.run();
+    py::gil_scoped_release release;  // Ctrl-C reaches the run's own handler meanwhile
+    // As BudgetSlamApp::run: a stop request left by an earlier run does not count.
+    const bool first_guard = !StopSignals::installed();
+    StopSignals signals;
+    if (first_guard) Cancellation::clear();
+    report::loadFigureFonts();  // while descriptors are to be had (report/Figure.h)
+    runs::RunStatus status;
+    runs::ErrorKind kind;
+    if (command == "run") {
+      const runs::RunReport report = runs::run(request, std::move(context), hooks);
+      status = report.outcome.status, kind = report.outcome.kind;
+      r.message = printable(report.line);
+    } else {
+      const runs::CompareReport report = runs::compare(request, std::move(context), hooks);
+      status = report.outcome.status, kind = report.outcome.kind;
+      // The command line's last stderr line says it; its warnings are warnings too.
+      for (const auto& line : report.outcome.lines) {
+        const std::string shown = printable(line);
+        if (shown.rfind("warning: ", 0) == 0) r.warnings.push_back(shown.substr(9));
+        r.message = shown.rfind("error: ", 0) == 0 ? shown.substr(7) : shown;
+      }
+    }
+    r.exit_code = runs::exitCode(status, kind);
+    r.status = runs::statusName(status);
+    r.kind = runs::errorKindName(kind);
   }
   if (callback_error) {
     callback_error->restore();
     throw py::error_already_set();
   }
-  r.out = out.str();
-  r.err = err.str();
   return r;
 }
 
@@ -246,7 +344,7 @@ int exitCodeOf(const std::string& status, const std::string& kind) {
 
 PYBIND11_MODULE(_core, m) {
   using namespace budget_slam::python;
-  m.doc() = "C++ core of budget_slam: the app in-process and the reducer registry";
+  m.doc() = "C++ core of budget_slam: the run layer in-process and the reducer registry";
   static py::exception<budget_slam::ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
   static py::exception<budget_slam::Error> error(m, "Error", PyExc_RuntimeError);
   py::register_exception_translator([](std::exception_ptr p) {
@@ -259,15 +357,20 @@ PYBIND11_MODULE(_core, m) {
     }
   });
 
-  py::class_<AppOutcome>(m, "AppOutcome")
-      .def_readonly("exit_code", &AppOutcome::exit_code)
-      .def_readonly("out", &AppOutcome::out)
-      .def_readonly("err", &AppOutcome::err);
-  m.def("run_app", &runApp, py::arg("args"), py::arg("params") = py::none(),
-        py::arg("progress") = py::none(),
-        "Runs `budget-slam <args>` in this process (params: in-memory ini text; progress: called "
-        "with a dict of how far it has come). Returns exit_code, out, err; raises ConfigError "
-        "when the command line is refused, and what the progress callback raised.");
+  py::class_<CommandOutcome>(m, "CommandOutcome")
+      .def_readonly("exit_code", &CommandOutcome::exit_code)
+      .def_readonly("status", &CommandOutcome::status)
+      .def_readonly("kind", &CommandOutcome::kind)
+      .def_readonly("message", &CommandOutcome::message)
+      .def_readonly("warnings", &CommandOutcome::warnings);
+  m.def("run_request", &runRequest, py::arg("command"), py::arg("request"),
+        py::arg("params") = py::none(), py::arg("progress") = py::none(),
+        "Runs `run` or `compare` in this process through the run layer (runs::run, "
+        "runs::compare) from a request dict (config, rawlog, outdir, force, reducer, reducers, "
+        "backend, cap, sets, seeds, max_steps, skip_steps, threads, resume, wake_up); params: "
+        "in-memory ini text; progress: called with a dict of how far it has come. Returns "
+        "exit_code, status, kind, message, warnings; raises ConfigError when the request is "
+        "refused, and what the progress callback raised.");
   m.def("read_summary", &readSummary, py::arg("path"),
         "Reads a summary.json through the run layer's one reader (bounded; a bad file raises "
         "Error naming it). Returns a dict: json (the document), status, ok, error, exit_code.");

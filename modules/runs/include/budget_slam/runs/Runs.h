@@ -30,6 +30,10 @@ struct RunHooks {
   std::function<void(StepIndex)> on_step;        ///< after each step (tests press Ctrl-C there)
   std::function<void()> on_end_phase;            ///< once the steps are done, before the end phase
   std::function<void(const std::string&)> note;  ///< "<folder> held an earlier run; ...", ...
+  /// A warning as it arises (one line without "warning: "): a sidecar key over the ini's, fewer
+  /// threads than asked, a failed shadow reducer (runs::run and runs::compare; runSlam hands its
+  /// warnings back in RunReport::warnings instead).
+  std::function<void(const std::string&)> warning;
 };
 
 /// One `run`, typed: the merged ini and what was read from it and the command line.

@@ -1,0 +1,58 @@
+#pragma once
+// `run` and `compare` from a typed request (docs/ARCHITECTURE.md "A run", "A compare"): what the
+// command line and the Python module both call. A request is checked by runs::checkRequest
+// first (RequestChecks.h); these calls never throw, and every failure is in the report they
+// return, with the lines to show and the files of the work already done written.
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "budget_slam/report/ComparisonTable.h"
+#include "budget_slam/runs/Comparison.h"
+#include "budget_slam/runs/Request.h"
+#include "budget_slam/runs/Runs.h"
+
+namespace budget_slam::runs {
+
+/// What a request runs with besides its flags: the ini and who runs it.
+struct RequestContext {
+  mrpt::config::CConfigFileMemory params;  ///< the ini as the caller holds it (no config_text)
+  /// The -c file's text, parsed into `params` first (core/IniText.h): a bad text fails the
+  /// command as a bad value does (one line, summary.json in the output folder).
+  std::optional<std::string> config_text;
+  std::string config_label = "config";  ///< the ini's name in messages and summary.json
+  std::string writer;                   ///< "budget-slam <version>": the session state's writer
+};
+
+/// `run` (docs/ARCHITECTURE.md "A run"): the merged configuration (loadRunConfig; a bad one
+/// ends the run before it starts, saying why in summary.json when the output folder can take
+/// it), the session to resume read and checked before anything is written (a mismatch is one
+/// line and no folder), the wake-up on its map, then runSlam. Progress lines come every
+/// [Report] progress_every_s (hooks.progress.line_every_s is replaced by it). Warnings go to
+/// hooks.warning as they arise (also those of runSlam's report), notes to hooks.note. The
+/// report's `line` is the one line of a run that did not end ok.
+RunReport run(const Request& request, RequestContext context, const RunHooks& hooks);
+
+/// What `compare` hands back.
+struct CompareReport {
+  /// Status, error kind and first error (the top summary.json's), and the lines to show once
+  /// the comparison ended, in order ("error: ..." a run or localization that failed, the line
+  /// of one interrupted, "warning: ..." a failed shadow reducer; a comparison that could not
+  /// start has its one line here).
+  CompareOutcome outcome;
+  std::vector<report::ComparisonRow> rows;  ///< comparison.csv's rows, the reference first
+  std::string markdown;  ///< comparison.md (and the offline optimum's table), "" if not made
+  std::string folder;    ///< the output folder, "" when none was made
+  bool started = false;  ///< the runs started: the comparison reached its outputs
+};
+
+/// `compare` (docs/ARCHITECTURE.md "A compare"): the configuration, the output folder, the
+/// rawlog read once, the reference and a run a reducer (and seed) in threads, every run ended
+/// against the reference, --relocalize, comparison.csv/.md, the offline optimum, the figure and
+/// the top summary.json last. hooks.on_end_phase is called once a run, from its thread; on_step
+/// is not called. Progress, warnings and notes as run().
+CompareReport compare(const Request& request, RequestContext context, const RunHooks& hooks);
+
+}  // namespace budget_slam::runs

@@ -1,0 +1,35 @@
+#pragma once
+// The values of a request that its type cannot check (docs/OUTPUTS.md "Command line and exit
+// codes"), whoever filled it: the command line and the Python module call the same checks, and a
+// bad value is a UsageError naming the flag (exit 2, nothing written).
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "budget_slam/runs/Request.h"
+
+namespace budget_slam::runs {
+
+/// The most seeds one compare runs (--seeds): each is a run per reducer.
+constexpr std::size_t kMaxSeeds = 1000;
+
+/// --seeds: "A:B" (A to B, both included), "A,B,C" or "A"; non-negative integers, each once.
+std::vector<std::uint64_t> parseSeeds(const std::string& text);
+
+/// --max-steps N: a number of steps >= 0 (0: the whole rawlog).
+std::size_t parseMaxSteps(const std::string& text);
+/// --skip-steps N: a count of steps (0 skips none).
+std::size_t parseSkipSteps(const std::string& text);
+
+/// The values of run's and compare's flags: --cap (a number >= 1 or none), --backend and
+/// --reducer (registered names), --reducers (registered, each once, never none), every --set
+/// (Section.key=value). Throws UsageError naming the flag; a malformed --set is a ConfigError
+/// (the command line adds "; see budget-slam <command> --help" to either).
+void checkRequest(const Request& request);
+
+/// Throws UsageError "--wake-up: needs --resume RUN_DIR (...)" when the request wakes up on no
+/// saved map (the command line says it as it is, without the --help hint).
+void checkWakeUp(const Request& request);
+
+}  // namespace budget_slam::runs
