@@ -21,8 +21,8 @@
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Progress.h"
-#include "budget_slam/gaussian/GaussianStateBackend.h"
 #include "budget_slam/core/StopSignals.h"
+#include "budget_slam/gaussian/GaussianStateBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/Figure.h"
 #include "budget_slam/runs/Localize.h"
@@ -364,8 +364,8 @@ PYBIND11_MODULE(_core, m) {
         "when the command line is refused, and what the progress callback raised.");
   m.def("localize", &localizeRun, py::arg("config"), py::arg("params"), py::arg("rawlog"),
         py::arg("map"), py::arg("outdir"), py::arg("sets"), py::arg("start_pose"),
-        py::arg("wake_up"), py::arg("reference_trajectory"), py::arg("max_steps"),
-        py::arg("force"), py::arg("progress") = py::none(),
+        py::arg("wake_up"), py::arg("reference_trajectory"), py::arg("max_steps"), py::arg("force"),
+        py::arg("progress") = py::none(),
         "runs::localize with a typed specification (budget_slam.localize builds the arguments). "
         "Returns a dict: status, kind, exit_code, line, warnings, folder; raises ConfigError for "
         "what the command line refuses before running, and what the progress callback raised.");

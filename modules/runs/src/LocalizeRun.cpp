@@ -242,9 +242,9 @@ LocalizeReport localize(const LocalizeSpec& spec, const LocalizeHooks& hooks) {
     }
     // A path of one pose is a run without history (keep_history = false): no area to score in.
     if (map.path.size() >= 2) inputs.mapping_path = map.path;
-    localizer = std::make_unique<Localizer>(rc.ini, rc.localization,
-                                            metric_options.reloc_min_landmarks, *folder,
-                                            map.landmarks, inputs);
+    localizer =
+        std::make_unique<Localizer>(rc.ini, rc.localization, metric_options.reloc_min_landmarks,
+                                    *folder, map.landmarks, inputs);
     ProgressReporter progress(progress_out, "localize", progress_settings);
     for (const auto& s : steps) {
       localizer->process(s);
@@ -264,14 +264,13 @@ LocalizeReport localize(const LocalizeSpec& spec, const LocalizeHooks& hooks) {
     const std::size_t paired = localizer->readingsPairedWithMap(),
                       agree = localizer->readingsConsistentWithMap();
     if (localizer->stepsDone() > 0 && (2 * agree < paired || paired == 0))
-      warn(std::to_string(agree) + " of the " + std::to_string(paired) +
-                                " readings of " + rc.rawlog +
-                                " that pair with a landmark of the map in " + cli.map_dir +
-                                " agree with it (innovation within the 99.9% bound): the map and "
-                                "the traversal share no place");
-    const nlohmann::json summary_given = {{"rawlog", rc.rawlog},         {"sidecar_ini", rc.sidecar},
-                                          {"config", spec.config_label}, {"map", cli.map_dir},
-                                          {"map_status", map.status},    {"started", true}};
+      warn(std::to_string(agree) + " of the " + std::to_string(paired) + " readings of " +
+           rc.rawlog + " that pair with a landmark of the map in " + cli.map_dir +
+           " agree with it (innovation within the 99.9% bound): the map and "
+           "the traversal share no place");
+    const nlohmann::json summary_given = {
+        {"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", spec.config_label},
+        {"map", cli.map_dir},  {"map_status", map.status},  {"started", true}};
     report.outcome = localizer->finish(RunStatus::Ok, ErrorKind::None, "", summary_given, wake);
     // An output that could not be written (a full disk): summary.json says which, if it could.
     if (!localizer->writeError().empty())

@@ -90,8 +90,7 @@ void addLocalizationJson(nlohmann::json& j, const LocalizationOutcome& o) {
       {"diverged_at_step",
        m.diverged_at_step ? nlohmann::json(*m.diverged_at_step) : nlohmann::json()},
       {"diverged_why", m.diverged_why}};
-  j["timings"] = {{"steps_s", o.timings.steps_s},
-                  {"step_ms_mean", number(o.timings.step_ms_mean)}};
+  j["timings"] = {{"steps_s", o.timings.steps_s}, {"step_ms_mean", number(o.timings.step_ms_mean)}};
 }
 
 /// summary.json "wake_up" of localize (docs/OUTPUTS.md "localize --wake-up").

@@ -72,9 +72,7 @@ LocalizeSpec specOf(const std::string& map, const std::string& rawlog, const std
   return spec;
 }
 
-double numberOr(const nlohmann::json& j, double nan) {
-  return j.is_null() ? nan : j.get<double>();
-}
+double numberOr(const nlohmann::json& j, double nan) { return j.is_null() ? nan : j.get<double>(); }
 
 TEST(LocalizeRun, RoomsRevisitInTheRoomsMapIsTypedAsItsSummary) {
   Cancellation::clear();

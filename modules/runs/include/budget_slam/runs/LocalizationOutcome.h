@@ -28,7 +28,7 @@ struct LocalizationCounts {
 
 /// summary.json "timings" of a localization.
 struct LocalizationTimings {
-  double steps_s = 0;  ///< wall time of the steps [s]
+  double steps_s = 0;                                              ///< wall time of the steps [s]
   double step_ms_mean = std::numeric_limits<double>::quiet_NaN();  ///< NaN without a step [ms]
 };
 
@@ -64,12 +64,12 @@ struct LocalizationOutcome {
 /// summary.json "wake_up" of `localize` (docs/OUTPUTS.md "localize --wake-up"): how the robot was
 /// found on the map, or why not.
 struct LocalizationWakeUp {
-  bool asked = false;            ///< --wake-up given (else: no start pose to be had)
-  wakeup::WakeUpResult result;   ///< status, reason, pose, covariance, step, hypotheses, ...
-  std::string why_not_found;     ///< one line, "" when found
-  std::size_t max_steps = 0;     ///< [WakeUp] max_steps
-  std::size_t steps_used = 0;    ///< steps read to find the robot (not localized)
-  double time_ms = 0;            ///< wall time [ms]
+  bool asked = false;           ///< --wake-up given (else: no start pose to be had)
+  wakeup::WakeUpResult result;  ///< status, reason, pose, covariance, step, hypotheses, ...
+  std::string why_not_found;    ///< one line, "" when found
+  std::size_t max_steps = 0;    ///< [WakeUp] max_steps
+  std::size_t steps_used = 0;   ///< steps read to find the robot (not localized)
+  double time_ms = 0;           ///< wall time [ms]
   /// The pose found against the truth at its step, when there is a truth there.
   struct Error {
     std::string against;  ///< ground_truth | reference_trajectory

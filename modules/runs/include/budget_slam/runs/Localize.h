@@ -47,8 +47,8 @@ struct LocalizeReport {
   /// Lines for stderr as "warning: <line>": what the configuration's merge replaced, and a map
   /// and a traversal that share no place.
   std::vector<std::string> warnings;
-  std::string folder;              ///< the output folder ("" when none was made)
-  std::size_t map_landmarks = 0;   ///< landmarks of the map read (its landmarks.csv rows)
+  std::string folder;             ///< the output folder ("" when none was made)
+  std::size_t map_landmarks = 0;  ///< landmarks of the map read (its landmarks.csv rows)
 };
 
 /// Localizes spec.request.rawlog in the final map of the run in spec.request.map_dir

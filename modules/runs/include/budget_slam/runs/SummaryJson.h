@@ -1,7 +1,7 @@
 #pragma once
 // summary.json (docs/OUTPUTS.md "summary.json"): the one writer, from a RunOutcome, and the one
-// reader, used by `localize --map` (modules/runs/src/MapFolder.cpp), the Python module and, through the
-// Python module's key list, the experiment scripts.
+// reader, used by `localize --map` (modules/runs/src/MapFolder.cpp), the Python module and, through
+// the Python module's key list, the experiment scripts.
 #include <nlohmann/json.hpp>
 #include <string>
 
