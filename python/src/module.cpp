@@ -57,26 +57,32 @@ py::dict progressDict(const ProgressSnapshot& s) {
   return d;
 }
 
+/// Python's progress= as a ProgressCallback (none without one). It runs on the calling thread
+/// with the GIL taken back; an exception it raises is kept in `error` and stops the run as Ctrl-C
+/// does (every output written), to be raised again once the run has ended.
+ProgressCallback progressCallback(const std::optional<py::function>& progress,
+                                  std::optional<py::error_already_set>& error) {
+  if (!progress) return {};
+  return [progress, &error](const ProgressSnapshot& s) {
+    if (error) return;
+    py::gil_scoped_acquire gil;
+    try {
+      (*progress)(progressDict(s));
+    } catch (py::error_already_set& e) {
+      error.emplace(std::move(e));
+      Cancellation::request(SIGINT);
+    }
+  };
+}
+
 AppOutcome runApp(const std::vector<std::string>& args, const std::optional<std::string>& params,
                   const std::optional<py::function>& progress) {
   app::BudgetSlamApp a;
   std::ostringstream out, err;
   a.out = &out;
   a.err = &err;
-  // The callback runs on this thread with the GIL taken back; an exception it raises stops the
-  // run as Ctrl-C does (every output written) and is raised again once the run has ended.
   std::optional<py::error_already_set> callback_error;
-  if (progress)
-    a.on_progress = [&](const ProgressSnapshot& s) {
-      if (callback_error) return;
-      py::gil_scoped_acquire gil;
-      try {
-        (*progress)(progressDict(s));
-      } catch (py::error_already_set& e) {
-        callback_error.emplace(std::move(e));
-        Cancellation::request(SIGINT);
-      }
-    };
+  a.on_progress = progressCallback(progress, callback_error);
   // The same text checks as a -c file (core/IniText.h): a bad value is a ConfigError, never an
   // abort inside MRPT's variable expansion.
   if (params) loadIniText(a.params, *params, "config");
@@ -149,20 +155,8 @@ py::dict localizeRun(const std::optional<std::string>& config,
   }
 
   runs::LocalizeHooks hooks;
-  // The callback runs on this thread with the GIL taken back; an exception it raises stops the
-  // localization as Ctrl-C does (every output written) and is raised again once it has ended.
   std::optional<py::error_already_set> callback_error;
-  if (progress)
-    hooks.progress.callback = [&](const ProgressSnapshot& s) {
-      if (callback_error) return;
-      py::gil_scoped_acquire gil;
-      try {
-        (*progress)(progressDict(s));
-      } catch (py::error_already_set& e) {
-        callback_error.emplace(std::move(e));
-        Cancellation::request(SIGINT);
-      }
-    };
+  hooks.progress.callback = progressCallback(progress, callback_error);
   runs::LocalizeReport result;
   {
     py::gil_scoped_release release;  // Ctrl-C reaches the stop request's handler meanwhile
