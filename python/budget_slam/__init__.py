@@ -354,3 +354,94 @@ def reducer_scores(name, mean, cov, ids, *, n_obs=None, obs_mean=None, first_ste
             config or "", None if candidates is None else [int(c) for c in candidates])
     except (_core.ConfigError, _core.Error) as e:
         raise ConfigError(str(e)) from None
+
+
+# ---- localize: the run layer's runs::localize, called with a typed specification ----
+
+class NotFound(Error):
+    """localize() woke up on the map (wake_up=True, or no start pose to be had) and found the robot
+    nowhere: str(e) is the command line's one line ("wake-up: the robot was not found ..."),
+    `exit_code` 3, `outdir` the output folder (None if temporary) and `summary` its summary.json
+    (status not_found, its wake_up block saying why)."""
+
+    def __init__(self, message, exit_code=3, outdir=None, summary=None):
+        super().__init__(message, exit_code, outdir)
+        self.summary = summary
+
+
+def _start_pose_text(start_pose):
+    """start_pose as --start-pose text: "x,y,yaw" as given, or (x, y, yaw_deg) numbers."""
+    if start_pose is None or isinstance(start_pose, str):
+        return start_pose
+    try:
+        values = list(start_pose)
+    except TypeError:
+        values = None
+    if values is None or len(values) != 3 or not all(
+            isinstance(v, numbers.Real) and not isinstance(v, bool) for v in values):
+        raise TypeError(f"start_pose={start_pose!r}: expected (x, y, yaw_deg) numbers or 'x,y,yaw'")
+    return ",".join(repr(float(v)) for v in values)  # repr: the shortest text of the same double
+
+
+def localize(config, rawlog=None, map=None, overrides=None, outdir=None, *, start_pose=None,
+             wake_up=False, reference_trajectory=None, max_steps=None, force=False, progress=None):
+    """`budget-slam localize` in this process, through the run layer (runs::localize; no command
+    line): rawlog (-i, default the ini's rawlog_file) localized in the final map of the run folder
+    `map` (--map). config, overrides, outdir, force, progress: as run(). start_pose: (x, y,
+    yaw_deg) in the map's frame or "x,y,yaw" (--start-pose); wake_up: find the robot on the map
+    from the first steps' readings (--wake-up); reference_trajectory: a trajectory.tum to measure
+    a traversal without ground truth against; max_steps: the first N steps (0: all).
+
+    Returns read_run() of the folder (summary, steps, trajectory, ground_truth, landmarks; no
+    evictions) plus reference (reference.tum, or None). Raises ConfigError with the command line's
+    text for what it refuses (exit code 2), Error for a failed localization (exit code 1: a bad
+    value, an unreadable map folder or rawlog), NotFound when the wake-up found the robot nowhere
+    (exit code 3), KeyboardInterrupt on Ctrl-C, and whatever progress raised."""
+    if map is None:
+        raise TypeError("map: give the output folder of the run whose map is used")
+    params, path = None, None
+    if isinstance(config, dict):
+        params = _ini_text(config) if config else "[MappingApplication]\n"
+    elif config is not None:
+        path = os.fspath(config)
+    else:
+        raise TypeError("config: give an ini file path or a dict {section: {key: value}}")
+    if progress is not None and not callable(progress):
+        raise TypeError("progress: expected a callable taking one dict")
+    pose = _start_pose_text(start_pose)
+    steps = _count("max_steps", max_steps)
+    sets = _sets(overrides)
+    temporary = outdir is None
+    folder = tempfile.mkdtemp(prefix="budget_slam_") if temporary else os.fspath(outdir)
+    try:
+        try:
+            r = _core.localize(path, params, None if rawlog is None else os.fspath(rawlog),
+                               os.fspath(map), folder, sets, pose, bool(wake_up),
+                               None if reference_trajectory is None else os.fspath(reference_trajectory),
+                               None if steps is None else str(steps), bool(force), progress)
+        except _core.ConfigError as e:
+            raise ConfigError(str(e)) from None
+        for line in r["warnings"]:  # what the CLI warns of on stderr
+            warnings.warn(line, RuntimeWarning, stacklevel=2)
+        kept = None if temporary else folder
+        if r["status"] == "interrupted":
+            raise KeyboardInterrupt(r["line"] or "interrupted")
+        if r["status"] == "not_found":
+            with open(os.path.join(folder, "summary.json")) as f:
+                summary = json.load(f)
+            raise NotFound(r["line"], r["exit_code"], kept, summary)
+        if r["status"] != "ok" or r["line"]:
+            kind = ConfigError if r["exit_code"] == 2 else Error
+            raise kind(r["line"] or f"exit code {r['exit_code']}", r["exit_code"], kept)
+        result = read_run(folder)
+        ref = os.path.join(folder, "reference.tum")
+        result["reference"] = read_tum(ref) if os.path.isfile(ref) else None
+    finally:
+        if temporary:
+            shutil.rmtree(folder, ignore_errors=True)
+    if temporary:
+        result["outdir"] = None
+    return result
+
+
+__all__ += ["localize", "NotFound"]

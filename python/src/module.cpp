@@ -26,6 +26,7 @@
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/Figure.h"
 #include "budget_slam/runs/Commands.h"
+#include "budget_slam/runs/Localize.h"
 #include "budget_slam/runs/RequestChecks.h"
 #include "budget_slam/runs/RunStatus.h"
 #include "budget_slam/runs/SummaryJson.h"
@@ -58,6 +59,24 @@ py::dict progressDict(const ProgressSnapshot& s) {
   d["detail"] = s.detail;
   d["finished"] = s.finished;
   return d;
+}
+
+/// Python's progress= as a ProgressCallback (none without one). It runs on the calling thread
+/// with the GIL taken back; an exception it raises is kept in `error` and stops the run as Ctrl-C
+/// does (every output written), to be raised again once the run has ended.
+ProgressCallback progressCallback(const std::optional<py::function>& progress,
+                                  std::optional<py::error_already_set>& error) {
+  if (!progress) return {};
+  return [progress, &error](const ProgressSnapshot& s) {
+    if (error) return;
+    py::gil_scoped_acquire gil;
+    try {
+      (*progress)(progressDict(s));
+    } catch (py::error_already_set& e) {
+      error.emplace(std::move(e));
+      Cancellation::request(SIGINT);
+    }
+  };
 }
 
 /// The typed request of run() and compare() from their arguments (python/budget_slam/__init__.py
@@ -142,20 +161,8 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
 
   CommandOutcome r;
   runs::RunHooks hooks;
-  // The callback runs on this thread with the GIL taken back; an exception it raises stops the
-  // run as Ctrl-C does (every output written) and is raised again once the run has ended.
   std::optional<py::error_already_set> callback_error;
-  if (progress)
-    hooks.progress.callback = [&](const ProgressSnapshot& s) {
-      if (callback_error) return;
-      py::gil_scoped_acquire gil;
-      try {
-        (*progress)(progressDict(s));
-      } catch (py::error_already_set& e) {
-        callback_error.emplace(std::move(e));
-        Cancellation::request(SIGINT);
-      }
-    };
+  hooks.progress.callback = progressCallback(progress, callback_error);
   hooks.warning = [&](const std::string& line) { r.warnings.push_back(line); };
   {
     py::gil_scoped_release release;  // Ctrl-C reaches the run's own handler meanwhile
@@ -189,6 +196,84 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
     throw py::error_already_set();
   }
   return r;
+}
+
+/// runs::localize for Python (budget_slam.localize): the typed specification filled from the
+/// arguments, no command line. The checks the command line makes before anything runs raise
+/// ConfigError with its text (a bad --start-pose, --wake-up with a start pose, an empty value, a
+/// bad --max-steps, a -c that cannot be read; an in-memory ini that fails the text checks);
+/// whatever happens after is in the returned dict: status, kind, exit_code, line (the one line,
+/// "" when ok), warnings, folder.
+py::dict localizeRun(const std::optional<std::string>& config,
+                     const std::optional<std::string>& params,
+                     const std::optional<std::string>& rawlog, const std::string& map,
+                     const std::string& outdir, const std::vector<std::string>& sets,
+                     const std::optional<std::string>& start_pose, bool wake_up,
+                     const std::optional<std::string>& reference_trajectory,
+                     const std::optional<std::string>& max_steps, bool force,
+                     const std::optional<py::function>& progress) {
+  runs::Request r;
+  runs::RequestContext context;
+  r.command = "localize";
+  r.config = config.value_or("");
+  r.map_dir = map;
+  r.rawlog = rawlog.value_or("");
+  r.outdir = outdir;
+  r.sets = sets;
+  r.start_pose = start_pose;
+  r.wake_up = wake_up;
+  r.reference_trajectory = reference_trajectory.value_or("");
+  r.force = force;
+  r.quiet = true;
+  try {
+    runs::checkLocalizeRequest(r);
+    // A value given empty is refused, as the command line refuses `--map ''`.
+    for (const auto& [flag, value] :
+         {std::pair<const char*, std::optional<std::string>>{"config", config},
+          {"map", map},
+          {"input", rawlog},
+          {"out", outdir},
+          {"reference-trajectory", reference_trajectory}})
+      if (value && value->empty())
+        throw UsageError(std::string("--") + flag +
+                         " '': an empty value (leave the flag out instead)");
+    if (max_steps) r.max_steps = runs::parseMaxSteps(*max_steps);
+  } catch (const ConfigError& e) {
+    throw UsageError(e.what() + std::string("; see budget-slam localize --help"));
+  }
+  if (config) {
+    // As the command line reads -c: missing, a folder or over 1 MiB is a ConfigError here.
+    context.config_text = readIniFile(*config, "config file '" + *config + "'");
+    context.config_label = *config;
+  } else if (params) {
+    loadIniText(context.params, *params, "config");
+  }
+
+  runs::RunHooks hooks;
+  std::optional<py::error_already_set> callback_error;
+  hooks.progress.callback = progressCallback(progress, callback_error);
+  runs::LocalizeReport result;
+  {
+    py::gil_scoped_release release;  // Ctrl-C reaches the stop request's handler meanwhile
+    // As BudgetSlamApp::run: a stop request left by an earlier call does not count.
+    const bool first_guard = !StopSignals::installed();
+    StopSignals signals;
+    if (first_guard) Cancellation::clear();
+    report::loadFigureFonts();
+    result = runs::localize(r, std::move(context), hooks);
+  }
+  if (callback_error) {
+    callback_error->restore();
+    throw py::error_already_set();
+  }
+  py::dict d;
+  d["status"] = runs::statusName(result.outcome.status);
+  d["kind"] = runs::errorKindName(result.outcome.kind);
+  d["exit_code"] = runs::exitCode(result.outcome);
+  d["line"] = result.line;
+  d["warnings"] = result.warnings;
+  d["folder"] = result.folder;
+  return d;
 }
 
 Eigen::MatrixXd toMatrix(const py::array_t<double, py::array::c_style | py::array::forcecast>& a,
@@ -371,6 +456,13 @@ PYBIND11_MODULE(_core, m) {
         "in-memory ini text; progress: called with a dict of how far it has come. Returns "
         "exit_code, status, kind, message, warnings; raises ConfigError when the request is "
         "refused, and what the progress callback raised.");
+  m.def("localize", &localizeRun, py::arg("config"), py::arg("params"), py::arg("rawlog"),
+        py::arg("map"), py::arg("outdir"), py::arg("sets"), py::arg("start_pose"),
+        py::arg("wake_up"), py::arg("reference_trajectory"), py::arg("max_steps"), py::arg("force"),
+        py::arg("progress") = py::none(),
+        "runs::localize with a typed specification (budget_slam.localize builds the arguments). "
+        "Returns a dict: status, kind, exit_code, line, warnings, folder; raises ConfigError for "
+        "what the command line refuses before running, and what the progress callback raised.");
   m.def("read_summary", &readSummary, py::arg("path"),
         "Reads a summary.json through the run layer's one reader (bounded; a bad file raises "
         "Error naming it). Returns a dict: json (the document), status, ok, error, exit_code.");

@@ -18,6 +18,7 @@ import sys
 import tempfile
 import time
 import unittest
+import warnings
 
 import numpy as np
 
@@ -540,6 +541,147 @@ class FirstHour(unittest.TestCase):
         # the next run is not stopped by the last one's request
         self.assertEqual(budget_slam.run(CONFIG, DEMO, cap=20, max_steps=10)["summary"]["status"], "ok")
 
+
+
+# ---- localize(): runs::localize through a typed specification (issue 26) ----
+
+ROOMS = os.path.join(ROOT, "rawlogs", "rooms.rawlog")
+ROOMS_REVISIT = os.path.join(ROOT, "rawlogs", "rooms_revisit.rawlog")
+
+
+class LocalizeMatchesTheCommandLine(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="test_python_localize_")
+        cls.map = os.path.join(cls.tmp.name, "map")
+        p = cli("run", "-c", CONFIG, "-i", ROOMS, "-o", cls.map, "--quiet")
+        assert p.returncode == 0, p.stderr
+        cls.cli_dir = os.path.join(cls.tmp.name, "cli")
+        p = cli("localize", "-c", CONFIG, "--map", cls.map, "-i", ROOMS_REVISIT, "-o", cls.cli_dir, "--quiet")
+        assert p.returncode == 0, p.stderr
+        cls.py_dir = os.path.join(cls.tmp.name, "py")
+        cls.heard = []
+        cls.r = budget_slam.localize(CONFIG, ROOMS_REVISIT, cls.map, outdir=cls.py_dir, progress=cls.heard.append)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_summary_steps_and_trajectory_are_the_cli_ones(self):
+        with open(os.path.join(self.cli_dir, "summary.json")) as f:
+            want = json.load(f)
+        self.assertEqual(without_timings(self.r["summary"]), without_timings(want))
+        self.assertEqual(self.r["summary"]["start_pose"]["source"], "ground truth")
+        self.assertLess(self.r["summary"]["localization"]["rmse_m"], 0.2)
+        assertColumnsEqual(self, self.r["steps"], csv_rows(os.path.join(self.cli_dir, "steps.csv")),
+                           skip=TIMING_COLUMNS)
+        self.assertEqual(len(self.r["steps"]), want["counts"]["steps"])
+        tum = np.loadtxt(os.path.join(self.cli_dir, "trajectory.tum"))
+        np.testing.assert_array_equal(self.r["trajectory"]["x"], tum[:, 1])
+        self.assertEqual(len(self.r["ground_truth"]), want["localization"]["steps_compared"])
+        self.assertIsNone(self.r["reference"])
+        self.assertIsNone(self.r["evictions"])
+        self.assertEqual(self.r["outdir"], self.py_dir)
+
+    def test_progress_reports_the_reading_and_the_steps(self):
+        tasks = [h["task"] for h in self.heard]
+        self.assertIn("reading the rawlog", tasks)
+        self.assertEqual(tasks[-1], "localize")
+        self.assertTrue(self.heard[-1]["finished"])
+        self.assertEqual(self.heard[-1]["steps_done"], self.r["summary"]["counts"]["steps"])
+
+    def test_start_pose_dict_config_and_temporary_folder(self):
+        cli_dir = os.path.join(self.tmp.name, "cli_pose")
+        p = cli("localize", "-c", CONFIG, "--map", self.map, "-i", ROOMS_REVISIT, "-o", cli_dir, "--quiet",
+                "--start-pose", "11.07,7.27,-179.9", "--max-steps", "100")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        with open(os.path.join(cli_dir, "summary.json")) as f:
+            want = json.load(f)
+        with open(CONFIG) as f:
+            text = f.read()
+        config = {}  # config.ini as a dict: the in-memory ini
+        section = None
+        for line in text.splitlines():
+            line = line.split(";")[0].split("#")[0].strip()
+            if line.startswith("["):
+                section = config.setdefault(line.strip("[]"), {})
+            elif "=" in line and section is not None:
+                k, v = line.split("=", 1)
+                section[k.strip()] = v.strip()
+        r = budget_slam.localize(config, ROOMS_REVISIT, self.map, start_pose=(11.07, 7.27, -179.9), max_steps=100)
+        self.assertIsNone(r["outdir"])
+        got = without_timings(r["summary"])
+        self.assertEqual(got.pop("config"), "config")
+        want = without_timings(want)
+        want.pop("config")
+        self.assertEqual(got, want)
+        self.assertEqual(r["summary"]["start_pose"]["source"], "--start-pose")
+        self.assertEqual(r["summary"]["counts"]["steps"], 100)
+
+    def test_refusals_and_failures_raise_the_cli_line(self):
+        cases = [  # (python kwargs, CLI flags, exit code)
+            ({"start_pose": "1,2"}, ["--start-pose", "1,2"], 2),
+            ({"start_pose": (1, 2, 3), "wake_up": True}, ["--start-pose", "1.0,2.0,3.0", "--wake-up"], 2),
+            ({"max_steps": -1}, ["--max-steps", "-1"], 2),
+            ({"overrides": {"Localization.lost_threshold": -1}}, ["--set", "Localization.lost_threshold=-1"], 1),
+            ({"map": "/nonexistent/map"}, [], 1),
+        ]
+        for k, (kwargs, flags, code) in enumerate(cases):
+            with self.subTest(flags=flags):
+                o_py, o_cli = os.path.join(self.tmp.name, f"e_py{k}"), os.path.join(self.tmp.name, f"e_cli{k}")
+                the_map = kwargs.pop("map", self.map)
+                p = cli("localize", "-c", CONFIG, "--map", the_map, "-i", ROOMS_REVISIT, "-o", o_cli, "--quiet",
+                        *flags)
+                self.assertEqual(p.returncode, code, p.stderr)
+                with self.assertRaises(budget_slam.Error) as ctx:
+                    budget_slam.localize(CONFIG, ROOMS_REVISIT, the_map, outdir=o_py, **kwargs)
+                e = ctx.exception
+                self.assertEqual(e.exit_code, code)
+                self.assertEqual(isinstance(e, budget_slam.ConfigError), code == 2)
+                line = p.stderr.strip().splitlines()[-1].replace(o_cli, o_py)
+                self.assertEqual(line, "budget-slam: " + ("" if code == 2 else "error: ") + str(e))
+                if code == 1:
+                    with open(os.path.join(o_py, "summary.json")) as f:
+                        self.assertEqual(json.load(f)["error"], str(e))
+                    self.assertEqual(e.outdir, o_py)
+        with self.assertRaises(TypeError):
+            budget_slam.localize(CONFIG, ROOMS_REVISIT, self.map, start_pose=(1, 2))
+        with self.assertRaises(TypeError):
+            budget_slam.localize(CONFIG, ROOMS_REVISIT)
+
+    def test_a_wake_up_that_finds_nothing_raises_not_found(self):
+        other = os.path.join(self.tmp.name, "other_map")
+        p = cli("run", "-c", CONFIG, "-i", os.path.join(ROOT, "rawlogs", "paper_synthetic.rawlog"), "-o", other,
+                "--quiet")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        o_cli = os.path.join(self.tmp.name, "nf_cli")
+        p = cli("localize", "-c", CONFIG, "--map", other, "-i", ROOMS_REVISIT, "-o", o_cli, "--wake-up")
+        self.assertEqual(p.returncode, 3)
+        with self.assertRaises(budget_slam.NotFound) as ctx:
+            budget_slam.localize(CONFIG, ROOMS_REVISIT, other, wake_up=True)
+        e = ctx.exception
+        self.assertEqual(e.exit_code, 3)
+        self.assertIsNone(e.outdir)
+        self.assertEqual(p.stderr.strip(), "budget-slam: error: " + str(e))
+        self.assertTrue(str(e).startswith("wake-up: the robot was not found on the map in 10 steps"))
+        self.assertEqual(e.summary["status"], "not_found")
+        self.assertFalse(e.summary["wake_up"]["found"])
+        # found on the map it was made from: the start is the wake-up's
+        r = budget_slam.localize(CONFIG, ROOMS_REVISIT, self.map, wake_up=True)
+        self.assertTrue(r["summary"]["wake_up"]["found"])
+        self.assertEqual(r["summary"]["start_pose"]["source"], "wake-up")
+
+    def test_a_map_of_another_place_warns_as_the_cli(self):
+        park = os.path.join(ROOT, "rawlogs", "park.rawlog")
+        p = cli("localize", "-c", CONFIG, "--map", self.map, "-i", park, "-o", os.path.join(self.tmp.name, "w_cli"),
+                "--start-pose", "1,2,30", "--quiet")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            budget_slam.localize(CONFIG, park, self.map, start_pose="1,2,30")
+        said = [str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)]
+        self.assertEqual(["budget-slam: warning: " + s for s in said], p.stderr.strip().splitlines())
+        self.assertTrue(said[-1].endswith("the map and the traversal share no place"))
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)

@@ -21,12 +21,6 @@ namespace {
 
 constexpr double kDeg = M_PI / 180;
 
-nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
-
-nlohmann::json poseJson(const mrpt::math::TPose2D& p) {
-  return {{"x", p.x}, {"y", p.y}, {"yaw", p.phi}};
-}
-
 /// The reference pose at time t (timestamps as written by budget-slam: equal to the rawlog's).
 const TrajectoryPoint* atTime(const std::vector<TrajectoryPoint>& ref, double t) {
   const double tol = 1e-6 * std::max(1.0, std::abs(t));
@@ -237,8 +231,38 @@ void Localizer::process(const Step& step) {
   steps_csv_.endRow();
 }
 
+LocalizationOutcome Localizer::outcome() const {
+  LocalizationOutcome o;
+  o.start = {inputs_.start, inputs_.start_source};
+  o.counts = {steps_done_, map_ids_.size()};
+  auto& m = o.localization;
+  m.min_landmarks = min_landmarks_;
+  m.lost_threshold_m = options_.lost_threshold;
+  m.error_against = inputs_.truth.kind;
+  m.error_file = inputs_.truth.file;
+  m.success_xy_m = options_.success_xy;
+  m.success_yaw_deg = options_.success_yaw_deg;
+  m.place_size_m = inputs_.places.size();
+  m.heading_sectors = inputs_.places.sectors();
+  m.mapped_everywhere = area_.everywhere();
+  m.mapped_cell_m = area_.cell();
+  m.mapped_reach_m = inputs_.sensor_range;
+  m.score = scorer_.score();
+  m.readings_used = used_;
+  m.readings_gated = gated_;
+  m.recoveries = recoveries_;
+  m.readings_not_in_map = not_in_map_;
+  m.readings_consistent_with_map = consistent_;
+  m.diverged_at_step = diverged_at_;
+  m.diverged_why = diverged_why_;
+  o.timings.steps_s = total_s_;
+  if (steps_done_) o.timings.step_ms_mean = 1e3 * total_s_ / steps_done_;
+  return o;
+}
+
 runs::RunOutcome Localizer::finish(runs::RunStatus status, runs::ErrorKind kind,
-                                   const std::string& error, const nlohmann::json& given) {
+                                   const std::string& error, const nlohmann::json& given,
+                                   const std::optional<LocalizationWakeUp>& wake_up) {
   // Every output is attempted (a full disk fails some); summary.json, last, says which were not.
   std::vector<std::string> not_written;
   const auto attempt = [&](const std::string& name, const std::function<void()>& write) {
@@ -286,48 +310,10 @@ runs::RunOutcome Localizer::finish(runs::RunStatus status, runs::ErrorKind kind,
   if (o.ok() && !write_error_.empty())
     o.fail(runs::RunStatus::Failed, runs::ErrorKind::Output, write_error_);
   o.files_not_written = not_written;
-  nlohmann::json& j = o.given;  // localize's own blocks
-  j["command"] = "localize";
-  j["start_pose"] = poseJson(inputs_.start.mean);
-  j["start_pose"]["source"] = inputs_.start_source;
-  j["counts"] = {{"steps", steps_done_}, {"map_landmarks", map_ids_.size()}};
-  j["localization"] = {
-      {"min_landmarks", min_landmarks_},
-      {"lost_threshold_m", options_.lost_threshold},
-      {"error_against",
-       inputs_.truth.kind.empty() ? nlohmann::json() : nlohmann::json(inputs_.truth.kind)},
-      {"error_file", inputs_.truth.file},
-      {"success_xy_m", options_.success_xy},
-      {"success_yaw_deg", options_.success_yaw_deg},
-      {"place_size_m", inputs_.places.size()},
-      {"heading_sectors", inputs_.places.sectors()},
-      {"mapped_area", area_.everywhere()
-                          ? "everywhere (no mapping path)"
-                          : "cells of " + std::to_string(area_.cell()) + " m within " +
-                                std::to_string(inputs_.sensor_range) + " m of the mapping path"},
-      {"rmse_m", number(s.rmse_m)},
-      {"max_m", number(s.max_m)},
-      {"lost_pct", number(s.lost_pct)},
-      {"steps_compared", s.compared},
-      {"steps_scored", s.scored},
-      {"scored_pct", number(s.scored_pct)},
-      {"steps_lost", s.lost},
-      {"success_per_place_pct", number(s.success_pct)},
-      {"places", s.places},
-      {"coverage_pct", number(s.coverage_pct)},
-      {"mean_landmarks", number(s.mean_landmarks)},
-      {"nees_mean", number(s.nees_mean)},
-      {"nees_samples", s.nees_samples},
-      {"readings_used", used_},
-      {"readings_gated", gated_},
-      {"recoveries", recoveries_},
-      {"readings_not_in_map", not_in_map_},
-      {"readings_consistent_with_map", consistent_},
-      {"diverged_at_step", diverged_at_ ? nlohmann::json(*diverged_at_) : nlohmann::json()},
-      {"diverged_why", diverged_why_}};
-  j["timings"] = {{"steps_s", total_s_},
-                  {"step_ms_mean", number(steps_done_ ? 1e3 * total_s_ / steps_done_ : NAN)}};
-  for (const auto& [key, v] : given.items()) j[key] = v;
+  o.localization = outcome();
+  o.wake_up = wake_up;
+  o.given["command"] = "localize";
+  for (const auto& [key, v] : given.items()) o.given[key] = v;
   try {
     runs::writeSummary(folder_.file("summary.json"), o);
   } catch (const std::exception& e) {

@@ -43,6 +43,95 @@ nlohmann::json timingsJson(const RunTimings& t) {
           {"peak_rss_bytes", t.peak_rss_bytes}};
 }
 
+nlohmann::json poseJson(const mrpt::math::TPose2D& p) {
+  return {{"x", p.x}, {"y", p.y}, {"yaw", p.phi}};
+}
+
+/// A localization's start_pose, counts, localization and timings blocks into `j`.
+void addLocalizationJson(nlohmann::json& j, const LocalizationOutcome& o) {
+  j["start_pose"] = poseJson(o.start.pose.mean);
+  j["start_pose"]["source"] = o.start.source;
+  j["counts"] = {{"steps", o.counts.steps}, {"map_landmarks", o.counts.map_landmarks}};
+  const auto& m = o.localization;
+  const auto& s = m.score;
+  const auto number = report::jsonNumber;
+  j["localization"] = {
+      {"min_landmarks", m.min_landmarks},
+      {"lost_threshold_m", m.lost_threshold_m},
+      {"error_against",
+       m.error_against.empty() ? nlohmann::json() : nlohmann::json(m.error_against)},
+      {"error_file", m.error_file},
+      {"success_xy_m", m.success_xy_m},
+      {"success_yaw_deg", m.success_yaw_deg},
+      {"place_size_m", m.place_size_m},
+      {"heading_sectors", m.heading_sectors},
+      {"mapped_area", m.mapped_everywhere
+                          ? "everywhere (no mapping path)"
+                          : "cells of " + std::to_string(m.mapped_cell_m) + " m within " +
+                                std::to_string(m.mapped_reach_m) + " m of the mapping path"},
+      {"rmse_m", number(s.rmse_m)},
+      {"max_m", number(s.max_m)},
+      {"lost_pct", number(s.lost_pct)},
+      {"steps_compared", s.compared},
+      {"steps_scored", s.scored},
+      {"scored_pct", number(s.scored_pct)},
+      {"steps_lost", s.lost},
+      {"success_per_place_pct", number(s.success_pct)},
+      {"places", s.places},
+      {"coverage_pct", number(s.coverage_pct)},
+      {"mean_landmarks", number(s.mean_landmarks)},
+      {"nees_mean", number(s.nees_mean)},
+      {"nees_samples", s.nees_samples},
+      {"readings_used", m.readings_used},
+      {"readings_gated", m.readings_gated},
+      {"recoveries", m.recoveries},
+      {"readings_not_in_map", m.readings_not_in_map},
+      {"readings_consistent_with_map", m.readings_consistent_with_map},
+      {"diverged_at_step",
+       m.diverged_at_step ? nlohmann::json(*m.diverged_at_step) : nlohmann::json()},
+      {"diverged_why", m.diverged_why}};
+  j["timings"] = {{"steps_s", o.timings.steps_s}, {"step_ms_mean", number(o.timings.step_ms_mean)}};
+}
+
+/// summary.json "wake_up" of localize (docs/OUTPUTS.md "localize --wake-up").
+nlohmann::json wakeUpJson(const LocalizationWakeUp& w) {
+  const auto& r = w.result;
+  nlohmann::json j = {{"requested", w.asked ? "--wake-up" : "no start pose"},
+                      {"found", w.found()},
+                      {"status", wakeup::statusName(r.status)},
+                      {"reason", wakeup::reasonName(r.reason)},
+                      {"why_not_found", w.why_not_found},
+                      {"correspondence", r.by_ids ? "ids" : "search"},
+                      {"max_steps", w.max_steps},
+                      {"steps_used", w.steps_used},
+                      {"time_ms", w.time_ms},
+                      {"readings", r.readings},
+                      {"landmarks", r.landmarks},
+                      {"inliers", r.inliers},
+                      {"hypotheses", r.hypotheses},
+                      {"runner_up_landmarks", r.runner_up},
+                      {"score", r.score},
+                      {"runner_up_score", r.runner_up_score},
+                      {"step", nullptr},
+                      {"pose", nullptr},
+                      {"cov", nullptr},
+                      {"error", nullptr}};
+  if (w.found()) {
+    j["step"] = r.step;
+    j["pose"] = poseJson(r.pose.mean);
+    nlohmann::json cov = nlohmann::json::array();
+    for (int i = 0; i < 3; ++i)
+      cov.push_back({r.pose.cov(i, 0), r.pose.cov(i, 1), r.pose.cov(i, 2)});
+    j["cov"] = cov;
+  }
+  if (w.error)
+    j["error"] = {{"against", w.error->against},
+                  {"xy_m", w.error->xy_m},
+                  {"yaw_deg", w.error->yaw_deg},
+                  {"within_success", w.error->within_success}};
+  return j;
+}
+
 // Reading: lenient for what only informs (a missing or mistyped number is NaN or 0), strict for
 // what a later command acts on (map_alignment, where localize starts the robot).
 
@@ -200,6 +289,8 @@ nlohmann::json summaryJson(const RunOutcome& o) {
     j["relocalization"] =
         report::relocalizationJson(o.run->relocalization.coverage, o.run->relocalization.source,
                                    o.run->relocalization.details);
+  if (o.localization) addLocalizationJson(j, *o.localization);
+  if (o.wake_up) j["wake_up"] = wakeUpJson(*o.wake_up);
   for (const auto& [k, v] : o.given.items()) j[k] = v;
   return j;
 }

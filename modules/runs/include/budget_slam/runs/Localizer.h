@@ -78,10 +78,13 @@ class Localizer {
   /// Writes trajectory.tum, landmarks.csv, map.png, the truth's .tum and summary.json
   /// (runs::writeSummary; `given` merged in). Each is attempted even when another fails (a full
   /// disk): the first failure is writeError() (and, for an ok localization, the outcome's error),
-  /// one of summary.json itself summaryError(). Returns the outcome summary.json was written from
-  /// (its localization blocks, command, start_pose, counts, localization and timings, in `given`).
+  /// one of summary.json itself summaryError(). Returns the outcome summary.json was written from:
+  /// its localization blocks (RunOutcome::localization), `wake_up`, and `given` with "command".
   runs::RunOutcome finish(runs::RunStatus status, runs::ErrorKind kind, const std::string& error,
-                          const nlohmann::json& given = {});
+                          const nlohmann::json& given = {},
+                          const std::optional<LocalizationWakeUp>& wake_up = std::nullopt);
+  /// The blocks finish() writes, as they stand.
+  LocalizationOutcome outcome() const;
   /// The first output finish() could not write, "" when none.
   const std::string& writeError() const { return write_error_; }
   /// Why summary.json could not be written, "" when it was.

@@ -9,6 +9,7 @@
 #include "budget_slam/metrics/MapAlignment.h"
 #include "budget_slam/metrics/NeesAccumulator.h"
 #include "budget_slam/metrics/RelocalizationCoverage.h"
+#include "budget_slam/runs/LocalizationOutcome.h"
 #include "budget_slam/runs/RunStatus.h"
 
 namespace budget_slam::runs {
@@ -72,6 +73,10 @@ struct RunOutcome {
   std::optional<Run> run;
   std::optional<GroundTruthOutcome> ground_truth;  ///< when the rawlog has ground truth
   std::vector<std::string> files_not_written;      ///< outputs a full disk kept out
+  /// A localization's own blocks (start_pose, counts, localization, timings), once its filter
+  /// existed, and its wake-up when it woke up on the map (LocalizationOutcome.h).
+  std::optional<LocalizationOutcome> localization;
+  std::optional<LocalizationWakeUp> wake_up;
   /// What the caller adds to summary.json: what the run was given (rawlog, config, ...), the
   /// comparison's metrics against the reference, the session state written, the wake-up.
   nlohmann::json given = nlohmann::json::object();

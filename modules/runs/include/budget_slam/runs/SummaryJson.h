@@ -1,7 +1,7 @@
 #pragma once
 // summary.json (docs/OUTPUTS.md "summary.json"): the one writer, from a RunOutcome, and the one
-// reader, used by `localize --map` (modules/runs/src/MapFolder.cpp), the Python module and, through the
-// Python module's key list, the experiment scripts.
+// reader, used by `localize --map` (modules/runs/src/MapFolder.cpp), the Python module and, through
+// the Python module's key list, the experiment scripts.
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -11,7 +11,8 @@ namespace budget_slam::runs {
 
 /// summary.json's text of `o`: status, error, the run's blocks (backend, reducer, cap, counts,
 /// timings, agreement, shadow_failures, relocalization) when there was a run, ground_truth,
-/// files_not_written, then every key of `o.given` (which wins over a key of the same name).
+/// files_not_written, a localization's blocks (start_pose, counts, localization, timings) and
+/// its wake_up, then every key of `o.given` (which wins over a key of the same name).
 nlohmann::json summaryJson(const RunOutcome& o);
 
 /// Writes summaryJson(o) to `path` atomically (report::writeSummaryJson). Throws Error naming
