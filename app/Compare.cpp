@@ -13,7 +13,8 @@ int BudgetSlamApp::runCompare() {
   const runs::CompareOutcome& outcome = r.outcome;
   if (r.started && !cli_.quiet && !r.markdown.empty())
     *out << r.markdown << "outputs in " << r.folder << "/\n";
-  for (const auto& line : outcome.lines) *err << "budget-slam: " << printable(line) << std::endl;
+  for (const auto& line : outcome.lines)
+    *err << "budget-slam: " << printable(line.shown()) << std::endl;
   if (r.started && !stdoutWritten(r.folder) && outcome.status == runs::RunStatus::Ok)
     return runs::exitCode(runs::RunStatus::Failed, runs::ErrorKind::Output);
   return outcome.exitCode();

@@ -180,11 +180,12 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
     } else {
       const runs::CompareReport report = runs::compare(request, std::move(context), hooks);
       status = report.outcome.status, kind = report.outcome.kind;
-      // The command line's last stderr line says it; its warnings are warnings too.
+      // The comparison's last error or interruption says it; its warnings are warnings.
       for (const auto& line : report.outcome.lines) {
-        const std::string shown = printable(line);
-        if (shown.rfind("warning: ", 0) == 0) r.warnings.push_back(shown.substr(9));
-        r.message = shown.rfind("error: ", 0) == 0 ? shown.substr(7) : shown;
+        if (line.kind == runs::CompareLine::Kind::Warning)
+          r.warnings.push_back(printable(line.text));
+        else
+          r.message = printable(line.text);
       }
     }
     r.exit_code = runs::exitCode(status, kind);

@@ -123,8 +123,9 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
       }
     }
     outcome.status = status, outcome.kind = kind, outcome.first_error = msg;
-    outcome.lines = {(status == RunStatus::Interrupted ? "" : "error: ") +
-                     withAlso(msg, not_saved)};
+    outcome.lines = {{status == RunStatus::Interrupted ? CompareLine::Kind::Interrupted
+                                                       : CompareLine::Kind::Error,
+                      withAlso(msg, not_saved)}};
     return std::move(result);
   };
   const auto failed = [&](const std::exception& e, const std::string& why) {
@@ -229,7 +230,8 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
     // The reference's failure fails every comparison, but the others' errors are their own.
     if (!r->ok()) outcome.add(r->status, r->kind, "run '" + r->name + "': " + r->error, false);
     for (const auto& f : r->driver->budget().shadowFailures())
-      outcome.lines.push_back("warning: run '" + r->name + "': " + shadowFailureLine(f));
+      outcome.lines.push_back(
+          {CompareLine::Kind::Warning, "run '" + r->name + "': " + shadowFailureLine(f)});
     rows.push_back(comparisonRow(*r, m, ref_landmarks, ref_poses));
   }
 
@@ -290,7 +292,7 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
     if (outcome.lines.empty()) {
       outcome.add(RunStatus::Failed, ErrorKind::Output, failureLine(e), true);
     } else {
-      outcome.lines.back() = withAlso(outcome.lines.back(), failureLine(e));
+      outcome.lines.back().text = withAlso(outcome.lines.back().text, failureLine(e));
       outcome.status = RunStatus::Failed, outcome.kind = ErrorKind::Output;
     }
   }

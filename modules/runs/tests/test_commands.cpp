@@ -130,7 +130,8 @@ TEST(CompareCommand, ABadConfigurationFailsInOneLine) {
   EXPECT_TRUE(c.rows.empty());
   EXPECT_EQ(c.markdown, "");
   ASSERT_EQ(c.outcome.lines.size(), 1u);
-  EXPECT_EQ(c.outcome.lines[0], "error: " + c.outcome.first_error);
+  EXPECT_EQ(c.outcome.lines[0].kind, CompareLine::Kind::Error);
+  EXPECT_EQ(c.outcome.lines[0].text, c.outcome.first_error);
   EXPECT_NE(c.outcome.first_error.find("[LandmarkBudget] protect_recent_steps"), std::string::npos)
       << c.outcome.first_error;
   // The folder says why, and that nothing started.
@@ -147,8 +148,8 @@ TEST(CompareCommand, AMissingRawlogIsAnInputFailure) {
   const CompareReport c = compare(r, context(), {});
   EXPECT_EQ(c.outcome.status, RunStatus::Failed);
   EXPECT_EQ(c.outcome.kind, ErrorKind::Input);
-  EXPECT_EQ(c.outcome.lines,
-            std::vector<std::string>{"error: rawlog '/nonexistent/x.rawlog': no such file"});
+  ASSERT_EQ(c.outcome.lines.size(), 1u);
+  EXPECT_EQ(c.outcome.lines[0].shown(), "error: rawlog '/nonexistent/x.rawlog': no such file");
   EXPECT_FALSE(c.started);
 }
 
