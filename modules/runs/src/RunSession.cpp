@@ -1,15 +1,15 @@
 #include "budget_slam/runs/RunSession.h"
 
-#include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <vector>
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/session/SessionStateFile.h"
-#include "budget_slam/wakeup/GlobalLocalizer.h"
+#include "budget_slam/wakeup/WakeUpRun.h"
 
 namespace budget_slam::runs {
 
@@ -54,25 +54,20 @@ session::SessionState loadResumeState(const std::string& run_dir, const std::str
 WakeUpOutcome wakeUpOnMap(const RunConfig& rc, session::SessionState& state, std::size_t skip) {
   wakeup::WakeUpOptions options;
   options.loadFromConfigFile(rc.ini, wakeup::WakeUpOptions::kSection);
-  wakeup::ReadingNoise noise;
-  noise.std_range = rc.ini.read_double("RangeBearingKFSLAM", "std_sensor_range", 0.1);
-  noise.std_bearing =
-      rc.ini.read_double("RangeBearingKFSLAM", "std_sensor_yaw_deg", 0.5) * M_PI / 180;
-  const auto t0 = std::chrono::steady_clock::now();
-  wakeup::GlobalLocalizer localizer(state.map.landmarks, options, noise);
+  // The steps after the `skip` the session leaves unread, one at a time, into the same wake-up
+  // as localize's (wakeup::wakeUpOver).
   dataset::RawlogReader reader(rc.rawlog);
   for (std::size_t k = 0; k < skip && reader.next(); ++k) {
   }
+  std::optional<Step> step;
+  const wakeup::WakeUpRun woke = wakeup::wakeUpOver(
+      state.map.landmarks,
+      [&]() -> const Step* { return (step = reader.next()) ? &*step : nullptr; }, options,
+      wakeup::readingNoiseOf(rc.ini));
   WakeUpOutcome out;
-  while (!localizer.finished()) {
-    auto step = reader.next();
-    if (!step) break;
-    localizer.add(*step);
-    ++out.steps;
-  }
-  const double ms =
-      1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const wakeup::WakeUpResult& r = localizer.result();
+  out.steps = woke.steps_read;
+  const double ms = woke.wall_ms;
+  const wakeup::WakeUpResult& r = woke.result;
   out.found = r.status == wakeup::WakeUpStatus::Found;
   out.json = {{"status", wakeup::statusName(r.status)},
               {"reason", wakeup::reasonName(r.reason)},
