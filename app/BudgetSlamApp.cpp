@@ -232,12 +232,12 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   try {
     refuseEmptyValues({&config, &rawlog, &outdir, &reducer, &reducers, &seeds, &max_steps, &cap,
                        &backend, &relocalize, &reference_trajectory, &resume, &skip_steps});
-    if (max_steps.isSet()) cli_.max_steps = parseMaxSteps(max_steps.getValue());
-    if (skip_steps.isSet()) cli_.skip_steps = parseSkipSteps(skip_steps.getValue());
-    if (seeds.isSet()) cli_.seeds = parseSeeds(seeds.getValue());
+    if (max_steps.isSet()) cli_.max_steps = runs::parseMaxSteps(max_steps.getValue());
+    if (skip_steps.isSet()) cli_.skip_steps = runs::parseSkipSteps(skip_steps.getValue());
+    if (seeds.isSet()) cli_.seeds = runs::parseSeeds(seeds.getValue());
     runs::checkRequest(cli_);
   } catch (const ConfigError& e) {
-    throw UsageError(e.what() + std::string("; see budget-slam ") + cli_.command + " --help");
+    throw runs::withHelpHint(cli_.command, e);
   }
   loadConfigFile();
 }

@@ -11,12 +11,7 @@
 
 namespace budget_slam::app {
 
-using runs::parseMaxSteps;
-using runs::parseSeeds;
-using runs::parseSkipSteps;
-
-/// A string flag given with an empty value (`--backend ''`) is refused: it would silently mean
-/// "not given".
+/// runs::refuseEmptyValue for each of TCLAP's string flags that was given.
 void refuseEmptyValues(const std::vector<const TCLAP::ValueArg<std::string>*>& flags);
 
 }  // namespace budget_slam::app

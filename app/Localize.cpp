@@ -129,9 +129,9 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
   try {
     runs::checkLocalizeRequest(cli_);
     refuseEmptyValues({&config, &map, &rawlog, &outdir, &reference, &max_steps});
-    if (max_steps.isSet()) cli_.max_steps = parseMaxSteps(max_steps.getValue());
+    if (max_steps.isSet()) cli_.max_steps = runs::parseMaxSteps(max_steps.getValue());
   } catch (const ConfigError& e) {
-    throw UsageError(e.what() + std::string("; see budget-slam localize --help"));
+    throw runs::withHelpHint("localize", e);
   }
   loadConfigFile();
 }

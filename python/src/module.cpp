@@ -79,6 +79,30 @@ ProgressCallback progressCallback(const std::optional<py::function>& progress,
   };
 }
 
+/// Runs `call` (one of the run layer's commands) as the command line would: the GIL released
+/// (Ctrl-C then reaches the stop request's handler), the stop signals' handlers installed for the
+/// call and a stop request left by an earlier call cleared (as BudgetSlamApp::run), the figure
+/// fonts loaded while descriptors are to be had (report/Figure.h), and `progress` as the hooks'
+/// callback. What the callback raised is raised again once the call has ended.
+template <class Call>
+void runGuarded(const std::optional<py::function>& progress, runs::RunHooks& hooks,
+                const Call& call) {
+  std::optional<py::error_already_set> callback_error;
+  hooks.progress.callback = progressCallback(progress, callback_error);
+  {
+    py::gil_scoped_release release;
+    const bool first_guard = !StopSignals::installed();
+    StopSignals signals;
+    if (first_guard) Cancellation::clear();
+    report::loadFigureFonts();
+    call();
+  }
+  if (callback_error) {
+    callback_error->restore();
+    throw py::error_already_set();
+  }
+}
+
 /// The typed request of run() and compare() from their arguments (python/budget_slam/__init__.py
 /// _invoke): the same checks, in the same order and with the same messages, as the command
 /// line's (BudgetSlamApp::initialize). A refused value raises ConfigError.
@@ -124,17 +148,13 @@ runs::Request requestOf(const std::string& command, const py::dict& d) {
         {"cap", r.cap},
         {"backend", text("backend")},
         {"resume", text("resume")}};
-    for (const auto& [flag, value] : given)
-      if (value && value->empty())
-        throw UsageError(std::string("--") + flag +
-                         " '': an empty value (leave the flag out "
-                         "instead)");
+    for (const auto& [flag, value] : given) runs::refuseEmptyValue(flag, value);
     if (const auto v = text("max_steps")) r.max_steps = runs::parseMaxSteps(*v);
     if (const auto v = text("skip_steps")) r.skip_steps = runs::parseSkipSteps(*v);
     if (const auto v = text("seeds")) r.seeds = runs::parseSeeds(*v);
     runs::checkRequest(r);
   } catch (const ConfigError& e) {
-    throw UsageError(e.what() + std::string("; see budget-slam ") + command + " --help");
+    throw runs::withHelpHint(command, e);
   }
   return r;
 }
@@ -161,16 +181,8 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
 
   CommandOutcome r;
   runs::RunHooks hooks;
-  std::optional<py::error_already_set> callback_error;
-  hooks.progress.callback = progressCallback(progress, callback_error);
   hooks.warning = [&](const std::string& line) { r.warnings.push_back(line); };
-  {
-    py::gil_scoped_release release;  // Ctrl-C reaches the run's own handler meanwhile
-    // As BudgetSlamApp::run: a stop request left by an earlier run does not count.
-    const bool first_guard = !StopSignals::installed();
-    StopSignals signals;
-    if (first_guard) Cancellation::clear();
-    report::loadFigureFonts();  // while descriptors are to be had (report/Figure.h)
+  runGuarded(progress, hooks, [&] {
     runs::RunStatus status;
     runs::ErrorKind kind;
     if (command == "run") {
@@ -191,11 +203,7 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
     r.exit_code = runs::exitCode(status, kind);
     r.status = runs::statusName(status);
     r.kind = runs::errorKindName(kind);
-  }
-  if (callback_error) {
-    callback_error->restore();
-    throw py::error_already_set();
-  }
+  });
   return r;
 }
 
@@ -235,12 +243,10 @@ py::dict localizeRun(const std::optional<std::string>& config,
           {"input", rawlog},
           {"out", outdir},
           {"reference-trajectory", reference_trajectory}})
-      if (value && value->empty())
-        throw UsageError(std::string("--") + flag +
-                         " '': an empty value (leave the flag out instead)");
+      runs::refuseEmptyValue(flag, value);
     if (max_steps) r.max_steps = runs::parseMaxSteps(*max_steps);
   } catch (const ConfigError& e) {
-    throw UsageError(e.what() + std::string("; see budget-slam localize --help"));
+    throw runs::withHelpHint("localize", e);
   }
   if (config) {
     // As the command line reads -c: missing, a folder or over 1 MiB is a ConfigError here.
@@ -251,22 +257,8 @@ py::dict localizeRun(const std::optional<std::string>& config,
   }
 
   runs::RunHooks hooks;
-  std::optional<py::error_already_set> callback_error;
-  hooks.progress.callback = progressCallback(progress, callback_error);
   runs::LocalizeReport result;
-  {
-    py::gil_scoped_release release;  // Ctrl-C reaches the stop request's handler meanwhile
-    // As BudgetSlamApp::run: a stop request left by an earlier call does not count.
-    const bool first_guard = !StopSignals::installed();
-    StopSignals signals;
-    if (first_guard) Cancellation::clear();
-    report::loadFigureFonts();
-    result = runs::localize(r, std::move(context), hooks);
-  }
-  if (callback_error) {
-    callback_error->restore();
-    throw py::error_already_set();
-  }
+  runGuarded(progress, hooks, [&] { result = runs::localize(r, std::move(context), hooks); });
   py::dict d;
   d["status"] = runs::statusName(result.outcome.status);
   d["kind"] = runs::errorKindName(result.outcome.kind);

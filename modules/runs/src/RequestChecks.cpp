@@ -110,4 +110,13 @@ void checkWakeUp(const Request& request) {
     throw UsageError("--wake-up: needs --resume RUN_DIR (the saved map to wake up on)");
 }
 
+void refuseEmptyValue(const std::string& flag, const std::optional<std::string>& value) {
+  if (value && value->empty())
+    throw UsageError("--" + flag + " '': an empty value (leave the flag out instead)");
+}
+
+UsageError withHelpHint(const std::string& command, const ConfigError& e) {
+  return UsageError(e.what() + std::string("; see budget-slam ") + command + " --help");
+}
+
 }  // namespace budget_slam::runs

@@ -4,9 +4,11 @@
 // bad value is a UsageError naming the flag (exit 2, nothing written).
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "budget_slam/core/Error.h"
 #include "budget_slam/runs/Request.h"
 
 namespace budget_slam::runs {
@@ -27,6 +29,14 @@ std::size_t parseSkipSteps(const std::string& text);
 /// (Section.key=value). Throws UsageError naming the flag; a malformed --set is a ConfigError
 /// (the command line adds "; see budget-slam <command> --help" to either).
 void checkRequest(const Request& request);
+
+/// A flag given with an empty value (`--backend ''`) is refused: it would silently mean "not
+/// given". Throws UsageError "--<flag> '': an empty value (leave the flag out instead)".
+void refuseEmptyValue(const std::string& flag, const std::optional<std::string>& value);
+
+/// What a refused value says to whoever filled the request: the check's line and where the
+/// command's flags are explained ("...; see budget-slam <command> --help").
+UsageError withHelpHint(const std::string& command, const ConfigError& e);
 
 /// Throws UsageError "--wake-up: needs --resume RUN_DIR (...)" when the request wakes up on no
 /// saved map (the command line says it as it is, without the --help hint).
