@@ -8,7 +8,6 @@
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
-#include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/metrics/MetricsOptions.h"
@@ -135,11 +134,7 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
   RunConfig rc;
   std::vector<std::string> names = request.reducers;
   try {
-    if (context.config_text) {
-      context.params.clear();
-      loadIniText(context.params, *context.config_text, label);
-    }
-    rc = loadRunConfig(context.params, request, label);
+    rc = loadRunConfig(request, context);
     // --reducers was checked with the request (checkRequest).
     if (names.empty())
       for (const auto& n : reducers::builtinReducers().names())

@@ -6,7 +6,6 @@
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
-#include "budget_slam/core/IniText.h"
 #include "budget_slam/core/InputLimits.h"
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/Text.h"
@@ -116,12 +115,7 @@ LocalizeReport localize(const Request& request, RequestContext context, const Ru
 
   RunConfig rc;
   try {
-    mrpt::config::CConfigFileMemory params;
-    if (context.config_text)
-      loadIniText(params, *context.config_text, context.config_label);
-    else
-      params = context.params;
-    rc = loadRunConfig(params, cli, context.config_label);
+    rc = loadRunConfig(request, context);
     for (const auto& w : rc.warnings) warn(w);
     folder.emplace(rc.outdir, cli.force);
   } catch (const Error& e) {

@@ -2,7 +2,6 @@
 #include <filesystem>
 
 #include "budget_slam/core/Error.h"
-#include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/runs/BuiltinBackends.h"
 #include "budget_slam/runs/Commands.h"
@@ -29,11 +28,7 @@ RunReport run(const Request& request, RequestContext context, const RunHooks& ho
 
   RunConfig rc;
   try {
-    if (context.config_text) {
-      context.params.clear();
-      loadIniText(context.params, *context.config_text, label);
-    }
-    rc = loadRunConfig(context.params, request, label);
+    rc = loadRunConfig(request, context);
   } catch (const std::exception& e) {
     // Error: a bad value, key or file; anything else (MRPT's own exceptions) in one line.
     const std::string why = printable(

@@ -265,4 +265,12 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Req
   return rc;
 }
 
+RunConfig loadRunConfig(const Request& request, RequestContext& context) {
+  if (context.config_text) {
+    context.params.clear();
+    loadIniText(context.params, *context.config_text, context.config_label);
+  }
+  return loadRunConfig(context.params, request, context.config_label);
+}
+
 }  // namespace budget_slam::runs

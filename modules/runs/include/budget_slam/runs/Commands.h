@@ -16,16 +16,6 @@
 
 namespace budget_slam::runs {
 
-/// What a request runs with besides its flags: the ini and who runs it.
-struct RequestContext {
-  mrpt::config::CConfigFileMemory params;  ///< the ini as the caller holds it (no config_text)
-  /// The -c file's text, parsed into `params` first (core/IniText.h): a bad text fails the
-  /// command as a bad value does (one line, summary.json in the output folder).
-  std::optional<std::string> config_text;
-  std::string config_label = "config";  ///< the ini's name in messages and summary.json
-  std::string writer;                   ///< "budget-slam <version>": the session state's writer
-};
-
 /// `run` (docs/ARCHITECTURE.md "A run"): the merged configuration (loadRunConfig; a bad one
 /// ends the run before it starts, saying why in summary.json when the output folder can take
 /// it), the session to resume read and checked before anything is written (a mismatch is one

@@ -1,4 +1,6 @@
 #pragma once
+#include <mrpt/config/CConfigFileMemory.h>
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -28,6 +30,16 @@ struct Request {
   std::string resume;                     ///< run: --resume RUN_DIR ("" = a first session)
   std::size_t skip_steps = 0;  ///< run: --skip-steps N (the rawlog's first N steps unread)
   bool wake_up = false;        ///< run: --wake-up (find the robot on the resumed map)
+};
+
+/// What a request runs with besides its flags: the ini and who runs it.
+struct RequestContext {
+  mrpt::config::CConfigFileMemory params;  ///< the ini as the caller holds it (no config_text)
+  /// The -c file's text, parsed into `params` first (core/IniText.h): a bad text fails the
+  /// command as a bad value does (one line, summary.json in the output folder).
+  std::optional<std::string> config_text;
+  std::string config_label = "config";  ///< the ini's name in messages and summary.json
+  std::string writer;                   ///< "budget-slam <version>": the session state's writer
 };
 
 }  // namespace budget_slam::runs

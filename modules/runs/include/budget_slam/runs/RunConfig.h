@@ -32,6 +32,10 @@ struct RunConfig {
 /// Throws ConfigError whose message names the file, flag or key at fault.
 RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Request& cli,
                         const std::string& config_label);
+/// The configuration of a request: `context`'s -c text, when it has one, parsed into
+/// context.params first (core/IniText.h: a bad text is a ConfigError naming the line), then
+/// loadRunConfig with context.config_label.
+RunConfig loadRunConfig(const Request& request, RequestContext& context);
 
 /// Throws ConfigError unless `set` reads Section.key=value (--set).
 void checkSet(const std::string& set);
