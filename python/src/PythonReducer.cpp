@@ -1,0 +1,703 @@
+// Reducers written in Python (docs/PYTHON.md "A reducer in Python"). A plugin is a Python class
+// registered by name (budget_slam.register_reducer); its registry entry is an ordinary
+// ReducerEntry: its ini section is checked in C++ before a run (no Python needed), and each run
+// builds an instance and asks its choose() at every drop, the GIL taken back for the call (the
+// runs release it: module.cpp runGuarded, PluginHost.cpp). What the plugin does wrong (raises,
+// returns what is not a candidate, a NaN score) ends the run `failed` with one line naming the
+// plugin, the step and the Python error's last line; a stop request (Ctrl-C) interrupts Python
+// code that does not return (StopWatch).
+#include "PythonReducer.h"
+
+#include <mrpt/config/CConfigFileMemory.h>
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <cmath>
+#include <condition_variable>
+#include <iomanip>
+#include <mutex>
+#include <thread>
+#include <variant>
+
+#include "budget_slam/core/AbandonOnStop.h"
+#include "budget_slam/core/Cancellation.h"
+#include "budget_slam/core/Error.h"
+#include "budget_slam/core/IniSection.h"
+#include "budget_slam/core/OptionTable.h"
+#include "budget_slam/core/Text.h"
+#include "budget_slam/metrics/MetricsOptions.h"
+#include "budget_slam/reducers/BudgetOptions.h"
+#include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/report/ReportOptions.h"
+#include "budget_slam/runs/BuiltinBackends.h"
+#include "budget_slam/runs/LocalizationOptions.h"
+#include "budget_slam/runs/MappingOptions.h"
+#include "budget_slam/wakeup/WakeUpOptions.h"
+
+namespace py = pybind11;
+
+namespace budget_slam::python {
+namespace {
+
+/// One key of a plugin's ini section: its kind (from the Python default's type), its default as
+/// ini text, and for a choice the allowed words, for a number its range.
+struct PluginOption {
+  enum class Kind { Bool, Int, Float, Text, Choice };
+  std::string key;
+  Kind kind = Kind::Text;
+  std::string default_text;
+  std::vector<std::string> choices;  ///< Kind::Choice: the allowed words, the default first
+  double lo = -std::numeric_limits<double>::infinity();  ///< Int, Float: the smallest value
+  double hi = std::numeric_limits<double>::infinity();   ///< Int, Float: the largest value
+  std::string doc;
+};
+
+using OptionValue = std::variant<bool, long long, double, std::string>;
+
+/// What register_reducer was given, shared by the registry entry and every instance.
+struct PluginSpec {
+  std::string name;     ///< the registry name
+  std::string origin;   ///< where the class is defined (its file), for messages
+  std::string section;  ///< its ini section
+  std::string summary;
+  std::vector<PluginOption> options;
+  /// The class (or factory) called with the section's values as keyword arguments. A strong
+  /// reference never released: the registry is a static that outlives the interpreter, and a
+  /// reducer's name stays taken for the life of the process.
+  PyObject* factory = nullptr;
+
+  /// "plugin reducer 'mine' (mine.py)": how every error of the plugin begins.
+  std::string label() const { return "plugin reducer '" + name + "' (" + origin + ")"; }
+};
+
+long long toLongLong(double v) {
+  return v <= -9.2e18  ? std::numeric_limits<long long>::min()
+         : v >= 9.2e18 ? std::numeric_limits<long long>::max()
+                       : static_cast<long long>(v);
+}
+
+/// Reads every key of the plugin's section as the plugin will get it; the first bad value throws
+/// IniSection's KeyError ("[S] k = v: why"). Needs no GIL: it runs in the checks before a run.
+std::vector<OptionValue> readValues(const PluginSpec& spec,
+                                    const mrpt::config::CConfigFileBase& ini) {
+  const IniSection s(ini, spec.section);
+  std::vector<OptionValue> out;
+  for (const auto& o : spec.options) switch (o.kind) {
+      case PluginOption::Kind::Bool:
+        out.emplace_back(s.readBool(o.key, o.default_text == "true"));
+        break;
+      case PluginOption::Kind::Int:
+        out.emplace_back(
+            s.readInt(o.key, std::stoll(o.default_text), toLongLong(o.lo), toLongLong(o.hi)));
+        break;
+      case PluginOption::Kind::Float:
+        out.emplace_back(s.readDouble(o.key, std::stod(o.default_text), o.lo, o.hi));
+        break;
+      case PluginOption::Kind::Text:
+        out.emplace_back(s.readString(o.key, o.default_text));
+        break;
+      case PluginOption::Kind::Choice:
+        out.emplace_back(s.readChoice(o.key, o.default_text, o.choices));
+        break;
+    }
+  return out;
+}
+
+std::string valueText(const OptionValue& v) {
+  if (const bool* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
+  if (const long long* i = std::get_if<long long>(&v)) return std::to_string(*i);
+  if (const double* d = std::get_if<double>(&v)) return option::numberText(*d);
+  return std::get<std::string>(v);
+}
+
+py::object toPython(const OptionValue& v) {
+  if (const bool* b = std::get_if<bool>(&v)) return py::bool_(*b);
+  if (const long long* i = std::get_if<long long>(&v)) return py::int_(*i);
+  if (const double* d = std::get_if<double>(&v)) return py::float_(*d);
+  return py::str(std::get<std::string>(v));
+}
+
+/// The last line of a Python error as traceback prints it ("ValueError: boom"), on one line.
+std::string pythonErrorLine(const py::error_already_set& e) {
+  try {
+    const py::list lines =
+        py::module_::import("traceback").attr("format_exception_only")(e.type(), e.value());
+    std::string last =
+        lines.empty() ? std::string() : py::str(lines[lines.size() - 1]).cast<std::string>();
+    for (char& c : last)
+      if (c == '\n' || c == '\r') c = ' ';
+    while (!last.empty() && last.back() == ' ') last.pop_back();
+    return last.empty() ? std::string("an exception without a message") : last;
+  } catch (...) {
+    return "an exception that cannot be printed";
+  }
+}
+
+/// What a plugin returned or did that its contract does not allow (a wrong type, an id that is
+/// not a candidate, a NaN score): worded without the plugin's name and step, which the caller adds.
+class PluginFault : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+const char* typeName(py::handle h) { return Py_TYPE(h.ptr())->tp_name; }
+
+/// Interrupts the Python code a reducer runs when the stop request comes (Ctrl-C, SIGTERM):
+/// Python code that loops never returns to the budget manager's polls, and a stop signal does not
+/// reach Python's own handler while a run has the application's handlers installed (and never
+/// reaches a worker thread of compare). A thread of the reducer's own looks at the stop request
+/// every kStopPoll while a call is in progress and then raises KeyboardInterrupt in the calling
+/// thread (PyThreadState_SetAsyncExc, taken at the interpreter's next switch of threads). Code
+/// blocked in a C call (time.sleep) is interrupted when it comes back to Python.
+/// Lock order: the GIL, then mutex_ (the calling thread holds the GIL in enter() and leave()).
+class StopWatch {
+ public:
+  StopWatch() = default;
+  StopWatch(const StopWatch&) = delete;
+  StopWatch& operator=(const StopWatch&) = delete;
+  /// Joins the thread; call it without the GIL (the thread may be waiting for it).
+  ~StopWatch() {
+    {
+      std::lock_guard<std::mutex> l(mutex_);
+      quit_ = true;
+    }
+    wake_.notify_one();
+    if (thread_.joinable()) thread_.join();
+  }
+
+  /// A call into Python begins on this thread; the GIL is held.
+  void enter() {
+    std::lock_guard<std::mutex> l(mutex_);
+    caller_ = PyThread_get_thread_ident();
+    in_call_ = true;
+    fired_ = false;
+    if (!thread_.joinable()) {
+      try {
+        thread_ = std::thread([this] { watch(); });
+      } catch (const std::system_error&) {
+        // No thread to be had: the call runs unwatched (a loop that never returns then ignores
+        // Ctrl-C; the budget manager's own polls still stop the run between drops).
+      }
+    }
+    wake_.notify_one();
+  }
+  /// The call has ended; the GIL is still held. An interruption raised too late for the call is
+  /// withdrawn, so that it never lands in the next Python code the thread runs.
+  void leave() {
+    std::lock_guard<std::mutex> l(mutex_);
+    in_call_ = false;
+    if (fired_) PyThreadState_SetAsyncExc(caller_, nullptr);
+    fired_ = false;
+  }
+
+ private:
+  void watch() {
+    std::unique_lock<std::mutex> l(mutex_);
+    while (!quit_) {
+      if (!in_call_) {
+        wake_.wait(l);
+        continue;
+      }
+      wake_.wait_for(l, kStopPoll);
+      if (quit_ || !in_call_ || fired_ || !Cancellation::requested()) continue;
+      l.unlock();
+      {
+        // The calling thread gives the GIL up at its next switch interval (5 ms) if it runs
+        // Python code; if it has left the call meanwhile, nothing is raised.
+        py::gil_scoped_acquire gil;
+        std::lock_guard<std::mutex> again(mutex_);
+        if (in_call_ && !fired_) {
+          PyThreadState_SetAsyncExc(caller_, PyExc_KeyboardInterrupt);
+          fired_ = true;
+        }
+      }
+      l.lock();
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::thread thread_;
+  unsigned long caller_ = 0;
+  bool in_call_ = false, fired_ = false, quit_ = false;
+};
+
+/// What a plugin's choose() gets: the decision's step and candidates, every landmark of the map,
+/// and the backend's estimates on request. Valid during the call only (it points into the
+/// budget manager's frame): a Drop kept past its call raises RuntimeError.
+class DropView {
+ public:
+  DropView(const DropContext& ctx, std::uint64_t seed) : ctx_(&ctx), seed_(seed) {}
+  void expire() { ctx_ = nullptr; }
+
+  const DropContext& ctx() const {
+    if (!ctx_) throw std::runtime_error("this Drop is over: its decision has been made");
+    return *ctx_;
+  }
+  std::uint64_t seed() const { return seed_; }
+
+  /// The landmarks of `which` (indices into ctx.landmarks) as a dict of equal-length columns.
+  static py::dict columns(const DropContext& c, const std::vector<std::size_t>& which,
+                          bool mark_candidates) {
+    const auto n = static_cast<py::ssize_t>(which.size());
+    py::array_t<std::int64_t> id(n), n_obs(n), first(n), last(n);
+    py::array_t<double> x(n), y(n), vx(n), vy(n), cxy(n), ox(n), oy(n);
+    auto i_id = id.mutable_unchecked<1>(), i_n = n_obs.mutable_unchecked<1>(),
+         i_first = first.mutable_unchecked<1>(), i_last = last.mutable_unchecked<1>();
+    auto d_x = x.mutable_unchecked<1>(), d_y = y.mutable_unchecked<1>(),
+         d_vx = vx.mutable_unchecked<1>(), d_vy = vy.mutable_unchecked<1>(),
+         d_cxy = cxy.mutable_unchecked<1>(), d_ox = ox.mutable_unchecked<1>(),
+         d_oy = oy.mutable_unchecked<1>();
+    for (py::ssize_t k = 0; k < n; ++k) {
+      const LandmarkView& l = c.landmarks[which[static_cast<std::size_t>(k)]];
+      i_id(k) = l.id, i_n(k) = static_cast<std::int64_t>(l.n_obs);
+      i_first(k) = static_cast<std::int64_t>(l.first_step);
+      i_last(k) = static_cast<std::int64_t>(l.last_step);
+      d_x(k) = l.mean.x(), d_y(k) = l.mean.y();
+      d_vx(k) = l.cov(0, 0), d_vy(k) = l.cov(1, 1), d_cxy(k) = l.cov(0, 1);
+      d_ox(k) = l.obs_mean.x(), d_oy(k) = l.obs_mean.y();
+    }
+    py::dict d;
+    d["id"] = id, d["x"] = x, d["y"] = y, d["var_x"] = vx, d["var_y"] = vy, d["cov_xy"] = cxy;
+    d["n_obs"] = n_obs, d["obs_x"] = ox, d["obs_y"] = oy, d["first_step"] = first;
+    d["last_step"] = last;
+    if (mark_candidates) {
+      py::array_t<bool> cand(n);
+      auto b = cand.mutable_unchecked<1>();
+      for (py::ssize_t k = 0; k < n; ++k) b(k) = false;
+      for (const std::size_t i : c.candidates) b(static_cast<py::ssize_t>(i)) = true;
+      d["candidate"] = cand;
+    }
+    return d;
+  }
+
+  py::dict candidates() {
+    if (!candidates_) candidates_ = columns(ctx(), ctx().candidates, false);
+    return *candidates_;
+  }
+  py::dict landmarks() {
+    if (!landmarks_) {
+      std::vector<std::size_t> all(ctx().landmarks.size());
+      for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+      landmarks_ = columns(ctx(), all, true);
+    }
+    return *landmarks_;
+  }
+
+ private:
+  const DropContext* ctx_;
+  std::uint64_t seed_;
+  std::optional<py::dict> candidates_, landmarks_;
+};
+
+/// What a plugin's observe() gets at every step (core/Reducer.h StepObservation), a copy.
+struct SeenView {
+  StepObservation seen;
+};
+
+py::dict sightingColumns(const std::vector<Sighting>& s) {
+  const auto n = static_cast<py::ssize_t>(s.size());
+  py::array_t<std::int64_t> id(n);
+  py::array_t<double> range(n), bearing(n);
+  for (py::ssize_t k = 0; k < n; ++k) {
+    const Sighting& x = s[static_cast<std::size_t>(k)];
+    id.mutable_at(k) = x.id, range.mutable_at(k) = x.range, bearing.mutable_at(k) = x.bearing;
+  }
+  py::dict d;
+  d["id"] = id, d["range"] = range, d["bearing"] = bearing;
+  return d;
+}
+
+py::tuple poseTuple(const mrpt::math::TPose2D& p) { return py::make_tuple(p.x, p.y, p.phi); }
+
+/// A Python reducer in a run: the instance register_reducer's class built, asked at each drop.
+class PythonReducer : public Reducer {
+ public:
+  /// Built with the GIL held.
+  PythonReducer(std::shared_ptr<const PluginSpec> spec, py::object instance,
+                std::vector<OptionValue> values, std::uint64_t seed)
+      : spec_(std::move(spec)),
+        values_(std::move(values)),
+        seed_(seed),
+        instance_(std::move(instance)),
+        choose_(instance_.attr("choose")) {}
+
+  ~PythonReducer() override {
+    // The watch's thread may wait for the GIL: join it without holding it.
+    if (Py_IsInitialized() && PyGILState_Check()) {
+      py::gil_scoped_release release;
+      watch_.reset();
+    } else {
+      watch_.reset();
+    }
+    if (!Py_IsInitialized()) {  // the interpreter is gone: the references are left as they are
+      instance_.release(), choose_.release(), observe_.release(), forget_.release();
+      return;
+    }
+    py::gil_scoped_acquire gil;
+    instance_ = py::object(), choose_ = py::object(), observe_ = py::object(),
+    forget_ = py::object();
+  }
+
+  std::string name() const override { return spec_->name; }
+
+  ReducerChoice choose(const DropContext& ctx) override {
+    last_step_ = ctx.step;
+    return callPython(ctx.step, [&] {
+      // Owned by Python: a plugin that keeps its Drop keeps an expired one, never a dangling one.
+      py::object drop = py::cast(DropView(ctx, seed_));
+      DropView& view = drop.cast<DropView&>();
+      struct Expire {
+        DropView& v;
+        ~Expire() { v.expire(); }
+      } expire{view};
+      const py::object result = choose_(drop);
+      return interpret(result, ctx);
+    });
+  }
+
+  void dumpOptions(std::ostream& out) const override {
+    if (spec_->options.empty()) return;
+    out << "\n----------- [" << spec_->section << "] ------------\n";
+    for (std::size_t i = 0; i < spec_->options.size(); ++i) {
+      out << std::left << std::setw(25) << spec_->options[i].key << "= " << valueText(values_[i]);
+      if (!spec_->options[i].doc.empty()) out << "  // " << spec_->options[i].doc;
+      out << "\n";
+    }
+  }
+
+ protected:
+  /// Runs `f` (Python code) with the GIL, under the stop watch. A Python exception or a
+  /// PluginFault becomes the run's one-line Error naming the plugin and the step; an exception
+  /// after a stop request is the stop (Interrupted).
+  template <class F>
+  auto callPython(StepIndex step, F&& f) -> decltype(f()) {
+    Cancellation::check();
+    py::gil_scoped_acquire gil;
+    if (!watch_) watch_ = std::make_unique<StopWatch>();
+    watch_->enter();
+    struct Leave {
+      StopWatch& w;
+      ~Leave() { w.leave(); }
+    } leave{*watch_};
+    try {
+      return f();
+    } catch (const py::error_already_set& e) {
+      Cancellation::check();
+      throw Error(failure(step, pythonErrorLine(e)));
+    } catch (const PluginFault& e) {
+      throw Error(failure(step, e.what()));
+    } catch (const std::runtime_error& e) {  // a C++ exception of a Drop's method, if uncaught
+      Cancellation::check();
+      throw Error(failure(step, e.what()));
+    }
+  }
+
+  std::string failure(StepIndex step, const std::string& what) const {
+    return spec_->label() + ": step " + std::to_string(step) + ": " + what;
+  }
+
+  /// The plugin's answer as a choice: a landmark id (score 0), (id, score), or one score per
+  /// candidate in `candidates` order (the lowest goes; ties to the lowest id, as the shipped
+  /// reducers break them).
+  ReducerChoice interpret(const py::object& r, const DropContext& ctx) const {
+    const auto isCandidate = [&](LandmarkId id) {
+      for (const std::size_t i : ctx.candidates)
+        if (ctx.landmarks[i].id == id) return true;
+      return false;
+    };
+    const auto idOf = [&](py::handle h) -> LandmarkId {
+      if (py::isinstance<py::bool_>(h) || !PyIndex_Check(h.ptr()))
+        throw PluginFault(std::string("choose returned ") + typeName(r.ptr()) +
+                          ", expected a landmark id, (id, score) or one score per candidate");
+      const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(h.ptr()));
+      long long id = index ? PyLong_AsLongLong(index.ptr()) : -1;
+      if (!index || (id == -1 && PyErr_Occurred())) {
+        PyErr_Clear();
+        throw PluginFault(std::string("choose returned ") + typeName(h) +
+                          " that is not a landmark id");
+      }
+      if (!isCandidate(static_cast<LandmarkId>(id)))
+        throw PluginFault("choose returned landmark " + std::to_string(id) +
+                          ", not a candidate of this drop");
+      return static_cast<LandmarkId>(id);
+    };
+    const auto finite = [](double s, LandmarkId id) {
+      if (!std::isfinite(s))
+        throw PluginFault("choose gave landmark " + std::to_string(id) + " the score " +
+                          formatScore(s) + ", not a finite number");
+      return s;
+    };
+    const bool array = py::isinstance<py::array>(r);
+    if (array ? py::array(r).ndim() == 0 : PyIndex_Check(r.ptr()) && !py::isinstance<py::bool_>(r))
+      return {idOf(r), 0.0};
+    if (py::isinstance<py::tuple>(r) && py::len(r) == 2) {
+      const py::tuple t = r;
+      const LandmarkId id = idOf(t[0]);
+      const double s = PyFloat_AsDouble(t[1].ptr());
+      if (s == -1.0 && PyErr_Occurred()) {
+        PyErr_Clear();
+        throw PluginFault(std::string("choose returned (id, ") + typeName(t[1]) +
+                          "), expected (id, score) with a number as score");
+      }
+      return {id, finite(s, id)};
+    }
+    if (!py::isinstance<py::str>(r) && !py::isinstance<py::bytes>(r) &&
+        (array || py::isinstance<py::list>(r) || py::isinstance<py::tuple>(r))) {
+      const auto scores = py::array_t<double, py::array::forcecast>::ensure(r);
+      if (!scores || scores.ndim() != 1)
+        throw PluginFault(std::string("choose returned a ") + typeName(r.ptr()) +
+                          " that is not one number per candidate");
+      if (static_cast<std::size_t>(scores.shape(0)) != ctx.candidates.size())
+        throw PluginFault("choose returned " + std::to_string(scores.shape(0)) + " scores for " +
+                          std::to_string(ctx.candidates.size()) + " candidates");
+      ReducerChoice best;
+      const auto v = scores.unchecked<1>();
+      for (std::size_t k = 0; k < ctx.candidates.size(); ++k) {
+        const LandmarkId id = ctx.landmarks[ctx.candidates[k]].id;
+        const double s = finite(v(static_cast<py::ssize_t>(k)), id);
+        if (k == 0 || s < best.score || (s == best.score && id < best.id)) best = {id, s};
+      }
+      return best;
+    }
+    throw PluginFault(std::string("choose returned ") + typeName(r.ptr()) +
+                      ", expected a landmark id, (id, score) or one score per candidate");
+  }
+
+  static std::string formatScore(double s) {
+    return std::isnan(s) ? "nan" : (s > 0 ? "inf" : "-inf");
+  }
+
+  std::shared_ptr<const PluginSpec> spec_;
+  std::vector<OptionValue> values_;
+  std::uint64_t seed_;
+  StepIndex last_step_ = 0;  ///< the step of the last call, for forget()'s messages
+  py::object instance_, choose_, observe_, forget_;
+  std::unique_ptr<StopWatch> watch_;
+};
+
+/// A Python reducer whose class has observe(seen) (and maybe forget(id)): told every step's
+/// observations, as place-coverage is (core/Reducer.h ObservationKeeper).
+class PythonObservingReducer : public PythonReducer, public ObservationKeeper {
+ public:
+  PythonObservingReducer(std::shared_ptr<const PluginSpec> spec, py::object instance,
+                         std::vector<OptionValue> values, std::uint64_t seed)
+      : PythonReducer(std::move(spec), std::move(instance), std::move(values), seed) {
+    observe_ = instance_.attr("observe");
+    if (py::hasattr(instance_, "forget")) forget_ = instance_.attr("forget");
+  }
+
+  void observe(const StepObservation& seen) override {
+    last_step_ = seen.step;
+    callPython(seen.step, [&] { observe_(SeenView{seen}); });
+  }
+  void forget(LandmarkId id) override {
+    if (!forget_) return;
+    callPython(last_step_, [&] { forget_(static_cast<long long>(id)); });
+  }
+};
+
+/// The sections a plugin may not take: the application's own, the backends' and the reducers'.
+void checkSectionIsFree(const std::string& section) {
+  std::vector<std::string> taken = {
+      runs::MappingOptions::kSection,    reducers::BudgetOptions::kSection,
+      metrics::MetricsOptions::kSection, runs::LocalizationOptions::kSection,
+      report::ReportOptions::kSection,   wakeup::WakeUpOptions::kSection};
+  for (const auto* e : runs::builtinBackends().entries())
+    for (const auto& s : e->sections) taken.push_back(s.name);
+  for (const auto* e : reducers::builtinReducers().entries())
+    for (const auto& s : e->sections) taken.push_back(s.name);
+  for (const auto& t : taken)
+    if (lowerAscii(t) == lowerAscii(section))
+      throw ConfigError("register_reducer: section [" + section + "] is taken (" + t +
+                        "): give the plugin a section of its own (section=...)");
+}
+
+/// register_reducer's C++ half (python/budget_slam/__init__.py checks the Python side and turns
+/// the options dict into `options`: tuples (key, kind, default text, choices, lo, hi, doc)).
+void registerReducer(const std::string& name, py::object factory, const std::string& section,
+                     const std::string& summary, const std::string& origin,
+                     const std::vector<py::tuple>& options) {
+  const auto& registry = reducers::builtinReducers();
+  if (name.empty() || name.find_first_of(" \t\r\n,;:=[]/\\\"'") != std::string::npos)
+    throw ConfigError("register_reducer: name '" + printable(name) +
+                      "': use letters, digits, '-' and '_' (it is a word of the ini and of "
+                      "--reducers a,b,c)");
+  if (registry.has(name))
+    throw ConfigError("register_reducer: reducer '" + name +
+                      "' is already registered (a name stays taken for the life of the process)");
+  if (section.empty() || section.find_first_of("[]\r\n=") != std::string::npos)
+    throw ConfigError("register_reducer: section '" + printable(section) +
+                      "' is not a section name");
+  if (!options.empty()) checkSectionIsFree(section);
+  if (!PyCallable_Check(factory.ptr()))
+    throw ConfigError("register_reducer: '" + name + "': expected a class, got " +
+                      typeName(factory.ptr()));
+
+  auto spec = std::make_shared<PluginSpec>();
+  spec->name = name, spec->section = section, spec->summary = summary, spec->origin = origin;
+  for (const py::tuple& t : options) {
+    PluginOption o;
+    o.key = t[0].cast<std::string>();
+    const auto kind = t[1].cast<std::string>();
+    o.kind = kind == "bool"     ? PluginOption::Kind::Bool
+             : kind == "int"    ? PluginOption::Kind::Int
+             : kind == "float"  ? PluginOption::Kind::Float
+             : kind == "choice" ? PluginOption::Kind::Choice
+                                : PluginOption::Kind::Text;
+    o.default_text = t[2].cast<std::string>();
+    o.choices = t[3].cast<std::vector<std::string>>();
+    o.lo = t[4].cast<double>(), o.hi = t[5].cast<double>();
+    o.doc = t[6].cast<std::string>();
+    spec->options.push_back(std::move(o));
+  }
+  // The defaults must pass the section's own checks (a choice's default is one of its words).
+  try {
+    readValues(*spec, mrpt::config::CConfigFileMemory(std::string()));
+  } catch (const ConfigError& e) {
+    throw ConfigError("register_reducer: '" + name +
+                      "': a default fails its own check: " + e.what());
+  }
+  spec->factory = factory.inc_ref().ptr();  // never released (PluginSpec::factory)
+
+  OptionSection s;
+  s.name = section;
+  for (const auto& o : spec->options) {
+    std::string doc = o.doc;
+    if (o.kind == PluginOption::Kind::Choice) {
+      std::string words;
+      for (const auto& c : o.choices) words += (words.empty() ? "" : ", ") + c;
+      doc = (doc.empty() ? "" : doc + "; ") + "one of " + words;
+    }
+    s.options.push_back({o.key, o.default_text, doc});
+  }
+  std::shared_ptr<const PluginSpec> shared = spec;
+  s.check = [shared](const mrpt::config::CConfigFileBase& ini) { readValues(*shared, ini); };
+
+  ReducerEntry entry;
+  entry.name = name;
+  entry.summary = summary;
+  if (!spec->options.empty()) entry.sections.push_back(std::move(s));
+  entry.factory = [shared](const mrpt::config::CConfigFileBase& ini,
+                           std::uint64_t seed) -> std::unique_ptr<Reducer> {
+    std::vector<OptionValue> values = readValues(*shared, ini);
+    py::gil_scoped_acquire gil;
+    py::dict kwargs;
+    for (std::size_t i = 0; i < values.size(); ++i)
+      kwargs[py::str(shared->options[i].key)] = toPython(values[i]);
+    py::object instance;
+    try {
+      instance = py::reinterpret_borrow<py::object>(shared->factory)(**kwargs);
+    } catch (const py::error_already_set& e) {
+      throw Error(shared->label() + ": building it: " + pythonErrorLine(e));
+    }
+    if (!py::hasattr(instance, "choose") || !PyCallable_Check(instance.attr("choose").ptr()))
+      throw Error(shared->label() + ": a " + typeName(instance.ptr()) +
+                  " has no choose(drop) method");
+    if (py::hasattr(instance, "observe"))
+      return std::make_unique<PythonObservingReducer>(shared, std::move(instance),
+                                                      std::move(values), seed);
+    return std::make_unique<PythonReducer>(shared, std::move(instance), std::move(values), seed);
+  };
+  reducers::addReducer(std::move(entry));
+}
+
+}  // namespace
+
+void definePluginApi(py::module_& m) {
+  py::class_<DropView>(m, "Drop",
+                       "What a plugin reducer's choose(drop) is given at one drop (docs/PYTHON.md "
+                       "\"A reducer in Python\"); valid during the call only.")
+      .def_property_readonly(
+          "step", [](const DropView& d) { return static_cast<long long>(d.ctx().step); },
+          "the step after which the drop happens")
+      .def_property_readonly(
+          "seed", [](const DropView& d) { return d.seed(); }, "[LandmarkBudget] seed of the run")
+      .def_property_readonly(
+          "backend", [](const DropView& d) { return d.ctx().backend.name(); }, "ekf or graph")
+      .def_property_readonly("candidates", &DropView::candidates,
+                             "the landmarks this drop may take, a dict of columns: id, x, y, "
+                             "var_x, var_y, cov_xy, n_obs, obs_x, obs_y, first_step, last_step")
+      .def_property_readonly("landmarks", &DropView::landmarks,
+                             "every landmark of the map, the same columns plus candidate (bool)")
+      .def_property_readonly(
+          "robot", [](const DropView& d) { return poseTuple(d.ctx().backend.robotPose().mean); },
+          "the latest robot pose (x, y, yaw) [m, m, rad]")
+      .def_property_readonly(
+          "robot_cov",
+          [](const DropView& d) { return Eigen::Matrix3d(d.ctx().backend.robotPose().cov); },
+          "its 3 x 3 marginal covariance")
+      .def(
+          "information_gain",
+          [](const DropView& d, const std::vector<long long>& ids) {
+            const std::vector<LandmarkId> l(ids.begin(), ids.end());
+            const Backend& b = d.ctx().backend;
+            std::vector<double> g;
+            {
+              py::gil_scoped_release release;
+              g = b.informationGain(l);
+            }
+            return py::array_t<double>(static_cast<py::ssize_t>(g.size()), g.data());
+          },
+          py::arg("ids"), "each landmark's information gain [bits] (docs/ALGORITHMS.md \"mi\")")
+      .def(
+          "covariance",
+          [](const DropView& d, long long id) {
+            return Eigen::Matrix2d(d.ctx().backend.landmarkCovariance(static_cast<LandmarkId>(id)));
+          },
+          py::arg("id"), "a landmark's 2 x 2 marginal covariance [m^2]")
+      .def(
+          "joint_covariance",
+          [](const DropView& d, const std::vector<long long>& ids) {
+            std::vector<VariableKey> vars;
+            for (const long long id : ids)
+              vars.push_back(VariableKey::landmark(static_cast<LandmarkId>(id)));
+            const Backend& b = d.ctx().backend;
+            Eigen::MatrixXd c;
+            {
+              py::gil_scoped_release release;
+              c = b.jointCovariance(vars);
+            }
+            return c;
+          },
+          py::arg("ids"), "the landmarks' joint marginal covariance (2 rows a landmark, in order)");
+
+  py::class_<SeenView>(m, "Seen",
+                       "What a plugin reducer's observe(seen) is given at every step, after the "
+                       "backend's update and before the step's drops")
+      .def_property_readonly("step",
+                             [](const SeenView& s) { return static_cast<long long>(s.seen.step); })
+      .def_property_readonly(
+          "robot", [](const SeenView& s) { return poseTuple(s.seen.robot); },
+          "the robot pose estimate (x, y, yaw) [m, m, rad]")
+      .def_property_readonly(
+          "observed",
+          [](const SeenView& s) {
+            std::vector<std::int64_t> ids(s.seen.observed.begin(), s.seen.observed.end());
+            return py::array_t<std::int64_t>(static_cast<py::ssize_t>(ids.size()), ids.data());
+          },
+          "ids of the map's landmarks observed at this step, new ones too")
+      .def_property_readonly(
+          "sightings", [](const SeenView& s) { return sightingColumns(s.seen.sightings); },
+          "the readings behind observed: columns id, range [m], bearing [rad]")
+      .def_property_readonly(
+          "withheld", [](const SeenView& s) { return sightingColumns(s.seen.withheld); },
+          "readings of landmarks the map does not keep: columns id, range, bearing")
+      .def_property_readonly(
+          "sensor_pose", [](const SeenView& s) { return poseTuple(s.seen.sensor_pose); },
+          "the sensor's pose on the robot (x, y, yaw)")
+      .def_property_readonly(
+          "sensor_max_range", [](const SeenView& s) { return s.seen.sensor_max_range; },
+          "[m]; 0 when the step did not say")
+      .def_property_readonly(
+          "sensor_fov", [](const SeenView& s) { return s.seen.sensor_fov; },
+          "total horizontal field of view [rad]; 0 when unknown");
+
+  m.def("register_reducer", &registerReducer, py::arg("name"), py::arg("factory"),
+        py::arg("section"), py::arg("summary"), py::arg("origin"), py::arg("options"),
+        "The C++ half of budget_slam.register_reducer (which checks and converts the options).");
+}
+
+}  // namespace budget_slam::python
