@@ -27,8 +27,11 @@ std::string lastLine(const py::error_already_set& e) {
   try {
     const py::list lines =
         py::module_::import("traceback").attr("format_exception_only")(e.type(), e.value());
-    return lines.empty() ? std::string("an exception")
-                         : printable(py::str(lines[lines.size() - 1]).cast<std::string>());
+    std::string last =
+        lines.empty() ? std::string() : py::str(lines[lines.size() - 1]).cast<std::string>();
+    while (!last.empty() && (last.back() == '\n' || last.back() == '\r' || last.back() == ' '))
+      last.pop_back();
+    return last.empty() ? std::string("an exception without a message") : printable(last);
   } catch (...) {
     return "an exception that cannot be printed";
   }

@@ -136,7 +136,8 @@ class BadPluginsFailTheRun(unittest.TestCase):
             for name, (body, tail) in BAD.items():
                 with self.subTest(plugin=name):
                     fname = name.replace("-", "_") + ".py"
-                    path = plugin_file(tmp, fname, body + f"\nbudget_slam.register_reducer({name!r}, R)\n")
+                    path = plugin_file(tmp, fname, textwrap.dedent(body) +
+                                       f"budget_slam.register_reducer({name!r}, R)\n")
                     out = os.path.join(tmp, name)
                     r = cli("run", "-c", CONFIG, "-i", DEMO, "--cap", "10", "--quiet", "--plugin",
                             path, "--reducer", name, "-o", out)
@@ -206,16 +207,16 @@ class PluginSectionIsChecked(unittest.TestCase):
             with open(os.path.join(ok, "config_used.ini")) as f:
                 self.assertIn("knob = 7", f.read())
             for sets, line in [
-                    ("KnobReducer.knob=abc", "[KnobReducer] knob = abc: "),
-                    ("KnobReducer.knob=11", "[KnobReducer] knob = 11: "),
-                    ("KnobReducer.mode=medium", "[KnobReducer] mode = medium: must be one of fast, slow"),
+                    ("KnobReducer.knob=abc", "[KnobReducer] knob = 'abc': not an integer"),
+                    ("KnobReducer.knob=11", "[KnobReducer] knob = 11: must be at most 10"),
+                    ("KnobReducer.mode=medium", "[KnobReducer] mode = 'medium': must be one of fast, slow"),
                     ("KnobReducer.knb=1", "unknown key [KnobReducer] knb (did you mean knob?)")]:
                 with self.subTest(sets=sets):
                     out = os.path.join(tmp, "bad")
                     r = cli(*base, "--set", sets, "-o", out, "--force")
                     self.assertNotEqual(r.returncode, 0)
                     self.assertEqual(len(r.stderr.splitlines()), 1, r.stderr)
-                    self.assertIn(line, r.stderr)
+                    self.assertEqual(r.stderr, f"budget-slam: error: --set '{sets}': {line}\n")
                     self.assertFalse(os.path.exists(os.path.join(out, "steps.csv")))
 
     def test_listed_with_its_options(self):
