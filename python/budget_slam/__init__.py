@@ -491,6 +491,9 @@ def _option_spec(key, spec):
         spec, lo, hi, doc = (spec + ("",))[:4]
         if not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in (spec, lo, hi)):
             raise ConfigError(f"register_reducer: option {key}: (default, lo, hi) must be numbers")
+        if not lo <= spec <= hi:
+            raise ConfigError(f"register_reducer: option {key}: the default {spec!r} is not within "
+                              f"[{lo!r}, {hi!r}]")
     if isinstance(spec, bool):
         return (key, "bool", "true" if spec else "false", [], lo, hi, doc)
     if isinstance(spec, numbers.Integral):

@@ -511,8 +511,8 @@ void checkSectionIsFree(const std::string& section) {
     for (const auto& s : e->sections) taken.push_back(s.name);
   for (const auto& t : taken)
     if (lowerAscii(t) == lowerAscii(section))
-      throw ConfigError("register_reducer: section [" + section + "] is taken (" + t +
-                        "): give the plugin a section of its own (section=...)");
+      throw ConfigError("register_reducer: section [" + section +
+                        "] is taken: give the plugin a section of its own (section=...)");
 }
 
 /// register_reducer's C++ half (python/budget_slam/__init__.py checks the Python side and turns
@@ -553,9 +553,11 @@ void registerReducer(const std::string& name, py::object factory, const std::str
     o.doc = t[6].cast<std::string>();
     spec->options.push_back(std::move(o));
   }
-  // The defaults must pass the section's own checks (a choice's default is one of its words).
+  // The defaults, written out, must pass the section's own checks (a number within its range).
   try {
-    readValues(*spec, mrpt::config::CConfigFileMemory(std::string()));
+    std::string text = "[" + section + "]\n";
+    for (const auto& o : spec->options) text += o.key + " = " + o.default_text + "\n";
+    readValues(*spec, mrpt::config::CConfigFileMemory(text));
   } catch (const ConfigError& e) {
     throw ConfigError("register_reducer: '" + name +
                       "': a default fails its own check: " + e.what());
