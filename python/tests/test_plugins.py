@@ -118,6 +118,14 @@ BAD = {
             def choose(self, drop):
                 return int(drop.candidates["id"][0]), math.nan
         """, r"choose gave landmark \d+ the score nan, not a finite number"),
+    "bad-observe": ("""
+        class R:
+            def observe(self, seen):
+                if seen.step == 3:
+                    raise RuntimeError("seen " + str(seen.step))
+            def choose(self, drop):
+                return int(drop.candidates["id"][0])
+        """, r"RuntimeError: seen (\d+)"),
     "bad-length": ("""
         class R:
             def choose(self, drop):
@@ -154,8 +162,20 @@ class BadPluginsFailTheRun(unittest.TestCase):
                     # The steps before the drop are kept.
                     steps = csv_rows(os.path.join(out, "steps.csv"))
                     self.assertGreaterEqual(len(steps), int(m.group(1)))
-                    if name == "bad-raise":
+                    if name in ("bad-raise", "bad-observe"):
                         self.assertEqual(m.group(1), m.group(2))  # the step the Drop said
+
+    def test_a_class_without_choose(self):
+        with tempfile.TemporaryDirectory(prefix="test_plugins_nochoose_") as tmp:
+            path = plugin_file(tmp, "no_choose.py", "class R:\n    pass\n"
+                               "budget_slam.register_reducer('no-choose', R)\n")
+            out = os.path.join(tmp, "o")
+            r = cli("run", "-c", CONFIG, "-i", DEMO, "--cap", "10", "--quiet", "--plugin", path,
+                    "--reducer", "no-choose", "-o", out)
+            self.assertEqual(r.returncode, 1, r.stderr)
+            line = "plugin reducer 'no-choose' (no_choose.py): a R has no choose(drop) method"
+            self.assertEqual(r.stderr, f"budget-slam: error: {line}\n")
+            self.assertEqual(read_json(os.path.join(out, "summary.json"))["error"], line)
 
     def test_in_process_raises_error_with_the_line(self):
         class Raises:
