@@ -13,15 +13,13 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
-#include <atomic>
 #include <cmath>
-#include <condition_variable>
 #include <iomanip>
-#include <mutex>
-#include <thread>
 #include <variant>
 
-#include "budget_slam/core/AbandonOnStop.h"
+#include "PluginViews.h"
+#include "StopWatch.h"
+
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSection.h"
@@ -143,174 +141,6 @@ class PluginFault : public std::runtime_error {
 };
 
 const char* typeName(py::handle h) { return Py_TYPE(h.ptr())->tp_name; }
-
-/// Interrupts the Python code a reducer runs when the stop request comes (Ctrl-C, SIGTERM):
-/// Python code that loops never returns to the budget manager's polls, and a stop signal does not
-/// reach Python's own handler while a run has the application's handlers installed (and never
-/// reaches a worker thread of compare). A thread of the reducer's own looks at the stop request
-/// every kStopPoll while a call is in progress and then raises KeyboardInterrupt in the calling
-/// thread (PyThreadState_SetAsyncExc, taken at the interpreter's next switch of threads). Code
-/// blocked in a C call (time.sleep) is interrupted when it comes back to Python.
-/// Lock order: the GIL, then mutex_ (the calling thread holds the GIL in enter() and leave()).
-class StopWatch {
- public:
-  StopWatch() = default;
-  StopWatch(const StopWatch&) = delete;
-  StopWatch& operator=(const StopWatch&) = delete;
-  /// Joins the thread; call it without the GIL (the thread may be waiting for it).
-  ~StopWatch() {
-    {
-      std::lock_guard<std::mutex> l(mutex_);
-      quit_ = true;
-    }
-    wake_.notify_one();
-    if (thread_.joinable()) thread_.join();
-  }
-
-  /// A call into Python begins on this thread; the GIL is held.
-  void enter() {
-    std::lock_guard<std::mutex> l(mutex_);
-    caller_ = PyThread_get_thread_ident();
-    in_call_ = true;
-    fired_ = false;
-    if (!thread_.joinable()) {
-      try {
-        thread_ = std::thread([this] { watch(); });
-      } catch (const std::system_error&) {
-        // No thread to be had: the call runs unwatched (a loop that never returns then ignores
-        // Ctrl-C; the budget manager's own polls still stop the run between drops).
-      }
-    }
-    wake_.notify_one();
-  }
-  /// The call has ended; the GIL is still held. An interruption raised too late for the call is
-  /// withdrawn, so that it never lands in the next Python code the thread runs.
-  void leave() {
-    std::lock_guard<std::mutex> l(mutex_);
-    in_call_ = false;
-    if (fired_) PyThreadState_SetAsyncExc(caller_, nullptr);
-    fired_ = false;
-  }
-
- private:
-  void watch() {
-    std::unique_lock<std::mutex> l(mutex_);
-    while (!quit_) {
-      if (!in_call_) {
-        wake_.wait(l);
-        continue;
-      }
-      wake_.wait_for(l, kStopPoll);
-      if (quit_ || !in_call_ || fired_ || !Cancellation::requested()) continue;
-      l.unlock();
-      {
-        // The calling thread gives the GIL up at its next switch interval (5 ms) if it runs
-        // Python code; if it has left the call meanwhile, nothing is raised.
-        py::gil_scoped_acquire gil;
-        std::lock_guard<std::mutex> again(mutex_);
-        if (in_call_ && !fired_) {
-          PyThreadState_SetAsyncExc(caller_, PyExc_KeyboardInterrupt);
-          fired_ = true;
-        }
-      }
-      l.lock();
-    }
-  }
-
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  std::thread thread_;
-  unsigned long caller_ = 0;
-  bool in_call_ = false, fired_ = false, quit_ = false;
-};
-
-/// What a plugin's choose() gets: the decision's step and candidates, every landmark of the map,
-/// and the backend's estimates on request. Valid during the call only (it points into the
-/// budget manager's frame): a Drop kept past its call raises RuntimeError.
-class DropView {
- public:
-  DropView(const DropContext& ctx, std::uint64_t seed) : ctx_(&ctx), seed_(seed) {}
-  void expire() { ctx_ = nullptr; }
-
-  const DropContext& ctx() const {
-    if (!ctx_) throw std::runtime_error("this Drop is over: its decision has been made");
-    return *ctx_;
-  }
-  std::uint64_t seed() const { return seed_; }
-
-  /// The landmarks of `which` (indices into ctx.landmarks) as a dict of equal-length columns.
-  static py::dict columns(const DropContext& c, const std::vector<std::size_t>& which,
-                          bool mark_candidates) {
-    const auto n = static_cast<py::ssize_t>(which.size());
-    py::array_t<std::int64_t> id(n), n_obs(n), first(n), last(n);
-    py::array_t<double> x(n), y(n), vx(n), vy(n), cxy(n), ox(n), oy(n);
-    auto i_id = id.mutable_unchecked<1>(), i_n = n_obs.mutable_unchecked<1>(),
-         i_first = first.mutable_unchecked<1>(), i_last = last.mutable_unchecked<1>();
-    auto d_x = x.mutable_unchecked<1>(), d_y = y.mutable_unchecked<1>(),
-         d_vx = vx.mutable_unchecked<1>(), d_vy = vy.mutable_unchecked<1>(),
-         d_cxy = cxy.mutable_unchecked<1>(), d_ox = ox.mutable_unchecked<1>(),
-         d_oy = oy.mutable_unchecked<1>();
-    for (py::ssize_t k = 0; k < n; ++k) {
-      const LandmarkView& l = c.landmarks[which[static_cast<std::size_t>(k)]];
-      i_id(k) = l.id, i_n(k) = static_cast<std::int64_t>(l.n_obs);
-      i_first(k) = static_cast<std::int64_t>(l.first_step);
-      i_last(k) = static_cast<std::int64_t>(l.last_step);
-      d_x(k) = l.mean.x(), d_y(k) = l.mean.y();
-      d_vx(k) = l.cov(0, 0), d_vy(k) = l.cov(1, 1), d_cxy(k) = l.cov(0, 1);
-      d_ox(k) = l.obs_mean.x(), d_oy(k) = l.obs_mean.y();
-    }
-    py::dict d;
-    d["id"] = id, d["x"] = x, d["y"] = y, d["var_x"] = vx, d["var_y"] = vy, d["cov_xy"] = cxy;
-    d["n_obs"] = n_obs, d["obs_x"] = ox, d["obs_y"] = oy, d["first_step"] = first;
-    d["last_step"] = last;
-    if (mark_candidates) {
-      py::array_t<bool> cand(n);
-      auto b = cand.mutable_unchecked<1>();
-      for (py::ssize_t k = 0; k < n; ++k) b(k) = false;
-      for (const std::size_t i : c.candidates) b(static_cast<py::ssize_t>(i)) = true;
-      d["candidate"] = cand;
-    }
-    return d;
-  }
-
-  py::dict candidates() {
-    if (!candidates_) candidates_ = columns(ctx(), ctx().candidates, false);
-    return *candidates_;
-  }
-  py::dict landmarks() {
-    if (!landmarks_) {
-      std::vector<std::size_t> all(ctx().landmarks.size());
-      for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
-      landmarks_ = columns(ctx(), all, true);
-    }
-    return *landmarks_;
-  }
-
- private:
-  const DropContext* ctx_;
-  std::uint64_t seed_;
-  std::optional<py::dict> candidates_, landmarks_;
-};
-
-/// What a plugin's observe() gets at every step (core/Reducer.h StepObservation), a copy.
-struct SeenView {
-  StepObservation seen;
-};
-
-py::dict sightingColumns(const std::vector<Sighting>& s) {
-  const auto n = static_cast<py::ssize_t>(s.size());
-  py::array_t<std::int64_t> id(n);
-  py::array_t<double> range(n), bearing(n);
-  for (py::ssize_t k = 0; k < n; ++k) {
-    const Sighting& x = s[static_cast<std::size_t>(k)];
-    id.mutable_at(k) = x.id, range.mutable_at(k) = x.range, bearing.mutable_at(k) = x.bearing;
-  }
-  py::dict d;
-  d["id"] = id, d["range"] = range, d["bearing"] = bearing;
-  return d;
-}
-
-py::tuple poseTuple(const mrpt::math::TPose2D& p) { return py::make_tuple(p.x, p.y, p.phi); }
 
 /// A Python reducer in a run: the instance register_reducer's class built, asked at each drop.
 class PythonReducer : public Reducer {
@@ -609,94 +439,7 @@ void registerReducer(const std::string& name, py::object factory, const std::str
 }  // namespace
 
 void definePluginApi(py::module_& m) {
-  py::class_<DropView>(m, "Drop",
-                       "What a plugin reducer's choose(drop) is given at one drop (docs/PYTHON.md "
-                       "\"A reducer in Python\"); valid during the call only.")
-      .def_property_readonly(
-          "step", [](const DropView& d) { return static_cast<long long>(d.ctx().step); },
-          "the step after which the drop happens")
-      .def_property_readonly(
-          "seed", [](const DropView& d) { return d.seed(); }, "[LandmarkBudget] seed of the run")
-      .def_property_readonly(
-          "backend", [](const DropView& d) { return d.ctx().backend.name(); }, "ekf or graph")
-      .def_property_readonly("candidates", &DropView::candidates,
-                             "the landmarks this drop may take, a dict of columns: id, x, y, "
-                             "var_x, var_y, cov_xy, n_obs, obs_x, obs_y, first_step, last_step")
-      .def_property_readonly("landmarks", &DropView::landmarks,
-                             "every landmark of the map, the same columns plus candidate (bool)")
-      .def_property_readonly(
-          "robot", [](const DropView& d) { return poseTuple(d.ctx().backend.robotPose().mean); },
-          "the latest robot pose (x, y, yaw) [m, m, rad]")
-      .def_property_readonly(
-          "robot_cov",
-          [](const DropView& d) { return Eigen::Matrix3d(d.ctx().backend.robotPose().cov); },
-          "its 3 x 3 marginal covariance")
-      .def(
-          "information_gain",
-          [](const DropView& d, const std::vector<long long>& ids) {
-            const std::vector<LandmarkId> l(ids.begin(), ids.end());
-            const Backend& b = d.ctx().backend;
-            std::vector<double> g;
-            {
-              py::gil_scoped_release release;
-              g = b.informationGain(l);
-            }
-            return py::array_t<double>(static_cast<py::ssize_t>(g.size()), g.data());
-          },
-          py::arg("ids"), "each landmark's information gain [bits] (docs/ALGORITHMS.md \"mi\")")
-      .def(
-          "covariance",
-          [](const DropView& d, long long id) {
-            return Eigen::Matrix2d(d.ctx().backend.landmarkCovariance(static_cast<LandmarkId>(id)));
-          },
-          py::arg("id"), "a landmark's 2 x 2 marginal covariance [m^2]")
-      .def(
-          "joint_covariance",
-          [](const DropView& d, const std::vector<long long>& ids) {
-            std::vector<VariableKey> vars;
-            for (const long long id : ids)
-              vars.push_back(VariableKey::landmark(static_cast<LandmarkId>(id)));
-            const Backend& b = d.ctx().backend;
-            Eigen::MatrixXd c;
-            {
-              py::gil_scoped_release release;
-              c = b.jointCovariance(vars);
-            }
-            return c;
-          },
-          py::arg("ids"), "the landmarks' joint marginal covariance (2 rows a landmark, in order)");
-
-  py::class_<SeenView>(m, "Seen",
-                       "What a plugin reducer's observe(seen) is given at every step, after the "
-                       "backend's update and before the step's drops")
-      .def_property_readonly("step",
-                             [](const SeenView& s) { return static_cast<long long>(s.seen.step); })
-      .def_property_readonly(
-          "robot", [](const SeenView& s) { return poseTuple(s.seen.robot); },
-          "the robot pose estimate (x, y, yaw) [m, m, rad]")
-      .def_property_readonly(
-          "observed",
-          [](const SeenView& s) {
-            std::vector<std::int64_t> ids(s.seen.observed.begin(), s.seen.observed.end());
-            return py::array_t<std::int64_t>(static_cast<py::ssize_t>(ids.size()), ids.data());
-          },
-          "ids of the map's landmarks observed at this step, new ones too")
-      .def_property_readonly(
-          "sightings", [](const SeenView& s) { return sightingColumns(s.seen.sightings); },
-          "the readings behind observed: columns id, range [m], bearing [rad]")
-      .def_property_readonly(
-          "withheld", [](const SeenView& s) { return sightingColumns(s.seen.withheld); },
-          "readings of landmarks the map does not keep: columns id, range, bearing")
-      .def_property_readonly(
-          "sensor_pose", [](const SeenView& s) { return poseTuple(s.seen.sensor_pose); },
-          "the sensor's pose on the robot (x, y, yaw)")
-      .def_property_readonly(
-          "sensor_max_range", [](const SeenView& s) { return s.seen.sensor_max_range; },
-          "[m]; 0 when the step did not say")
-      .def_property_readonly(
-          "sensor_fov", [](const SeenView& s) { return s.seen.sensor_fov; },
-          "total horizontal field of view [rad]; 0 when unknown");
-
+  definePluginViews(m);
   m.def("register_reducer", &registerReducer, py::arg("name"), py::arg("factory"),
         py::arg("section"), py::arg("summary"), py::arg("origin"), py::arg("options"),
         "The C++ half of budget_slam.register_reducer (which checks and converts the options).");
