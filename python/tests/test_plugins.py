@@ -93,6 +93,12 @@ class OldestInPython(unittest.TestCase):
         self.assertEqual(list(a["evictions"]["landmark_id"]), list(b["evictions"]["landmark_id"]))
         self.assertEqual(list(a["evictions"]["score"]), list(b["evictions"]["score"]))
         self.assertEqual(set(b["evictions"]["reducer"]), {"py-oldest"})
+        # Beside the built-in one in one comparison, the runs in two threads taking the GIL in turn.
+        c = budget_slam.compare(CONFIG, DEMO, reducers=["py-oldest", "oldest"], cap=10, threads=2)
+        rows = {str(r["run"]): r for r in c["comparison"]}
+        self.assertEqual(rows["py-oldest"]["status"], "ok")
+        self.assertEqual(rows["py-oldest"]["gt_trajectory_rmse_aligned_m"],
+                         rows["oldest"]["gt_trajectory_rmse_aligned_m"])
 
 
 # Each bad behaviour: the plugin's body, and the end of the one line it gives.
