@@ -230,3 +230,30 @@ TEST(GraphSession, BadValuesAreOneLineNamingTheField) {
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
   }
 }
+
+// A state written before the graph was saved whole ([backend.graph] holds only next_fresh_id) is
+// still read: the map's marginals as landmark priors, the robot where it stopped.
+TEST(GraphSession, OlderStateWithoutTheGraphIsStillRead) {
+  RangeBearingNoise noise;
+  const std::vector<Step> steps = demoSteps(&noise);
+  GraphBackend first(GraphSlamOptions{}, noise);
+  for (std::size_t k = 0; k < 40; ++k) step(first, steps[k]);
+  const session::SessionState st = savedAndRead(first, 40);
+  session::SessionState old;
+  old.header = st.header;
+  old.map = st.map;
+  old.robot = st.robot;
+  for (const session::SessionSection& s : st.sections()) {
+    session::SessionSection copy(s.name(), "saved", s.line());
+    for (const session::Field& f : s.fields())
+      if (s.name() != "backend.graph" || f.name == "next_fresh_id") copy.add(f);
+    old.addSection(copy);
+  }
+  GraphBackend resumed(GraphSlamOptions{}, noise);
+  resumed.restoreSession(old);
+  old.checkAllRead();
+  EXPECT_EQ(resumed.poseCount(), 0u);
+  EXPECT_EQ(resumed.landmarkCount(), first.landmarkCount());
+  resumed.process(steps[40]);
+  EXPECT_LT(poseDiff(resumed.robotPose(), first.robotPose()), 1.0);
+}
