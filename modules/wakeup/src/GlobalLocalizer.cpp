@@ -6,6 +6,7 @@
 #include <set>
 
 #include "budget_slam/wakeup/PoseFit.h"
+#include "budget_slam/wakeup/WindowFit.h"
 
 namespace budget_slam::wakeup {
 namespace {
@@ -148,6 +149,7 @@ WakeUpResult GlobalLocalizer::refineAndJudge(std::optional<Pose2> start,
                                              std::size_t min_landmarks) {
   const auto& map = index_.map();
   const bool refit = !start.has_value();
+  const std::vector<WindowStep> steps = window_.gathered();
   Refinement ref;
   while (true) {
     if (refit) {
@@ -161,7 +163,9 @@ WakeUpResult GlobalLocalizer::refineAndJudge(std::optional<Pose2> start,
       start = fitRigid(local, global, w);
       if (!start) return notFound(WakeUpReason::Degenerate, distinctLandmarks(pairs));
     }
-    ref = refinePose(*start, readings, map, pairs, noise_);
+    ref = options_.fit == WindowFitMode::Window
+              ? fitWindow(*start, steps, readings, map, pairs, noise_)
+              : refinePose(*start, readings, map, pairs, noise_);
     if (!ref.converged) break;
     // The reading furthest outside the gate goes, one at a time: an outlier drags the pose and
     // so inflates the others' innovations.
