@@ -149,7 +149,6 @@ WakeUpResult GlobalLocalizer::refineAndJudge(std::optional<Pose2> start,
                                              std::size_t min_landmarks) {
   const auto& map = index_.map();
   const bool refit = !start.has_value();
-  const std::vector<WindowStep> steps = window_.gathered();
   Refinement ref;
   while (true) {
     if (refit) {
@@ -163,9 +162,7 @@ WakeUpResult GlobalLocalizer::refineAndJudge(std::optional<Pose2> start,
       start = fitRigid(local, global, w);
       if (!start) return notFound(WakeUpReason::Degenerate, distinctLandmarks(pairs));
     }
-    ref = options_.fit == WindowFitMode::Window
-              ? fitWindow(*start, steps, readings, map, pairs, noise_)
-              : refinePose(*start, readings, map, pairs, noise_);
+    ref = refinePose(*start, readings, map, pairs, noise_);
     if (!ref.converged) break;
     // The reading furthest outside the gate goes, one at a time: an outlier drags the pose and
     // so inflates the others' innovations.
@@ -175,6 +172,22 @@ WakeUpResult GlobalLocalizer::refineAndJudge(std::optional<Pose2> start,
     if (distinctLandmarks(pairs) < min_landmarks)
       return notFound(WakeUpReason::Inconsistent, distinctLandmarks(pairs));
     if (!refit) start = ref.pose;
+  }
+  if (ref.converged && options_.fit != WindowFitMode::Latest) {
+    // The window's poses fitted jointly on the readings the latest-pose fit kept, the outliers
+    // of the joint fit dropped the same way (docs/ALGORITHMS.md "Over a window").
+    const std::vector<WindowStep> steps = window_.gathered();
+    const WindowLandmarks landmarks =
+        options_.fit == WindowFitMode::Window ? WindowLandmarks::Fixed : WindowLandmarks::Priors;
+    while (true) {
+      ref = fitWindow(ref.pose, steps, readings, map, pairs, noise_, landmarks);
+      if (!ref.converged) break;
+      const auto worst = std::max_element(ref.chi2.begin(), ref.chi2.end()) - ref.chi2.begin();
+      if (ref.chi2[static_cast<std::size_t>(worst)] <= options_.gate_chi2) break;
+      pairs.erase(pairs.begin() + worst);
+      if (distinctLandmarks(pairs) < min_landmarks)
+        return notFound(WakeUpReason::Inconsistent, distinctLandmarks(pairs));
+    }
   }
   WakeUpResult r;
   r.inliers = pairs.size();

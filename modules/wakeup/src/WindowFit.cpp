@@ -66,6 +66,11 @@ struct Normal {
   }
 };
 
+/// Step halvings tried before a Gauss-Newton step is taken as no descent.
+constexpr int kMaxHalvings = 20;
+/// Converged when a step lowers the cost by less than this share of it.
+constexpr double kRelativeDecrease = 1e-12;
+
 Eigen::Matrix3d floored(const Eigen::Matrix3d& c) {
   return c + kCovarianceFloor * Eigen::Matrix3d::Identity();
 }
@@ -78,7 +83,7 @@ Eigen::Matrix2d floored(const Eigen::Matrix2d& c) {
 Refinement fitWindow(const Pose2& start, const std::vector<WindowStep>& steps,
                      const std::vector<LocalReading>& readings,
                      const std::vector<LandmarkView>& map, const std::vector<Pairing>& pairs,
-                     const ReadingNoise& noise, int max_iterations) {
+                     const ReadingNoise& noise, WindowLandmarks landmarks, int max_iterations) {
   Refinement out;
   out.pose = start;
   out.chi2.assign(pairs.size(), 0);
@@ -91,7 +96,8 @@ Refinement fitWindow(const Pose2& start, const std::vector<WindowStep>& steps,
   std::vector<std::size_t> named;
   for (const auto& p : pairs)
     if (landmark_slot.emplace(p.landmark, named.size()).second) named.push_back(p.landmark);
-  const std::size_t rest = 3 * (n - 1) + 2 * named.size();
+  const std::size_t free_landmarks = landmarks == WindowLandmarks::Priors ? named.size() : 0;
+  const std::size_t rest = 3 * (n - 1) + 2 * free_landmarks;
   const auto poseAt = [&](std::size_t j) -> long {
     return static_cast<long>(j + 1 == n ? rest : 3 * j);
   };
@@ -113,6 +119,30 @@ Refinement fitWindow(const Pose2& start, const std::vector<WindowStep>& steps,
   std::vector<Eigen::Matrix2d> Pinv;
   for (const auto m : named) Pinv.push_back(floored(map[m].cov).inverse());
 
+  // The weighted sum of squared residuals (twice the negative log-likelihood, up to a constant).
+  const auto cost = [&](const std::vector<Pose2>& Xc, const std::vector<Eigen::Vector2d>& Lc) {
+    double c = 0;
+    for (std::size_t j = 1; j < n; ++j) {
+      Eigen::Vector3d e = steps[j].odometry - between(Xc[j - 1], Xc[j]);
+      e.z() = wrapAngle(e.z());
+      c += e.dot(Qinv[j] * e);
+    }
+    for (const auto& p : pairs) {
+      const std::size_t j = slot.at(readings[p.reading].step);
+      Eigen::Vector2d nu =
+          readings[p.reading].z -
+          predictRangeBearing(Xc[j], steps[j].on_robot, Lc[landmark_slot.at(p.landmark)]).z;
+      nu.y() = wrapAngle(nu.y());
+      c += nu.dot(Rinv * nu);
+    }
+    for (std::size_t q = 0; q < free_landmarks; ++q) {
+      const Eigen::Vector2d e = map[named[q]].mean - Lc[q];
+      c += e.dot(Pinv[q] * e);
+    }
+    return c;
+  };
+  double current = cost(X, L);
+
   for (int it = 0; it <= max_iterations; ++it) {
     Normal N(rest);
     for (std::size_t j = 1; j < n; ++j) {
@@ -130,20 +160,24 @@ Refinement fitWindow(const Pose2& start, const std::vector<WindowStep>& steps,
       nu.y() = wrapAngle(nu.y());
       const Eigen::Matrix<double, 2, 3> Jx = pr.H_robot;
       const Eigen::Matrix2d Jl = pr.H_landmark;
-      N.add<2, 3, 2>(Jx, poseAt(j), Jl, landmarkAt(q), Rinv, nu);
+      N.add<2, 3, 2>(Jx, poseAt(j), Jl, free_landmarks > 0 ? landmarkAt(q) : -1, Rinv, nu);
     }
-    for (std::size_t q = 0; q < named.size(); ++q) {
+    for (std::size_t q = 0; q < free_landmarks; ++q) {
       const Eigen::Vector2d e = map[named[q]].mean - L[q];
       const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
       N.add<2, 2, 2>(I, landmarkAt(q), I, -1, Pinv[q], e);
     }
     // Eliminate the rest: S = H_ll - H_lr H_rr^-1 H_rl, the latest pose's marginal information.
-    Eigen::SparseMatrix<double> Hrr(static_cast<long>(rest), static_cast<long>(rest));
-    Hrr.setFromTriplets(N.rr.begin(), N.rr.end());
-    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(Hrr);
-    if (solver.info() != Eigen::Success) return out;
-    const Eigen::MatrixXd Y = solver.solve(N.rl);   // H_rr^-1 H_rl
-    const Eigen::VectorXd y = solver.solve(N.g_r);  // H_rr^-1 g_r
+    Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(static_cast<long>(rest), 3);  // H_rr^-1 H_rl
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(static_cast<long>(rest));     // H_rr^-1 g_r
+    if (rest > 0) {
+      Eigen::SparseMatrix<double> Hrr(static_cast<long>(rest), static_cast<long>(rest));
+      Hrr.setFromTriplets(N.rr.begin(), N.rr.end());
+      const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(Hrr);
+      if (solver.info() != Eigen::Success) return out;
+      Y = solver.solve(N.rl);
+      y = solver.solve(N.g_r);
+    }
     const Eigen::Matrix3d S = N.ll - N.rl.transpose() * Y;
     out.information = 0.5 * (S + S.transpose());
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(out.information);
@@ -152,21 +186,41 @@ Refinement fitWindow(const Pose2& start, const std::vector<WindowStep>& steps,
     if (it == max_iterations || out.converged) break;
     const Eigen::Vector3d dl = ldlt.solve(N.g_l - N.rl.transpose() * y);
     const Eigen::VectorXd dr = y - Y * dl;
-    double largest = dl.cwiseAbs().maxCoeff();
-    for (std::size_t j = 0; j < n; ++j) {
-      const Eigen::Vector3d d = j + 1 == n ? dl : Eigen::Vector3d(dr.segment<3>(poseAt(j)));
-      X[j] += d;
-      X[j].z() = wrapAngle(X[j].z());
-      largest = std::max(largest, d.cwiseAbs().maxCoeff());
+    // Gauss-Newton step, halved while it raises the cost (a reading far off its landmark makes
+    // the problem a large-residual one, where the full step can overshoot).
+    double scale = 1, largest = 0, next = current;
+    std::vector<Pose2> Xn;
+    std::vector<Eigen::Vector2d> Ln;
+    for (int halvings = 0; halvings <= kMaxHalvings; ++halvings, scale *= 0.5) {
+      Xn = X;
+      Ln = L;
+      largest = scale * dl.cwiseAbs().maxCoeff();
+      for (std::size_t j = 0; j < n; ++j) {
+        const Eigen::Vector3d d =
+            scale * (j + 1 == n ? dl : Eigen::Vector3d(dr.segment<3>(poseAt(j))));
+        Xn[j] += d;
+        Xn[j].z() = wrapAngle(Xn[j].z());
+        largest = std::max(largest, d.cwiseAbs().maxCoeff());
+      }
+      for (std::size_t q = 0; q < free_landmarks; ++q) {
+        const Eigen::Vector2d d = scale * dr.segment<2>(landmarkAt(q));
+        Ln[q] += d;
+        largest = std::max(largest, d.cwiseAbs().maxCoeff());
+      }
+      next = cost(Xn, Ln);
+      if (next <= current) break;
     }
-    for (std::size_t q = 0; q < named.size(); ++q) {
-      const Eigen::Vector2d d = dr.segment<2>(landmarkAt(q));
-      L[q] += d;
-      largest = std::max(largest, d.cwiseAbs().maxCoeff());
+    if (next > current) {
+      // No step lowers the cost: at the minimum, up to rounding.
+      out.converged = true;
+      continue;
     }
+    X = std::move(Xn);
+    L = std::move(Ln);
     out.pose = X[n - 1];
     // One more pass after convergence evaluates the information at the solution.
-    if (largest < 1e-9) out.converged = true;
+    if (largest < 1e-9 || current - next <= kRelativeDecrease * current) out.converged = true;
+    current = next;
   }
   // Each reading against the map's landmark, under its step's fitted pose.
   for (std::size_t k = 0; k < pairs.size(); ++k) {

@@ -114,7 +114,8 @@ TEST(WakeUpWindow, OneLandmarkReadFromManyPosesLeavesTheRotationFree) {
   ASSERT_EQ(readings.size(), 10u);
   std::vector<Pairing> pairs;
   for (std::size_t i = 0; i < readings.size(); ++i) pairs.push_back({i, 0});
-  const auto ref = fitWindow(path.back(), w.gathered(), readings, mapOf(world), pairs, kNoise);
+  const auto ref = fitWindow(path.back(), w.gathered(), readings, mapOf(world), pairs, kNoise,
+                             WindowLandmarks::Priors);
   const Eigen::Vector3d d = ref.information.diagonal();
   const Eigen::Vector3d sc = d.cwiseSqrt().cwiseInverse();
   const Eigen::Matrix3d C = sc.asDiagonal() * ref.information * sc.asDiagonal();
@@ -143,7 +144,8 @@ TEST(WakeUpWindow, JointFitRecoversTheTruthAndItsCovarianceIsTheJointMarginal) {
   for (std::size_t i = 0; i < readings.size(); ++i)
     pairs.push_back({i, static_cast<std::size_t>(readings[i].id - 7)});
   const Pose2 start = path.back() + Pose2(0.4, -0.3, 0.14);
-  const auto joint = fitWindow(start, gathered, readings, map, pairs, kNoise);
+  const auto joint =
+      fitWindow(start, gathered, readings, map, pairs, kNoise, WindowLandmarks::Priors);
   ASSERT_TRUE(joint.converged);
   EXPECT_LT((joint.pose - path.back()).norm(), 1e-7);
   for (const double c : joint.chi2) EXPECT_LT(c, 1e-10);
@@ -198,6 +200,20 @@ TEST(WakeUpWindow, JointFitRecoversTheTruthAndItsCovarianceIsTheJointMarginal) {
   EXPECT_LT((joint.cov - expected).cwiseAbs().maxCoeff(), 1e-4 * expected.cwiseAbs().maxCoeff())
       << joint.cov << "\n"
       << expected;
+  // Landmarks fixed at their means: the poses' block of the same information (the priors' rows
+  // touch no pose), inverted without the landmarks.
+  const auto fixed =
+      fitWindow(start, gathered, readings, map, pairs, kNoise, WindowLandmarks::Fixed);
+  ASSERT_TRUE(fixed.converged);
+  EXPECT_LT((fixed.pose - path.back()).norm(), 1e-7);
+  const Eigen::MatrixXd H = J.transpose() * J;
+  const Eigen::Matrix3d expected_fixed =
+      H.topLeftCorner(3 * n, 3 * n).inverse().block<3, 3>(3 * (n - 1), 3 * (n - 1));
+  EXPECT_LT((fixed.cov - expected_fixed).cwiseAbs().maxCoeff(),
+            1e-4 * expected_fixed.cwiseAbs().maxCoeff());
+  // The map's marginals make the pose in the map's frame less certain than the pose relative
+  // to the map as drawn.
+  EXPECT_GT(joint.cov.trace(), fixed.cov.trace());
 }
 
 TEST(WakeUpWindow, ASymmetricWorldReadOneLandmarkAStepWithoutIdsIsNotFound) {

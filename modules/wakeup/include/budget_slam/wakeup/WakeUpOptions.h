@@ -17,8 +17,9 @@ const EnumNames<Correspondence>& correspondenceNames();
 /// What the paired readings of the window are fitted to (docs/ALGORITHMS.md "Waking up on a saved
 /// map", "Over a window").
 enum class WindowFitMode {
-  Window,  ///< every gathered step's pose and the named landmarks jointly (fitWindow)
-  Latest,  ///< the latest pose alone, the odometry folded into each reading (refinePose)
+  Window,        ///< every gathered step's pose, the landmarks at their means (fitWindow)
+  WindowPriors,  ///< every gathered step's pose and the named landmarks, their marginals as priors
+  Latest,        ///< the latest pose alone, the odometry folded into each reading (refinePose)
 };
 const EnumNames<WindowFitMode>& windowFitModeNames();
 
