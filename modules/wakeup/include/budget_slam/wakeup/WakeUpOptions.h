@@ -67,10 +67,11 @@ struct WakeUpOptions : public TabledOptions<WakeUpOptions> {
   /// Default: 0.25, 5 (the thresholds of "found")
   double max_std_xy = 0.25;
   double max_std_yaw_deg = 5.0;
-  /// window: the poses of every gathered step and the landmarks the readings name, fitted jointly
-  /// with the odometry between the steps and the landmarks' map marginals as priors; latest: the
-  /// latest pose alone, each reading's sensor pose carried to it by the odometry (the readings of
-  /// one landmark counted as independent). Default: window
+  /// After the outliers are dropped: window, the poses of every gathered step fitted jointly with
+  /// the odometry between them, the landmarks held at their map means (the robot relative to the
+  /// map as drawn); window_priors, the landmarks the readings name fitted too, their map marginals
+  /// as priors (the robot in the map's frame); latest, the latest pose alone, each reading's sensor
+  /// pose carried to it by the odometry (readings counted as independent). Default: window
   WindowFitMode fit = WindowFitMode::Window;
   /// Odometry noise of a step without odometry (zero motion assumed), 1 sigma [m], [deg].
   /// Default: 0.1, 5
