@@ -164,6 +164,13 @@ class QuickRun(unittest.TestCase):
             self.assertIn("| localization-information", text)
             self.assertIn("**rooms**", text)
             self.assertIn("**mrclam7**", text)
+            # Where the default loses to the hindsight bound, from the same folder (bound_gap).
+            p = subprocess.run([os.path.join(scripttest.EXP, "bound_gap"), out, "--world", "rooms", "--cap", "1/5"],
+                               capture_output=True, text=True)
+            self.assertEqual(p.returncode, 0, p.stderr[-3000:])
+            for seed in (1, 2):
+                self.assertRegex(p.stdout, rf"\n\| {seed} \| \d+ of 31 \| \d+ of \d+ \| \d+ \| \d+ \|\n")
+            self.assertIn("Decisive drops:", p.stdout)
             # Resumed: nothing runs again.
             p = subprocess.run(cmd, capture_output=True, text=True)
             self.assertEqual(p.returncode, 0, p.stderr[-3000:])
