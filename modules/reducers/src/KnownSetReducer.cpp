@@ -16,9 +16,8 @@ const EnumNames<O::When>& whenNames() {
   return n;
 }
 
-/// The ids, each a landmark id >= 0 (the KeyError names the first bad one); at least one when
-/// `needed` (the check before any run accepts none: the key matters only to this reducer).
-std::set<LandmarkId> parseIds(const std::vector<std::string>& ids, bool needed) {
+/// The ids, each a landmark id >= 0 (the KeyError names the first bad one).
+std::set<LandmarkId> parseIds(const std::vector<std::string>& ids) {
   std::set<LandmarkId> out;
   for (const std::string& t : ids) {
     char* end = nullptr;
@@ -27,8 +26,6 @@ std::set<LandmarkId> parseIds(const std::vector<std::string>& ids, bool needed) 
       throw KeyError::ofValue(O::kSection, "ids", t, "not a landmark id (an integer >= 0)");
     out.insert(static_cast<LandmarkId>(v));
   }
-  if (out.empty() && needed)
-    throw KeyError::ofValue(O::kSection, "ids", "", "no landmark id (give the set to keep)");
   return out;
 }
 
@@ -43,7 +40,7 @@ const OptionTable<KnownSetOptions>& KnownSetOptions::table() {
 }
 
 KnownSetReducer::KnownSetReducer(const KnownSetOptions& options)
-    : options_(options), set_(parseIds(options.ids, true)) {}
+    : options_(options), set_(parseIds(options.ids)) {}
 
 ReducerChoice KnownSetReducer::choose(const DropContext& ctx) {
   // Outside the set first (lowest id), else the set's highest id.
@@ -76,7 +73,7 @@ ReducerRegistry::Entry KnownSetReducer::entry() {
             [](const mrpt::config::CConfigFileBase& ini) {
               KnownSetOptions o;
               o.loadFromConfigFile(ini, KnownSetOptions::kSection);
-              parseIds(o.ids, false);
+              parseIds(o.ids);
             }}},
           [](const mrpt::config::CConfigFileBase& ini, std::uint64_t) {
             KnownSetOptions o;

@@ -17,6 +17,7 @@
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/reducers/HindsightReducer.h"
 #include "budget_slam/reducers/HindsightSelection.h"
+#include "budget_slam/reducers/Instruments.h"
 #include "budget_slam/reducers/KnownSetReducer.h"
 
 using namespace budget_slam;
@@ -214,8 +215,13 @@ TEST(KnownSetReducer, DropsEverythingOutsideTheSetAtFirstSightOrAtTheEnd) {
   KnownSetReducer end(o);
   EXPECT_TRUE(end.scheduled({b, 3, false, {}}).drops.empty());
   EXPECT_EQ(end.scheduled({b, 3, true, {}}).drops.size(), 2u);
-  o.ids = {};
-  EXPECT_THROW(KnownSetReducer{o}, KeyError);
+  o.ids = {};  // the empty set: every landmark goes
+  EXPECT_EQ(KnownSetReducer(o).scheduled({b, 3, true, {}}).drops.size(), 4u);
+  // Instruments, not rules: left out of compare's default list.
+  EXPECT_TRUE(isInstrument("known-set"));
+  EXPECT_TRUE(isInstrument("hindsight"));
+  EXPECT_FALSE(isInstrument("localization-information"));
+  for (const auto& n : instrumentNames()) EXPECT_NO_THROW(builtinReducers().entry(n)) << n;
   o.ids = {"3", "x"};
   try {
     KnownSetReducer bad(o);

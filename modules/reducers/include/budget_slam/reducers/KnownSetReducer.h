@@ -17,7 +17,7 @@ struct KnownSetOptions : public TabledOptions<KnownSetOptions> {
                  ///< so far and nothing else (a mapping run that knows its final map)
     End          ///< end: after the last step (the unreduced map cut to the set)
   };
-  std::vector<std::string> ids;  ///< the landmark ids of the set (sensor IDs), >= 1 of them
+  std::vector<std::string> ids;  ///< the landmark ids of the set (sensor IDs); none: the empty set
   When when = When::FirstSight;
   static const OptionTable<KnownSetOptions>& table();
 };
