@@ -24,7 +24,35 @@ ReducerChoice lowestScore(const DropContext& ctx, ScoreFn score) {
 
 }  // namespace
 
+const OptionTable<RandomOptions>& RandomOptions::table() {
+  using O = RandomOptions;
+  static const EnumNames<Draw> names = {{"each_drop", Draw::EachDrop},
+                                        {"per_landmark", Draw::PerLandmark}};
+  static const OptionTable<O> t = {
+      option::choice("draw", &O::draw, names, "each_drop | per_landmark"),
+  };
+  return t;
+}
+
+namespace {
+/// Steele, Lea & Flood's splitmix64 finalizer: a bijection of 64-bit words whose outputs for
+/// consecutive inputs pass BigCrush.
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+}  // namespace
+
+double RandomReducer::landmarkScore(std::uint64_t seed, LandmarkId id) {
+  const std::uint64_t h = splitmix64(splitmix64(seed) ^ static_cast<std::uint64_t>(id));
+  return static_cast<double>(h >> 11) * 0x1.0p-53;
+}
+
 ReducerChoice RandomReducer::choose(const DropContext& ctx) {
+  if (options_.draw == RandomOptions::Draw::PerLandmark)
+    return lowestScore(ctx, [this](const LandmarkView& l) { return landmarkScore(seed_, l.id); });
   // Modulo of the raw 64-bit output rather than std::uniform_int_distribution, whose algorithm
   // differs between standard libraries; the bias is below 1e-16 for any map size.
   const std::size_t k = static_cast<std::size_t>(rng_() % ctx.candidates.size());
@@ -34,9 +62,11 @@ ReducerChoice RandomReducer::choose(const DropContext& ctx) {
 ReducerRegistry::Entry RandomReducer::entry() {
   return {kName,
           "a uniformly random unprotected landmark (seeded by [LandmarkBudget] seed)",
-          {},
-          [](const mrpt::config::CConfigFileBase&, std::uint64_t seed) {
-            return std::make_unique<RandomReducer>(seed);
+          {tabledSection<RandomOptions>()},
+          [](const mrpt::config::CConfigFileBase& ini, std::uint64_t seed) {
+            RandomOptions o;
+            o.loadFromConfigFile(ini, RandomOptions::kSection);
+            return std::make_unique<RandomReducer>(seed, o);
           }};
 }
 

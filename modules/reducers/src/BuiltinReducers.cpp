@@ -1,6 +1,8 @@
 #include "budget_slam/reducers/BuiltinReducers.h"
 
 #include "budget_slam/reducers/BaselineReducers.h"
+#include "budget_slam/reducers/HindsightReducer.h"
+#include "budget_slam/reducers/KnownSetReducer.h"
 #include "budget_slam/reducers/LocalizationInformationReducer.h"
 #include "budget_slam/reducers/MutualInformationReducer.h"
 #include "budget_slam/reducers/PlaceCoverageReducer.h"
@@ -26,6 +28,9 @@ ReducerRegistry makeRegistry() {
   r.add(ViewClusterGainReducer::entry());
   r.add(PlaceCoverageReducer::entry());
   r.add(LocalizationInformationReducer::entry());
+  // Instruments of the benchmark's bounds (docs/EXPERIMENTS.md "Bounds"), not rules:
+  r.add(HindsightReducer::entry());
+  r.add(KnownSetReducer::entry());
   return r;
 }
 

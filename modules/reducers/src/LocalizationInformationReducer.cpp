@@ -224,6 +224,18 @@ double LocalizationInformationReducer::objective() const {
   return f;
 }
 
+std::vector<PlaceReadings> LocalizationInformationReducer::placeReadings() const {
+  std::vector<PlaceReadings> out;
+  for (std::uint32_t s = 0; s < places_.size(); ++s) {
+    if (!slots_.used(s)) continue;
+    PlaceReadings p;
+    for (const Entry& e : places_[s].entries)
+      if (e.active) p.ids.push_back(e.id), p.info.push_back(e.info_sum / e.readings);
+    if (!p.ids.empty()) out.push_back(std::move(p));
+  }
+  return out;
+}
+
 double LocalizationInformationReducer::leastPlace() const {
   refresh();
   double m = kInf;
@@ -301,23 +313,31 @@ SensorNoise readSensorNoise(const mrpt::config::CConfigFileBase& ini) {
 
 }  // namespace
 
-ReducerRegistry::Entry LocalizationInformationReducer::entry() {
+std::vector<OptionSection> LocalizationInformationReducer::sections() {
   const SensorNoise defaults;
+  return {tabledSection<LocalizationInformationOptions>(),
+          {kSensorSection,
+           {{"std_sensor_range", option::numberText(defaults.std_range), "[m], >= 0"},
+            {"std_sensor_yaw_deg", option::numberText(defaults.std_yaw_deg), "[deg], 0 to 360"}},
+           [](const mrpt::config::CConfigFileBase& ini) { readSensorNoise(ini); }}};
+}
+
+std::unique_ptr<LocalizationInformationReducer> LocalizationInformationReducer::fromIni(
+    const mrpt::config::CConfigFileBase& ini) {
+  LocalizationInformationOptions o;
+  o.loadFromConfigFile(ini, LocalizationInformationOptions::kSection);
+  // A noise of 0 is read as 1e-12 (the information is finite).
+  const SensorNoise n = readSensorNoise(ini);
+  return std::make_unique<LocalizationInformationReducer>(o, std::max(n.std_range, 1e-12),
+                                                          std::max(n.std_yaw_deg * kDeg, 1e-12));
+}
+
+ReducerRegistry::Entry LocalizationInformationReducer::entry() {
   return {kName,
           "keep the landmarks that tell the robot most about its pose at every visited place: "
           "greedy on the sum over places of log det of the pose's Fisher information",
-          {tabledSection<LocalizationInformationOptions>(),
-           {kSensorSection,
-            {{"std_sensor_range", option::numberText(defaults.std_range), "[m], >= 0"},
-             {"std_sensor_yaw_deg", option::numberText(defaults.std_yaw_deg), "[deg], 0 to 360"}},
-            [](const mrpt::config::CConfigFileBase& ini) { readSensorNoise(ini); }}},
-          [](const mrpt::config::CConfigFileBase& ini, std::uint64_t) {
-            LocalizationInformationOptions o;
-            o.loadFromConfigFile(ini, LocalizationInformationOptions::kSection);
-            // A noise of 0 is read as 1e-12 (the information is finite).
-            const SensorNoise n = readSensorNoise(ini);
-            return std::make_unique<LocalizationInformationReducer>(
-                o, std::max(n.std_range, 1e-12), std::max(n.std_yaw_deg * kDeg, 1e-12));
+          sections(), [](const mrpt::config::CConfigFileBase& ini, std::uint64_t) {
+            return std::unique_ptr<Reducer>(fromIni(ini));
           }};
 }
 

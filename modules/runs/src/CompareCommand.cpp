@@ -12,6 +12,7 @@
 #include "budget_slam/core/Text.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/reducers/Instruments.h"
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/report/RunFiles.h"
@@ -138,7 +139,7 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
     // --reducers was checked with the request (checkRequest).
     if (names.empty())
       for (const auto& n : reducers::builtinReducers().names())
-        if (n != "none") names.push_back(n);
+        if (n != "none" && !reducers::isInstrument(n)) names.push_back(n);
     for (const auto& n : names) checkCapFor(rc, request, n, label);
   } catch (const Error& e) {
     if (!request.outdir.empty()) try {

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Tests of tools/experiments/benchmark: the verdicts against `random` and the default rule on
-hand-made results (known answers), and the --quick grid through the real binaries (rooms at cap
-1/5 on two seeds, MRCLAM 7 with two random maps; about 20 s), resumed without running anything.
+hand-made results (known answers), the bounds' rows, and the --quick grid through the real binaries
+(rooms at cap 1/5 on two seeds, MRCLAM 7 with two random maps, and the bounds; about a minute),
+resumed without running anything.
 
     test_benchmark.py --budget-slam build/bin/budget-slam --budget-simulate build/bin/budget-simulate
 """
@@ -93,6 +94,39 @@ class Verdicts(unittest.TestCase):
         self.assertEqual(default, "broken")  # one win (mrclam7), the others none
 
 
+class Bounds(unittest.TestCase):
+    """The bounds' rows land in their cell (remap_bounds), each reducer's ratio to the hindsight
+    bound is the mean over seeds of the per-seed ratio, and the bounds are no candidates."""
+
+    def test_bound_rows_and_ratios(self):
+        seeds = range(1, 21)
+        sim = "sim:rooms"
+        rows = rows_of(sim, "none", seeds, lambda s: 0.1)
+        rows += rows_of(sim, "random", seeds, lambda s: 1.0 + 0.01 * s)
+        rows += rows_of(sim, "good", seeds, lambda s: 0.4 * (1 + s % 2))
+        # The bounds' own compares: cap none, labelled; their reference runs are left out.
+        for r in rows_of(sim, "hindsight:bound-hindsight-1of5", seeds, lambda s: 0.2) + \
+                rows_of(sim, "none:bound-hindsight-1of5", seeds, lambda s: 99.0) + \
+                rows_of(sim, "hindsight:bound-ceiling-1of5", seeds, lambda s: 0.15) + \
+                rows_of(sim, "known-set:bound-known-set-1of5", seeds, lambda s: 0.3):
+            rows.append(dict(r, cap="none"))
+        remapped = bm.remap_bounds(rows, [(CAP, "1/5", 0.2)])
+        self.assertFalse([r for r in remapped if r["reducer"].startswith("none:")])
+        labels = ["random", "good"] + bm.BOUND_LABELS
+        t = bm.cells(remapped, labels, [CAP])
+        self.assertEqual(t[("rooms", CAP, "hindsight")].verdict, "win")
+        self.assertAlmostEqual(t[("rooms", CAP, "hindsight")].rmse, 0.2)
+        self.assertAlmostEqual(t[("rooms", CAP, "ceiling")].to_hindsight, 0.75)
+        self.assertAlmostEqual(t[("rooms", CAP, "known-set")].to_hindsight, 1.5)
+        self.assertAlmostEqual(t[("rooms", CAP, "good")].to_hindsight, 3.0)  # 2 and 4, ten seeds each
+        self.assertAlmostEqual(t[("rooms", CAP, "hindsight")].to_hindsight, 1.0)
+        default, qualified, summary = bm.choose_default(t, labels, ["rooms"], [CAP])
+        self.assertEqual(set(summary), {"good"})
+        text, _ = bm.markdown(t, labels, ["rooms"], [CAP], {CAP: "1/5"}, "cmd", "1-20", "0:01")
+        self.assertIn("| ceiling | 0.15 win", text)
+        self.assertIn("| good **(default)** | 3.00 |", text)
+
+
 class QuickRun(unittest.TestCase):
     def test_quick_grid_through_the_binaries_and_resume(self):
         with tempfile.TemporaryDirectory(prefix="test_benchmark_") as tmp:
@@ -107,14 +141,20 @@ class QuickRun(unittest.TestCase):
             with open(os.path.join(out, "benchmark.csv")) as f:
                 rows = list(csv.DictReader(f))
             cells = {(r["world"], r["reducer"]): r for r in rows}
-            self.assertEqual(set(cells), {("rooms", "random"), ("rooms", "localization-information"),
-                                          ("mrclam7", "random"), ("mrclam7", "localization-information")})
+            self.assertEqual(set(cells), {(w, r) for w in ("rooms", "mrclam7")
+                                          for r in ("random", "localization-information", "hindsight", "ceiling",
+                                                    "known-set")})
             self.assertEqual(cells[("rooms", "localization-information")]["n"], "2")  # two seeds paired
             self.assertEqual(cells[("mrclam7", "random")]["n"], "2")  # two random maps
             self.assertIn(cells[("mrclam7", "localization-information")]["random_maps_beaten"], ("0", "1", "2"))
+            self.assertEqual(cells[("rooms", "random")]["distinct_maps"], "2")  # two worlds
+            self.assertIn(cells[("mrclam7", "random")]["distinct_maps"], ("1", "2"))
+            for w in ("rooms", "mrclam7"):
+                self.assertAlmostEqual(float(cells[(w, "hindsight")]["to_hindsight"]), 1.0)
             for r in rows:
                 self.assertEqual(r["failed"], "0")
                 self.assertGreater(float(r["ratio"]), 0)
+                self.assertGreater(float(r["to_hindsight"]), 0)
                 self.assertTrue(0 <= float(r["success_pct"]) <= 100)
             self.assertTrue(os.path.getsize(os.path.join(out, "ratio_vs_cap.png")) > 1000)
             with open(md) as f:
@@ -124,10 +164,19 @@ class QuickRun(unittest.TestCase):
             self.assertIn("| localization-information", text)
             self.assertIn("**rooms**", text)
             self.assertIn("**mrclam7**", text)
+            # Where the default loses to the hindsight bound, from the same folder (bound_gap).
+            p = subprocess.run([os.path.join(scripttest.EXP, "bound_gap"), out, "--world", "rooms", "--cap", "1/5"],
+                               capture_output=True, text=True)
+            self.assertEqual(p.returncode, 0, p.stderr[-3000:])
+            for seed in (1, 2):
+                self.assertRegex(p.stdout, rf"\n\| {seed} \| \d+ of 31 \| \d+ of \d+ \| \d+ \| \d+ \|\n")
+            self.assertIn("Decisive drops:", p.stdout)
             # Resumed: nothing runs again.
             p = subprocess.run(cmd, capture_output=True, text=True)
             self.assertEqual(p.returncode, 0, p.stderr[-3000:])
-            self.assertIn("4 job(s): 4 already done, 0 to run", p.stderr)
+            # 4 jobs of the reducers, 9 of the bounds (rooms: hindsight, ceiling and known-set on 2 seeds;
+            # MRCLAM 7: one each).
+            self.assertIn("13 job(s): 13 already done, 0 to run", p.stderr)
 
     def test_a_bad_world_is_one_line(self):
         p = subprocess.run([SCRIPT, "-o", "/nonexistent/x", "--worlds", "moon"], capture_output=True, text=True)

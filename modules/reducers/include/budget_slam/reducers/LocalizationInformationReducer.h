@@ -8,6 +8,7 @@
 #include "budget_slam/core/OptionTable.h"
 #include "budget_slam/core/PlaceGrid.h"
 #include "budget_slam/core/ReducerRegistry.h"
+#include "budget_slam/reducers/HindsightSelection.h"
 #include "budget_slam/reducers/PlaceSlots.h"
 #include "budget_slam/session/SessionStateOwner.h"
 
@@ -76,6 +77,12 @@ class LocalizationInformationReducer : public Reducer,
   void observe(const StepObservation& seen) override;
   void forget(LandmarkId id) override;
   static ReducerRegistry::Entry entry();
+  /// The sections it reads: [LocalizationInformationReducer] and the sensor noise of
+  /// [RangeBearingKFSLAM].
+  static std::vector<OptionSection> sections();
+  /// The reducer as those sections configure it.
+  static std::unique_ptr<LocalizationInformationReducer> fromIni(
+      const mrpt::config::CConfigFileBase& ini);
   /// Section `reducer.localization-information`: the grid and prior, the place slots, every
   /// place's readings and cached numbers, the landmarks on record off the map.
   void saveSession(session::SessionState& state) const override;
@@ -92,6 +99,10 @@ class LocalizationInformationReducer : public Reducer,
   /// max(0, leastPlace() - the least log det of id's places without it) [nats].
   double minLoss(LandmarkId id) const;
   std::size_t placeCount() const { return slots_.size(); }
+  /// Every remembered place with the landmarks of the map read from it and I_l(p) of each (the
+  /// mean over its readings there): what F is made of, for a selection with hindsight
+  /// (HindsightSelection.h).
+  std::vector<PlaceReadings> placeReadings() const;
   /// The prior Lambda_0 in force (after the first observe(): from the sensor's range).
   const Eigen::Matrix3d& prior() const { return prior_; }
 
