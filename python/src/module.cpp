@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include "ListCommand.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/IniSchema.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/StopSignals.h"
@@ -299,7 +301,21 @@ py::dict reducerScores(const std::string& name, const py::array_t<double>& mean_
                        const std::optional<std::vector<long long>>& candidates) {
   const auto& registry = reducers::builtinReducers();
   registry.entry(name);  // unknown name: ConfigError listing the registered ones
-  const mrpt::config::CConfigFileMemory ini(config);
+  // The reducers' sections only, each key known and each value in range, as a run checks them:
+  // "x" or "[Foo] ..." is a mistake, not an empty configuration.
+  mrpt::config::CConfigFileMemory ini;
+  if (!config.empty()) {
+    loadIniText(ini, config, "config");
+    IniSchema schema;
+    for (const auto* e : registry.entries())
+      for (const auto& section : e->sections) schema.addSection(section.name, section.keys());
+    try {
+      schema.validate(ini);
+      for (const auto* e : registry.entries()) e->validate(ini);
+    } catch (const ConfigError& e) {
+      throw ConfigError(std::string("config: ") + e.what());
+    }
+  }
   if (!registry.create(name, ini, seed))
     throw ConfigError("reducer '" + name + "' scores nothing: it is the unreduced run");
 
@@ -317,6 +333,10 @@ py::dict reducerScores(const std::string& name, const py::array_t<double>& mean_
     throw ConfigError("mean, cov: values must be finite");
   if ((P - P.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(1.0, P.cwiseAbs().maxCoeff()))
     throw ConfigError("cov: not symmetric");
+  // A covariance: a score of a matrix that is none (-I) would be a number that means nothing.
+  if (const Eigen::LLT<Eigen::MatrixXd> llt(P);
+      llt.info() != Eigen::Success || !llt.matrixLLT().allFinite())
+    throw ConfigError("cov: not positive definite");
   const auto sized = [n](const auto& v, const char* what) {
     if (v && v->size() != n)
       throw ConfigError(std::string(what) + ": " + std::to_string(v->size()) + " values for " +
