@@ -7,8 +7,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <csignal>
@@ -21,6 +21,7 @@
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSchema.h"
 #include "budget_slam/core/IniText.h"
+#include "budget_slam/core/OptionTable.h"
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/StopSignals.h"
 #include "budget_slam/core/Text.h"
@@ -333,10 +334,16 @@ py::dict reducerScores(const std::string& name, const py::array_t<double>& mean_
     throw ConfigError("mean, cov: values must be finite");
   if ((P - P.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(1.0, P.cwiseAbs().maxCoeff()))
     throw ConfigError("cov: not symmetric");
-  // A covariance: a score of a matrix that is none (-I) would be a number that means nothing.
-  if (const Eigen::LLT<Eigen::MatrixXd> llt(P);
-      llt.info() != Eigen::Success || !llt.matrixLLT().allFinite())
-    throw ConfigError("cov: not positive definite");
+  // A covariance: a score of a matrix that is none (-I) would be a number that means nothing. A
+  // filter's own state may be singular or off by round-off (a robot that has not moved, a
+  // landmark seen once): an eigenvalue below -1e-6 of the largest is what no covariance has.
+  if (P.rows() > 0) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P, Eigen::EigenvaluesOnly);
+    const Eigen::VectorXd& l = eig.eigenvalues();
+    if (eig.info() != Eigen::Success || l.minCoeff() < -1e-6 * l.cwiseAbs().maxCoeff())
+      throw ConfigError("cov: not positive semi-definite (its least eigenvalue is " +
+                        option::numberText(l.minCoeff()) + ")");
+  }
   const auto sized = [n](const auto& v, const char* what) {
     if (v && v->size() != n)
       throw ConfigError(std::string(what) + ": " + std::to_string(v->size()) + " values for " +
