@@ -90,7 +90,9 @@ void mutateNumbers(std::string& body, std::mt19937& rng) {
     case 1: {
       char* end = nullptr;
       const long long v = std::strtoll(token.c_str(), &end, 10);
-      with = std::to_string(rng() % 2 ? v + 1 : v - 1);
+      // Wrapping at the int64 edges (as unsigned: defined) gives the other edge, also worth trying.
+      const auto u = static_cast<unsigned long long>(v);
+      with = std::to_string(static_cast<long long>(rng() % 2 ? u + 1 : u - 1));
       break;
     }
     case 2: {
