@@ -189,6 +189,11 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   TCLAP::SwitchArg quiet("", "quiet", "no progress bar and no summary on stdout", cmd);
   TCLAP::SwitchArg force("", "force", "write into a non-empty output folder (deletes nothing)",
                          cmd);
+  // Taken out of the command line by main() when the executable embeds Python
+  // (python/src/PluginHost.cpp); here only for --help and for a build without Python.
+  TCLAP::MultiArg<std::string> plugin(
+      "", "plugin", "a Python file registering reducers (docs/PYTHON.md); repeatable", false,
+      "FILE.py", cmd);
 
   std::vector<std::string> argv;
   argv.push_back("budget-slam " + args[1]);  // the usage names the program, not its path
@@ -213,6 +218,10 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
     return;
   }
 
+  if (plugin.isSet())
+    throw UsageError(
+        "--plugin: this budget-slam was built without Python (needs python3-dev and "
+        "pybind11-dev); see docs/PYTHON.md");
   cli_.config = config.getValue();
   cli_.rawlog = rawlog.getValue();
   cli_.outdir = outdir.getValue();

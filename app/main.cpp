@@ -1,6 +1,8 @@
 // budget-slam: landmark SLAM under a landmark budget. Exit codes: runs::exitCode
 // (runs/RunStatus.h).
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "BudgetSlamApp.h"
 #include "budget_slam/core/Error.h"
@@ -9,6 +11,9 @@
 #include "budget_slam/core/Text.h"
 #include "budget_slam/runs/ProcessProbes.h"
 #include "budget_slam/runs/RunStatus.h"
+#ifdef BUDGET_SLAM_WITH_PYTHON
+#include "PluginHost.h"  // --plugin FILE.py (python/src/PluginHost.cpp)
+#endif
 
 int main(int argc, char** argv) {
   namespace runs = budget_slam::runs;
@@ -18,7 +23,12 @@ int main(int argc, char** argv) {
   budget_slam::holdMemoryReserve(std::size_t{16} << 20);  // for ending well when memory runs out
   budget_slam::app::BudgetSlamApp app;
   try {
-    app.initialize(argc, argv);
+    std::vector<std::string> args(argv, argv + argc);
+#ifdef BUDGET_SLAM_WITH_PYTHON
+    // Reducers written in Python register before the command line is read (--reducer, --list).
+    budget_slam::python::loadPlugins(budget_slam::python::takePluginFlags(args));
+#endif
+    app.initialize(args);
   } catch (const budget_slam::Error& e) {
     // A bad command line or an unreadable -c file: nothing was written.
     std::cerr << "budget-slam: " << e.what() << std::endl;

@@ -82,6 +82,7 @@ struct SplitResult {
   bool same_drops, same_ids;
   double final_trajectory_diff;  ///< trajectory.tum (the graph's smoothed path after its solve)
   std::size_t kept;
+  std::size_t drops_before, drops_after;  ///< evictions.csv rows before the split, after it
 };
 
 SplitResult runSplit(const Split& s) {
@@ -112,7 +113,10 @@ SplitResult runSplit(const Split& s) {
           drops(dir / "one" / "evictions.csv", s.at) == drops(dir / "b" / "evictions.csv", 0),
           ids_one == ids_b,
           maxDiff(tum(dir / "one" / "trajectory.tum"), tum(dir / "b" / "trajectory.tum")),
-          lm_b.size()};
+          lm_b.size(),
+          drops(dir / "one" / "evictions.csv", 0).size() -
+              drops(dir / "one" / "evictions.csv", s.at).size(),
+          drops(dir / "one" / "evictions.csv", s.at).size()};
 }
 
 // The EKF's whole state goes into the file with every double exact: two sessions are the one-shot
@@ -179,18 +183,20 @@ TEST(Resume, SplitEqualsOneShotEkfWithNegativeEvidence) {
   EXPECT_LE(maxDiff(lm_one, lm_b), 1e-9);
 }
 
-// The graph resumes from landmark priors built from their marginals (docs/GRAPH.md "Resuming a
-// session"): the correlations are not carried over, so the two sessions are not the one-shot
-// run, nor drop for drop. Measured on the smoothed path after the final solve (docs/RESULTS.md
-// "Sessions"): 0.72 m on kf-slam_demo, 0.38 m on rooms with the held factor (its relinearization
-// threshold lets the two runs part further than a full relinearization did: 0.26 m, 0.32 m). The
-// bound here catches a resume that loses the map (a robot restarted at the origin is metres off);
-// the cap still holds.
-TEST(Resume, SplitStaysNearOneShotGraph) {
+// The graph saves itself whole, factor for factor (docs/GRAPH.md "Resuming a session"): two
+// sessions are the one-shot run to rounding, online poses, final path, map and drops, with drops
+// in both halves under the default reducer.
+TEST(Resume, SplitEqualsOneShotGraph) {
   for (const auto& s : {Split{"graph_demo", "kf-slam_demo.rawlog", "graph", "10", 60},
                         Split{"graph_rooms", "rooms.rawlog", "graph", "20", 300}}) {
     const auto r = runSplit(s);
-    EXPECT_LE(r.final_trajectory_diff, 1.0) << s.name;
+    EXPECT_LE(r.pose_diff, 1e-6) << s.name;
+    EXPECT_LE(r.landmark_diff, 1e-6) << s.name;
+    EXPECT_LE(r.final_trajectory_diff, 1e-6) << s.name;
+    EXPECT_TRUE(r.same_drops) << s.name;
+    EXPECT_TRUE(r.same_ids) << s.name;
+    EXPECT_GT(r.drops_before, 0u) << s.name;
+    EXPECT_GT(r.drops_after, 0u) << s.name;
     EXPECT_EQ(r.kept, std::stoul(s.cap)) << s.name;
   }
 }

@@ -10,6 +10,7 @@ registered reducer's scores on a Gaussian state (docs/PYTHON.md).
     c["comparison"]["gt_trajectory_rmse_aligned_m"], c["runs"]["mi"]["trajectory"]
     s = budget_slam.load_state("OUT/states/step_120.txt")
     budget_slam.reducer_scores("mi", s["mean"], s["cov"], s["ids"])["scores"]
+    budget_slam.register_reducer("py-oldest", Oldest)   # a reducer written in Python
 
 The runs are budget-slam's own (the run layer's runs::run and runs::compare in-process, from a
 typed request, not a subprocess): the same options, checks, outputs and numbers as the command
@@ -17,10 +18,12 @@ line. A refused argument raises ConfigError, a failed run raises Error, both car
 application's one-line message; Ctrl-C ends the run cleanly and raises KeyboardInterrupt.
 """
 import csv
+import inspect
 import json
 import math
 import numbers
 import os
+import runpy
 import shutil
 import tempfile
 import warnings
@@ -477,3 +480,111 @@ def localize(config, rawlog=None, map=None, overrides=None, outdir=None, *, star
 
 
 __all__ += ["localize", "NotFound"]
+
+
+# ---- reducers written in Python (docs/PYTHON.md "A reducer in Python") ----
+
+class _FunctionReducer:
+    """A plain function registered as a reducer: its choose()."""
+
+    def __init__(self, choose):
+        self.choose = choose
+
+
+def _origin(obj):
+    """Where `obj` is defined, for error lines: its file's name, else its module's."""
+    try:
+        path = inspect.getsourcefile(obj) or inspect.getfile(obj)
+        return os.path.basename(path)
+    except (TypeError, OSError):
+        return getattr(obj, "__module__", None) or type(obj).__name__
+
+
+def _section_name(name):
+    """The default ini section of reducer `name`: "distinct-places" -> "DistinctPlacesReducer"."""
+    words = "".join(c if c.isalnum() else " " for c in name).split()
+    return "".join(w[:1].upper() + w[1:] for w in words) + "Reducer"
+
+
+def _option_spec(key, spec):
+    """An entry of register_reducer's options as (key, kind, default text, choices, lo, hi, doc):
+    a bool, int, float or str default; a tuple of words (a choice, the first the default); or
+    (default, lo, hi) or (default, lo, hi, doc) for a number with its range."""
+    if not isinstance(key, str) or not key or any(c in key for c in " \t=[]#;"):
+        raise ConfigError(f"register_reducer: option key {key!r}: a word of the ini")
+    lo, hi, doc, choices = -math.inf, math.inf, "", []
+    if isinstance(spec, tuple) and spec and all(isinstance(w, str) for w in spec):
+        choices = list(spec)
+        return (key, "choice", choices[0], choices, lo, hi, doc)
+    if isinstance(spec, tuple):
+        if len(spec) not in (3, 4) or (len(spec) == 4 and not isinstance(spec[3], str)):
+            raise ConfigError(f"register_reducer: option {key}={spec!r}: a tuple is either words "
+                              "(a choice) or (default, lo, hi[, doc])")
+        spec, lo, hi, doc = (spec + ("",))[:4]
+        if not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in (spec, lo, hi)):
+            raise ConfigError(f"register_reducer: option {key}: (default, lo, hi) must be numbers")
+        if not lo <= spec <= hi:
+            raise ConfigError(f"register_reducer: option {key}: the default {spec!r} is not within "
+                              f"[{lo!r}, {hi!r}]")
+    if isinstance(spec, bool):
+        return (key, "bool", "true" if spec else "false", [], lo, hi, doc)
+    if isinstance(spec, numbers.Integral):
+        return (key, "int", str(int(spec)), [], float(lo), float(hi), doc)
+    if isinstance(spec, numbers.Real):
+        if not math.isfinite(spec):
+            raise ConfigError(f"register_reducer: option {key}={spec!r}: not a finite number")
+        return (key, "float", repr(float(spec)), [], float(lo), float(hi), doc)
+    if isinstance(spec, str):
+        return (key, "text", spec, [], lo, hi, doc)
+    raise ConfigError(f"register_reducer: option {key}={spec!r}: give a bool, int, float or str "
+                      "default, a tuple of words, or (default, lo, hi)")
+
+
+def register_reducer(name, reducer, *, options=None, section=None, summary=None):
+    """Registers a reducer written in Python under `name`: from then on run(), compare() (beside
+    the shipped reducers), reducer_scores(), reducers() and the ini checks know it as any other
+    (the command line: `budget-slam run --plugin FILE.py --reducer NAME`).
+
+    reducer: a class, built once a run with its section's values as keyword arguments, whose
+    choose(drop) returns the landmark to drop: an id of drop.candidates["id"] (score 0), a tuple
+    (id, score), or one score per candidate, in drop.candidates order (the lowest goes, ties to
+    the lowest id); score lower = less useful, logged in evictions.csv. Optional: observe(seen),
+    called every step with what the robot observed, and forget(id), called when a landmark leaves
+    the map. A plain function is taken as choose (no options, no memory).
+    options: {key: default} of its ini section: a bool, int, float or str; a tuple of words (a
+    choice, the first the default); or (default, lo, hi[, doc]) for a number with its range.
+    section: the ini section (default: "distinct-places" -> [DistinctPlacesReducer]); summary:
+    --list's line (default: the docstring's first line). A name stays taken for the life of the
+    process. Raises ConfigError for a name or options that cannot be registered."""
+    if not isinstance(name, str):
+        raise TypeError(f"name={name!r}: expected a str")
+    if inspect.isclass(reducer):
+        factory = reducer
+    elif callable(reducer):
+        if options:
+            raise ConfigError(f"register_reducer: '{name}': a function takes no options; give a "
+                              "class whose constructor takes them as keyword arguments")
+        factory = lambda: _FunctionReducer(reducer)  # noqa: E731
+    else:
+        raise TypeError(f"reducer={reducer!r}: expected a class with choose(drop), or a function")
+    if options is not None and not isinstance(options, dict):
+        raise TypeError("options: expected a dict {key: default}")
+    doc = (inspect.getdoc(reducer) or "").strip().splitlines()
+    origin = _origin(reducer)
+    line = summary if summary is not None else (doc[0] if doc else "")
+    line = line or f"a reducer written in Python ({origin})"
+    specs = [_option_spec(k, v) for k, v in (options or {}).items()]
+    try:
+        _core.register_reducer(name, factory, section or _section_name(name), str(line), origin,
+                               specs)
+    except (_core.ConfigError, _core.Error) as e:
+        raise ConfigError(str(e)) from None
+
+
+def load_plugin(path):
+    """Runs a plugin file, whose register_reducer() calls register its reducers (what
+    `budget-slam --plugin FILE.py` does before the command runs)."""
+    runpy.run_path(os.fspath(path), run_name="__budget_slam_plugin__")
+
+
+__all__ += ["register_reducer", "load_plugin"]

@@ -17,6 +17,7 @@
 
 #include "BudgetSlamApp.h"
 #include "ListCommand.h"
+#include "PythonReducer.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/IniSchema.h"
@@ -447,7 +448,14 @@ int exitCodeOf(const std::string& status, const std::string& kind) {
 }  // namespace
 }  // namespace budget_slam::python
 
+#ifdef BUDGET_SLAM_EMBEDDED_CORE
+// Compiled into the budget-slam executable for --plugin (PluginHost.cpp): the same module, built
+// in.
+#include <pybind11/embed.h>
+PYBIND11_EMBEDDED_MODULE(_core, m) {
+#else
 PYBIND11_MODULE(_core, m) {
+#endif
   using namespace budget_slam::python;
   m.doc() = "C++ core of budget_slam: the run layer in-process and the reducer registry";
   static py::exception<budget_slam::ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
@@ -501,4 +509,5 @@ PYBIND11_MODULE(_core, m) {
   m.def("list_json", [](const std::string& kind) {  // budget-slam --list <kind> --json
     return budget_slam::app::listCommand({"budget-slam", "--list", kind, "--json"});
   });
+  definePluginApi(m);  // register_reducer, Drop, Seen (PythonReducer.cpp)
 }

@@ -24,7 +24,7 @@ from reportlib import write_atomic
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
-GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics", "figure_format"}
+GLOBAL_KEYS = {"name", "config", "budget_slam", "budget_simulate", "jobs", "metrics", "figure_format", "plugins"}
 GROUP_KEYS = {"rawlogs", "backends", "reducers", "caps", "seeds", "set", "label", "config", "relocalize",
               "reference_trajectory"}
 
@@ -276,6 +276,12 @@ class Experiment:
         self.budget_slam = os.path.abspath(budget_slam or top.get("budget_slam") and resolve_path(top["budget_slam"], base_dirs) or default_binary("budget-slam"))
         self.budget_simulate = os.path.abspath(budget_simulate or top.get("budget_simulate") and resolve_path(top["budget_simulate"], base_dirs) or default_binary("budget-simulate"))
         self.default_jobs = int(top.get("jobs", "0") or 0)
+        # Reducers written in Python (docs/PYTHON.md): every budget-slam command line gets --plugin FILE.
+        self.plugins = [resolve_path(f, base_dirs) for f in split_list(top.get("plugins", ""))]
+        for f in self.plugins:
+            if not os.path.isfile(f):
+                raise ExperimentError(f"{path}: [sweep] plugins: no file '{f}'")
+        self.plugin_args = [a for f in self.plugins for a in ("--plugin", f)]
         self.metrics = parse_metrics(top.get("metrics", ""), f"{path}: [sweep]")
         self.figure_format = top.get("figure_format", "png")
         group_sections = [s for s in ini.sections() if s.startswith("group ")]
@@ -300,12 +306,12 @@ class Experiment:
                     raise ExperimentError(f"{path}: [{sec}] needs '{key}'")
             g["rawlogs"] = [Rawlog(s, base_dirs) for s in split_list(g["rawlogs"])]
             g["backends"] = split_list(g.get("backends", "ekf"))
-            backends = registry_names(self.budget_slam, "backends")
+            backends = registry_names(self.budget_slam, "backends", self.plugin_args)
             for b in g["backends"] if backends is not None else []:
                 if b not in backends:
                     raise ExperimentError(f"{path}: [{sec}] backend '{b}' is not one of {', '.join(backends)}")
             g["reducers"] = [r for r in split_list(g["reducers"]) if r != "none"]
-            reducers = registry_names(self.budget_slam, "reducers")
+            reducers = registry_names(self.budget_slam, "reducers", self.plugin_args)
             for r in g["reducers"] if reducers is not None else []:
                 if r not in reducers:
                     raise ExperimentError(f"{path}: [{sec}] reducer '{r}' is not one of {', '.join(reducers)}")
@@ -383,7 +389,7 @@ class Experiment:
 
     def baseline_command(self, b):
         cmd = [self.budget_slam, "run", "-c", b.config, "-i", b.rawlog_file, "-o", b.folder + ".part",
-               "--reducer", "none", "--backend", b.backend, "--quiet", "--force"]
+               "--reducer", "none", "--backend", b.backend, "--quiet", "--force"] + self.plugin_args
         for s in b.sets:
             cmd += ["--set", s]
         return wrap_atomic(cmd, b.folder, "summary.json")
@@ -391,7 +397,7 @@ class Experiment:
     def job_command(self, job):
         cmd = [self.budget_slam, "compare", "-c", job.config, "-i", job.rawlog_file, "-o", job.folder + ".part",
                "--reducers", ",".join(job.reducers), "--cap", str(job.cap_landmarks), "--backend", job.backend,
-               "--set", f"LandmarkBudget.seed={job.seed}"]
+               "--set", f"LandmarkBudget.seed={job.seed}"] + self.plugin_args
         if job.traversals:
             cmd += ["--relocalize", ",".join(f for _, f in job.traversals)]
         if job.group.get("reference_trajectory"):
@@ -445,24 +451,25 @@ def simulation_line(budget_simulate, scenario, seed, laps, rawlog_file, route=No
 _REGISTRIES = {}
 
 
-def registry(binary, kind):
+def registry(binary, kind, plugin_args=()):
     """What `binary --list KIND --json` says (KIND: reducers or backends): a list of dicts with
-    name, summary and options, from the binary's own registry (the one list of them); None when
-    the binary cannot list it (not a budget-slam, or one older than --list, which also lacks
-    compare --relocalize)."""
-    key = (binary, kind)
+    name, summary and options, from the binary's own registry (the one list of them, with the
+    reducers of `plugin_args`' --plugin files); None when the binary cannot list it (not a
+    budget-slam, or one older than --list, which also lacks compare --relocalize)."""
+    key = (binary, kind, tuple(plugin_args))
     if key not in _REGISTRIES:
         try:
-            p = subprocess.run([binary, "--list", kind, "--json"], capture_output=True, text=True, timeout=60)
+            p = subprocess.run([binary, "--list", kind, "--json", *plugin_args], capture_output=True, text=True,
+                               timeout=60)
             _REGISTRIES[key] = json.loads(p.stdout) if p.returncode == 0 else None
         except (OSError, subprocess.TimeoutExpired, ValueError):
             _REGISTRIES[key] = None
     return _REGISTRIES[key]
 
 
-def registry_names(binary, kind):
-    """The names of registry(binary, kind), or None."""
-    entries = registry(binary, kind)
+def registry_names(binary, kind, plugin_args=()):
+    """The names of registry(binary, kind, plugin_args), or None."""
+    entries = registry(binary, kind, plugin_args)
     return [e["name"] for e in entries] if isinstance(entries, list) else None
 
 

@@ -8,6 +8,7 @@
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/graph/GraphSession.h"
 #include "budget_slam/graph/InformationGain.h"
 #include "budget_slam/graph/Marginals.h"
 #include "budget_slam/graph/NearestNeighbourAssociation.h"
@@ -16,6 +17,14 @@ namespace budget_slam::graph {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
+/// Poses a saved graph may hold without `max_poses` (a bound on what a session file can make the
+/// reader build; Victoria Park's whole run is 6968).
+constexpr std::size_t kMaxSavedPoses = std::size_t{1} << 20;
+
+/// The same pose to the bit (a robot the saved chain left, not one found elsewhere).
+bool samePose(const Pose2& x, const mrpt::math::TPose2D& p) {
+  return x.x() == p.x && x.y() == p.y && x.z() == p.phi;
+}
 
 Pose2 toPose2(const mrpt::math::TPose2D& p) { return Pose2(p.x, p.y, p.phi); }
 
@@ -368,15 +377,76 @@ void GraphBackend::saveSession(session::SessionState& state) const {
     robot.cross_covariance = joint.topRightCorner(3, m);
     state.robot = robot;
   }
-  state.section("backend.graph").putInteger("next_fresh_id", next_fresh_id_);
+  // The graph itself, factor for factor, and the incremental schedule: the next session goes on
+  // as the one-shot run would (docs/GRAPH.md "Resuming a session").
+  session::SessionSection& s = state.section("backend.graph");
+  s.putInteger("next_fresh_id", next_fresh_id_);
+  writeGraph(graph_, s);
+  s.putInteger("poses_since_update", poses_since_update_);
+  s.putInteger("updates", static_cast<std::int64_t>(updates_));
+  s.putInteger("poses_dropped", static_cast<std::int64_t>(poses_dropped_));
+  std::vector<double> pose_cov;
+  if (pose_cov_) pose_cov.assign(pose_cov_->data(), pose_cov_->data() + 9);
+  s.putReals("pose_covariance", std::move(pose_cov));
 }
 
 void GraphBackend::restoreSession(const session::SessionState& state) {
   const session::SessionSection& s = state.take("backend.graph");
-  graph_ = FactorGraph();
   tracks_ = LandmarkTracks();
   const auto& lm = state.map.landmarks;
   LandmarkId next = s.integer("next_fresh_id", 0);
+  for (const LandmarkView& v : lm) {
+    tracks_.restore(v);
+    next = std::max(next, v.id + 1);
+  }
+  next_fresh_id_ = next;
+  last_ids_.clear();
+  pose_cov_.reset();
+  start_.reset();
+  poses_since_update_ = 0;
+  if (hasGraph(s)) {
+    // Every field is read and checked whether or not the saved chain goes on.
+    const std::size_t max_poses =
+        options_.max_poses > 0 ? static_cast<std::size_t>(options_.max_poses) : kMaxSavedPoses;
+    FactorGraph saved = readGraph(s, state.header.next_step, max_poses);
+    const auto since =
+        s.integer("poses_since_update", 0, static_cast<std::int64_t>(saved.poses().size()));
+    const auto updates = s.integer("updates", 0);
+    const auto dropped = s.integer("poses_dropped", 0);
+    const auto& cov = s.reals("pose_covariance");
+    if (cov.size() != 0 && cov.size() != 9)
+      s.fail("pose_covariance", std::to_string(cov.size()) + " values, expected 0 or 9");
+    std::optional<Eigen::Matrix3d> pose_cov;
+    if (cov.size() == 9) {
+      pose_cov = Eigen::Map<const Eigen::Matrix3d>(cov.data());
+      try {
+        sqrtInformation(*pose_cov);  // symmetric and positive definite
+      } catch (const std::invalid_argument& e) {
+        s.fail("pose_covariance", e.what());
+      }
+    }
+    std::vector<LandmarkId> saved_ids, map_ids;
+    for (const auto& [id, l] : saved.landmarks()) saved_ids.push_back(id);
+    for (const LandmarkView& v : lm) map_ids.push_back(v.id);
+    std::sort(map_ids.begin(), map_ids.end());
+    if (saved_ids != map_ids)
+      s.fail("landmark_ids", "the graph's landmarks are not the map's (section 'landmarks')");
+    // The saved chain goes on when the robot is where it stopped (its last pose, bit for bit);
+    // a robot placed by --wake-up starts a new chain on the map below.
+    const bool continues = state.robot && !saved.poses().empty() &&
+                           samePose(saved.poses().rbegin()->second.x, state.robot->pose.mean);
+    if (continues) {
+      graph_ = std::move(saved);
+      poses_since_update_ = static_cast<int>(since);
+      updates_ = static_cast<std::size_t>(updates);
+      poses_dropped_ = static_cast<std::size_t>(dropped);
+      pose_cov_ = pose_cov;
+      return;
+    }
+  }
+  // The map's marginals: each landmark under a prior from its own 2x2 block (an older state, or a
+  // robot woken up elsewhere); the first step's pose from the saved or found robot.
+  graph_ = FactorGraph();
   for (std::size_t i = 0; i < lm.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(2 * i);
     const Eigen::Matrix2d cov = state.map.covariance.block<2, 2>(k, k);
@@ -386,14 +456,8 @@ void GraphBackend::restoreSession(const session::SessionState& state) {
     } catch (const std::invalid_argument& e) {
       s.failSection("landmark " + std::to_string(lm[i].id) + ": " + e.what());
     }
-    tracks_.restore(lm[i]);
-    next = std::max(next, lm[i].id + 1);
   }
-  next_fresh_id_ = next;
   if (state.robot) start_ = state.robot->pose;
-  last_ids_.clear();
-  poses_since_update_ = 0;
-  pose_cov_.reset();
 }
 
 }  // namespace budget_slam::graph

@@ -7,6 +7,7 @@
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/wakeup/PoseFit.h"
+#include "budget_slam/wakeup/WindowFit.h"
 
 namespace budget_slam::wakeup {
 namespace {
@@ -173,6 +174,22 @@ WakeUpResult GlobalLocalizer::refineAndJudge(std::optional<Pose2> start,
     if (distinctLandmarks(pairs) < min_landmarks)
       return notFound(WakeUpReason::Inconsistent, distinctLandmarks(pairs));
     if (!refit) start = ref.pose;
+  }
+  if (ref.converged && options_.fit != WindowFitMode::Latest) {
+    // The window's poses fitted jointly on the readings the latest-pose fit kept, the outliers
+    // of the joint fit dropped the same way (docs/ALGORITHMS.md "Over a window").
+    const std::vector<WindowStep> steps = window_.gathered();
+    const WindowLandmarks landmarks =
+        options_.fit == WindowFitMode::Window ? WindowLandmarks::Fixed : WindowLandmarks::Priors;
+    while (true) {
+      ref = fitWindow(ref.pose, steps, readings, map, pairs, noise_, landmarks);
+      if (!ref.converged) break;
+      const auto worst = std::max_element(ref.chi2.begin(), ref.chi2.end()) - ref.chi2.begin();
+      if (ref.chi2[static_cast<std::size_t>(worst)] <= options_.gate_chi2) break;
+      pairs.erase(pairs.begin() + worst);
+      if (distinctLandmarks(pairs) < min_landmarks)
+        return notFound(WakeUpReason::Inconsistent, distinctLandmarks(pairs));
+    }
   }
   WakeUpResult r;
   r.inliers = pairs.size();

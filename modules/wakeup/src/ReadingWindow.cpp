@@ -92,4 +92,14 @@ std::vector<SensorView> ReadingWindow::views() const {
   return out;
 }
 
+std::vector<WindowStep> ReadingWindow::gathered() const {
+  const auto poses = chain();
+  std::vector<WindowStep> out;
+  for (std::size_t k = 0; k < steps_.size(); ++k) {
+    const Gathered& g = steps_[k];
+    out.push_back({g.index, g.odometry, g.odometry_cov, g.sensor, poses[k].first});
+  }
+  return out;
+}
+
 }  // namespace budget_slam::wakeup

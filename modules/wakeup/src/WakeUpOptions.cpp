@@ -9,6 +9,13 @@ const EnumNames<Correspondence>& correspondenceNames() {
   return names;
 }
 
+const EnumNames<WindowFitMode>& windowFitModeNames() {
+  static const EnumNames<WindowFitMode> names = {{"window", WindowFitMode::Window},
+                                                 {"window_priors", WindowFitMode::WindowPriors},
+                                                 {"latest", WindowFitMode::Latest}};
+  return names;
+}
+
 const OptionTable<WakeUpOptions>& WakeUpOptions::table() {
   using O = WakeUpOptions;
   static const OptionTable<O> t = {
@@ -28,6 +35,7 @@ const OptionTable<WakeUpOptions>& WakeUpOptions::table() {
       option::integer("seed", &O::seed, 0),
       option::real("max_std_xy", &O::max_std_xy, 1e-9, 1e6, "[m]"),
       option::real("max_std_yaw_deg", &O::max_std_yaw_deg, 1e-9, 180, "[deg]"),
+      option::choice("fit", &O::fit, windowFitModeNames(), "window | window_priors | latest"),
       option::stddev("no_odometry_std_xy", &O::no_odometry_std_xy, "[m]"),
       option::stddev("no_odometry_std_yaw_deg", &O::no_odometry_std_yaw_deg, "[deg]"),
   };

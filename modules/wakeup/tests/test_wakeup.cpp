@@ -262,7 +262,7 @@ TEST(WakeUp, OptionsComeFromOneTable) {
   o.dumpToTextStream(dump);
   EXPECT_NE(dump.str().find("correspondence           = search  // auto | ids | search"),
             std::string::npos);
-  EXPECT_EQ(WakeUpOptions::keys().size(), 17u);
+  EXPECT_EQ(WakeUpOptions::keys().size(), 18u);
   ini.write("WakeUp", "correspondence", "ids-first");
   try {
     o.loadFromConfigFile(ini, "WakeUp");

@@ -57,16 +57,20 @@ class GraphBackend : public Backend, public PoseHistoryBackend, public session::
   /// fresh-id counter, incremental schedule, latest pose covariance).
   std::unique_ptr<Backend> clone() const override;
 
-  /// Solves to convergence now (what finish() does); returns the solver's report.
   /// The map as the joint marginal of every landmark and the latest pose at the current estimate
-  /// (the robot with its cross-covariance), and section `backend.graph` (the next fresh id).
+  /// (the robot with its cross-covariance), and section `backend.graph`: the next fresh id, the
+  /// whole graph factor for factor (writeGraph) and the incremental schedule (poses since the last
+  /// update, the latest pose's covariance between updates).
   void saveSession(session::SessionState& state) const override;
-  /// A new graph on the saved map: each landmark with a prior from its marginal (2x2 block of the
-  /// saved joint covariance; the correlations between landmarks and with the robot are not
-  /// kept), and the next step's pose from the saved robot pose and its marginal composed with the
-  /// step's odometry (waking up: the pose found). docs/GRAPH.md "Resuming a session".
+  /// The saved graph as it was, when the robot continues where the session stopped: the next
+  /// session's steps are the one-shot run's. When the robot was placed elsewhere (--wake-up), or
+  /// the state holds no graph (written before it was saved whole), a new graph on the saved map:
+  /// each landmark with a prior from its marginal (2x2 block of the saved joint covariance; the
+  /// correlations are not kept), and the next step's pose from the robot pose and its marginal
+  /// composed with the step's odometry. docs/GRAPH.md "Resuming a session".
   void restoreSession(const session::SessionState& state) override;
 
+  /// Solves to convergence now (what finish() does); returns the solver's report.
   SolveReport optimize();
   const FactorGraph& graph() const { return graph_; }
   const GraphSlamOptions& options() const { return options_; }

@@ -30,6 +30,17 @@ struct SensorView {
   double fov = 0;                       ///< total horizontal field of view [rad]
 };
 
+/// One gathered step as the joint fit of the window reads it (fitWindow, WindowFit.h).
+struct WindowStep {
+  StepIndex index = 0;
+  /// The motion from the previous gathered step, in its frame, and its covariance (the first
+  /// step's leads from outside the window and is not used).
+  Pose2 odometry = Pose2::Zero();
+  Eigen::Matrix3d odometry_cov = Eigen::Matrix3d::Zero();
+  Pose2 on_robot = Pose2::Zero();  ///< the sensor's pose on the robot
+  Pose2 pose = Pose2::Zero();      ///< the robot in the latest robot frame, by the odometry
+};
+
 /// The steps gathered since the robot woke up: their readings and the odometry between them.
 class ReadingWindow {
  public:
@@ -52,6 +63,9 @@ class ReadingWindow {
   std::vector<LocalReading> readings() const;
   /// The sensor of every gathered step that had a bearing-range scan, in step order.
   std::vector<SensorView> views() const;
+  /// Every gathered step: its odometry, its sensor on the robot and its pose in the latest robot
+  /// frame, in step order.
+  std::vector<WindowStep> gathered() const;
 
  private:
   struct Gathered {

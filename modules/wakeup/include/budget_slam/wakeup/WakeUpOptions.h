@@ -14,6 +14,15 @@ enum class Correspondence {
 };
 const EnumNames<Correspondence>& correspondenceNames();
 
+/// What the paired readings of the window are fitted to (docs/ALGORITHMS.md "Waking up on a saved
+/// map", "Over a window").
+enum class WindowFitMode {
+  Window,        ///< every gathered step's pose, the landmarks at their means (fitWindow)
+  WindowPriors,  ///< every gathered step's pose and the named landmarks, their marginals as priors
+  Latest,        ///< the latest pose alone, the odometry folded into each reading (refinePose)
+};
+const EnumNames<WindowFitMode>& windowFitModeNames();
+
 /// [WakeUp]: finding the robot on a saved map from the readings of its first steps, with no start
 /// pose (docs/ALGORITHMS.md "Waking up on a saved map").
 struct WakeUpOptions : public TabledOptions<WakeUpOptions> {
@@ -58,6 +67,12 @@ struct WakeUpOptions : public TabledOptions<WakeUpOptions> {
   /// Default: 0.25, 5 (the thresholds of "found")
   double max_std_xy = 0.25;
   double max_std_yaw_deg = 5.0;
+  /// After the outliers are dropped: window, the poses of every gathered step fitted jointly with
+  /// the odometry between them, the landmarks held at their map means (the robot relative to the
+  /// map as drawn); window_priors, the landmarks the readings name fitted too, their map marginals
+  /// as priors (the robot in the map's frame); latest, the latest pose alone, each reading's sensor
+  /// pose carried to it by the odometry (readings counted as independent). Default: window
+  WindowFitMode fit = WindowFitMode::Window;
   /// Odometry noise of a step without odometry (zero motion assumed), 1 sigma [m], [deg].
   /// Default: 0.1, 5
   double no_odometry_std_xy = 0.1;
