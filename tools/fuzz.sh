@@ -2,6 +2,7 @@
 # Builds the libFuzzer targets with clang-14 (AddressSanitizer + UBSan) in build-fuzz/ and runs
 # each for a given time on a copy of its committed seed corpus.
 #   tools/fuzz.sh [SECONDS=600] [TARGET...]      targets: fuzz_rawlog fuzz_ini fuzz_session
+#                                                fuzz_session_crc (structure-aware: CRC kept)
 #                                                fuzz_map_folder
 #                                                fuzz_convert_{isam,g2o,utias,freiburg}
 #                                                (default: all, one after the other)
@@ -13,7 +14,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-600}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(fuzz_rawlog fuzz_ini fuzz_session fuzz_map_folder
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_rawlog fuzz_ini fuzz_session fuzz_session_crc fuzz_map_folder
   fuzz_convert_isam fuzz_convert_g2o fuzz_convert_utias fuzz_convert_freiburg)
 
 build="$root/build-fuzz"

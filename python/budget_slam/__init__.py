@@ -145,11 +145,43 @@ def read_run(folder):
             "outdir": folder}
 
 
+# A state dump's bounds: a line of at most 1 MiB (a covariance row of 40,000 numbers) and 1 GiB in
+# all (the covariance of about 3,000 landmarks; the largest shipped map holds 576).
+_STATE_MAX_LINE = 1 << 20
+_STATE_MAX_BYTES = 1 << 30
+
+
+def _bounded_lines(path):
+    """The lines of a text file, read with a bound on each line and on their bytes (a device
+    such as /dev/zero, or a file that is no dump, is an Error of one line, never a MemoryError)."""
+    lines = []
+    total = 0
+    try:
+        with open(path, "rb") as f:
+            while True:
+                line = f.readline(_STATE_MAX_LINE + 1)
+                if not line:
+                    break
+                if len(line) > _STATE_MAX_LINE:
+                    raise Error(f"{path}: line {len(lines) + 1} is longer than {_STATE_MAX_LINE} "
+                                "bytes: not a state dump of budget-slam")
+                total += len(line)
+                if total > _STATE_MAX_BYTES:
+                    raise Error(f"{path}: larger than {_STATE_MAX_BYTES} bytes: not a state dump "
+                                "of budget-slam")
+                lines.append(line.decode("utf-8").rstrip("\r\n"))
+    except UnicodeDecodeError:
+        raise Error(f"{path}: line {len(lines) + 1} is not UTF-8 text: not a state dump of "
+                    "budget-slam") from None
+    except OSError as e:
+        raise Error(f"{path}: {e.strerror or e}") from None
+    return lines
+
+
 def load_state(path):
     """states/step_<k>.txt (written with [LandmarkBudget] dump_states = true) as a dict: step,
     backend, ids (int64), mean (robot x, y, yaw then x, y of each landmark), cov."""
-    with open(path) as f:
-        lines = f.read().splitlines()
+    lines = _bounded_lines(path)
     try:
         head = lines[0].split()
         step = int(head[head.index("step") + 1])

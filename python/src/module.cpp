@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <csignal>
@@ -19,7 +20,9 @@
 #include "PythonReducer.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/IniSchema.h"
 #include "budget_slam/core/IniText.h"
+#include "budget_slam/core/OptionTable.h"
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/StopSignals.h"
 #include "budget_slam/core/Text.h"
@@ -300,7 +303,21 @@ py::dict reducerScores(const std::string& name, const py::array_t<double>& mean_
                        const std::optional<std::vector<long long>>& candidates) {
   const auto& registry = reducers::builtinReducers();
   registry.entry(name);  // unknown name: ConfigError listing the registered ones
-  const mrpt::config::CConfigFileMemory ini(config);
+  // The reducers' sections only, each key known and each value in range, as a run checks them:
+  // "x" or "[Foo] ..." is a mistake, not an empty configuration.
+  mrpt::config::CConfigFileMemory ini;
+  if (!config.empty()) {
+    loadIniText(ini, config, "config");
+    IniSchema schema;
+    for (const auto* e : registry.entries())
+      for (const auto& section : e->sections) schema.addSection(section.name, section.keys());
+    try {
+      schema.validate(ini);
+      for (const auto* e : registry.entries()) e->validate(ini);
+    } catch (const ConfigError& e) {
+      throw ConfigError(std::string("config: ") + e.what());
+    }
+  }
   if (!registry.create(name, ini, seed))
     throw ConfigError("reducer '" + name + "' scores nothing: it is the unreduced run");
 
@@ -318,6 +335,16 @@ py::dict reducerScores(const std::string& name, const py::array_t<double>& mean_
     throw ConfigError("mean, cov: values must be finite");
   if ((P - P.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(1.0, P.cwiseAbs().maxCoeff()))
     throw ConfigError("cov: not symmetric");
+  // A covariance: a score of a matrix that is none (-I) would be a number that means nothing. A
+  // filter's own state may be singular or off by round-off (a robot that has not moved, a
+  // landmark seen once): an eigenvalue below -1e-6 of the largest is what no covariance has.
+  if (P.rows() > 0) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P, Eigen::EigenvaluesOnly);
+    const Eigen::VectorXd& l = eig.eigenvalues();
+    if (eig.info() != Eigen::Success || l.minCoeff() < -1e-6 * l.cwiseAbs().maxCoeff())
+      throw ConfigError("cov: not positive semi-definite (its least eigenvalue is " +
+                        option::numberText(l.minCoeff()) + ")");
+  }
   const auto sized = [n](const auto& v, const char* what) {
     if (v && v->size() != n)
       throw ConfigError(std::string(what) + ": " + std::to_string(v->size()) + " values for " +

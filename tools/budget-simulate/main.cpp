@@ -28,6 +28,19 @@ double noiseFlag(const TCLAP::ValueArg<double>& flag) {
   return v;
 }
 
+/// TCLAP reads an empty value ("--change ''") as the flag's default: refused, as budget-slam
+/// refuses its own (runs::refuseEmptyValue's words).
+void refuseEmptyValues(const std::vector<std::string>& args,
+                       const std::vector<const TCLAP::Arg*>& flags) {
+  for (std::size_t i = 1; i + 1 < args.size(); ++i)
+    for (const TCLAP::Arg* f : flags)
+      if ((args[i] == "--" + f->getName() ||
+           (!f->getFlag().empty() && args[i] == "-" + f->getFlag())) &&
+          args[i + 1].empty())
+        throw budget_slam::UsageError("--" + f->getName() +
+                                      " '': an empty value (leave the flag out instead)");
+}
+
 /// --change-split D:M:A, three shares >= 0 (not all 0).
 void parseSplit(const std::string& text, budget_slam::dataset::SessionChangeOptions& o) {
   double v[3];
@@ -126,6 +139,8 @@ int main(int argc, char** argv) {
     cmd.setOutput(&usage);
     std::vector<std::string> args(argv, argv + argc);
     args[0] = "budget-simulate";  // the usage names the program, not the path it was run by
+    refuseEmptyValues(args, {&scenario, &seed, &laps, &odo_xy, &odo_yaw, &std_range, &std_yaw,
+                             &route, &sessions, &change, &change_split, &move_distance, &out});
     cmd.parse(args);
 
     Sim o;  // the constraints above admit only names of the tables: valueOf finds each
@@ -163,7 +178,9 @@ int main(int argc, char** argv) {
                                     o.scenarioName()
                               : std::string(": the changes"))
                   << "\n";
-      return 0;
+      // A closed stdout is a failed run, as in the single-rawlog mode (the files stay: they
+      // were written whole).
+      return flushStdout(std::cout, std::cerr, "budget-simulate") ? kExitOk : kExitFailed;
     }
     dataset::checkOutputFiles(out.getValue(), {}, force.getValue());  // before the simulation
     const auto steps = dataset::simulateToFiles(o, out.getValue(), force.getValue());

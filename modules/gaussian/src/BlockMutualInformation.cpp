@@ -64,15 +64,18 @@ Eigen::Matrix2d BlockMutualInformation::informationBlock(std::size_t first_row) 
   const long a = lambda_row_.at(first_row), b = lambda_row_.at(first_row + 1);
   Eigen::Matrix2d L = Eigen::Matrix2d::Zero();
   if (a < 0 && b < 0) return L;
+  // V V^T (i, j). Before the first removal V has no column: Eigen would form its row as an offset
+  // from a null data pointer (undefined behaviour, UBSan's finding), so that product is 0 here.
+  const auto vv = [&](long i, long j) { return V_.cols() == 0 ? 0.0 : V_.row(i).dot(V_.row(j)); };
   if (a < 0 || b < 0) {  // one deterministic component: only the other's information
     const long c = a < 0 ? b : a;
-    const double v = lambda(c, c) - V_.row(c).squaredNorm();
+    const double v = lambda(c, c) - vv(c, c);
     (a < 0 ? L(1, 1) : L(0, 0)) = v;
     return L;
   }
-  L(0, 0) = lambda(a, a) - V_.row(a).squaredNorm();
-  L(1, 1) = lambda(b, b) - V_.row(b).squaredNorm();
-  L(0, 1) = L(1, 0) = lambda(std::min(a, b), std::max(a, b)) - V_.row(a).dot(V_.row(b));
+  L(0, 0) = lambda(a, a) - vv(a, a);
+  L(1, 1) = lambda(b, b) - vv(b, b);
+  L(0, 1) = L(1, 0) = lambda(std::min(a, b), std::max(a, b)) - vv(a, b);
   return L;
 }
 

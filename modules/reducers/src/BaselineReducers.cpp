@@ -107,7 +107,10 @@ void RandomReducer::restoreSession(const session::SessionState& state) {
   std::istringstream in(s.text("rng_state"));
   std::mt19937_64 rng;
   in >> rng;
-  if (in.fail()) s.fail("rng_state", "not the state of a mt19937_64 generator");
+  // Exactly the generator's state (its 312 words and position) and nothing after it.
+  std::string rest;
+  if (in.fail() || (in >> rest, !rest.empty()))
+    s.fail("rng_state", "not the state of a mt19937_64 generator");
   rng_ = rng;
 }
 

@@ -458,6 +458,14 @@ void BudgetManager::saveSession(session::SessionState& state) const {
 void BudgetManager::restoreSession(const session::SessionState& state) {
   const session::SessionSection& b = state.take("budget");
   constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();
+  // A map over the cap the state was saved under is not one a run wrote (every step ends within
+  // the cap; a resumed run has the saved cap, resumeMismatches): its first step would have to
+  // drop the excess one by one.
+  if (active_ && options_.max_landmarks && state.map.landmarks.size() > *options_.max_landmarks)
+    throw InputError(session::stateLabel(state.source) +
+                     ": section 'landmarks': " + std::to_string(state.map.landmarks.size()) +
+                     " landmarks, more than the saved [LandmarkBudget] max_landmarks = " +
+                     std::to_string(*options_.max_landmarks));
   const auto& evicted = b.integers("evicted_ids");
   evicted_.clear();
   for (const auto id : evicted) {

@@ -1,10 +1,12 @@
 #include "budget_slam/reducers/LocalizationInformationReducer.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <ostream>
+#include <set>
 #include <tuple>
 #include <vector>
 
@@ -32,6 +34,24 @@ double logDet(const Eigen::Matrix3d& m) {
   const Eigen::LLT<Eigen::Matrix3d> llt(m);
   const Eigen::Matrix3d& L = llt.matrixLLT();
   return 2 * (std::log(L(0, 0)) + std::log(L(1, 1)) + std::log(L(2, 2)));
+}
+
+/// Symmetric to round-off (relative 1e-9) and positive definite.
+bool isSpd(const Eigen::Matrix3d& m) {
+  const double scale = m.cwiseAbs().maxCoeff();
+  if (!((m - m.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * scale)) return false;
+  const Eigen::LLT<Eigen::Matrix3d> llt(m);
+  return llt.info() == Eigen::Success && llt.matrixLLT().allFinite() &&
+         llt.matrixLLT().diagonal().minCoeff() > 0;
+}
+
+/// Symmetric to round-off and positive semi-definite (eigenvalues >= -1e-9 x the largest).
+bool isPsd(const Eigen::Matrix3d& m) {
+  const double scale = m.cwiseAbs().maxCoeff();
+  if (scale == 0) return true;
+  if (!((m - m.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * scale)) return false;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(m, Eigen::EigenvaluesOnly);
+  return eig.info() == Eigen::Success && eig.eigenvalues().minCoeff() >= -1e-9 * scale;
 }
 
 }  // namespace
@@ -436,6 +456,86 @@ void LocalizationInformationReducer::restoreSession(const session::SessionState&
     dropped_.push_back(id);
     dropped_at_[id] = std::prev(dropped_.end());
   }
+  checkRestored(s, lm, state);
+}
+
+void LocalizationInformationReducer::checkRestored(const session::SessionSection& s,
+                                                   const std::vector<std::int64_t>& landmark_ids,
+                                                   const session::SessionState& state) const {
+  // A CRC proves the file whole, not sane: every cross-reference between the places' entries and
+  // the landmarks' places is checked here, before loss(), forgetPlace() and eraseLandmark()
+  // follow them without looking (a landmark listed at a place that has no entry for it would be
+  // dereferenced as a null entry).
+  const auto id = [](LandmarkId v) { return std::to_string(v); };
+  // The information matrices: the prior positive definite, each entry's sum of readings'
+  // information symmetric positive semi-definite, so that every place's information and every
+  // "without" matrix is positive definite and its log det a number (a NaN key would leave
+  // choose() without a candidate).
+  if (!isSpd(prior_)) s.fail("prior", "not symmetric positive definite");
+  std::size_t entries = 0;
+  for (std::uint32_t k = 0; k < places_.size(); ++k) {
+    const Place& p = places_[k];
+    if (!slots_.used(k) && !p.entries.empty())
+      s.fail("entry_ids", "place " + std::to_string(k) + " is free but holds " +
+                              std::to_string(p.entries.size()) + " entries");
+    for (std::size_t e = 0; e < p.entries.size(); ++e) {
+      if (e > 0 && !(p.entries[e - 1].id < p.entries[e].id))
+        s.fail("entry_ids", "the entries of place " + std::to_string(k) +
+                                " are not in increasing id order (" + id(p.entries[e - 1].id) +
+                                " before " + id(p.entries[e].id) + ")");
+      if (!isPsd(p.entries[e].info_sum))
+        s.fail("entry_info", "the entry of landmark " + id(p.entries[e].id) + " at place " +
+                                 std::to_string(k) + " is not symmetric positive semi-definite");
+      if (!(p.entries[e].readings >= 1))
+        s.fail("entry_readings", "an entry of place " + std::to_string(k) + " has " +
+                                     option::numberText(p.entries[e].readings) +
+                                     " readings (at least 1)");
+    }
+    entries += p.entries.size();
+  }
+  std::set<LandmarkId> on_map;
+  for (const auto& l : state.map.landmarks) on_map.insert(l.id);
+  std::size_t listed = 0;
+  for (std::size_t i = 0; i < landmark_ids.size(); ++i) {
+    const LandmarkId l = landmark_ids[i];
+    if (i > 0 && !(landmark_ids[i - 1] < l))
+      s.fail("landmark_ids",
+             "not in increasing order (" + id(landmark_ids[i - 1]) + " before " + id(l) + ")");
+    const auto& slots = places_of_.at(l);
+    if (slots.empty()) s.fail("landmark_places", "landmark " + id(l) + " has no place");
+    const bool dropped = dropped_at_.count(l) > 0;
+    std::set<std::uint32_t> distinct;
+    for (const std::uint32_t k : slots) {
+      if (!distinct.insert(k).second)
+        s.fail("landmark_places",
+               "landmark " + id(l) + " lists place " + std::to_string(k) + " twice");
+      const Entry* e = entryOf(places_[k], l);
+      if (!e)
+        s.fail("landmark_places", "landmark " + id(l) + " lists place " + std::to_string(k) +
+                                      ", which has no entry for it");
+      // Forgetting sets every entry of a landmark inactive at once, seeing it again active.
+      if (e->active == dropped)
+        s.fail("entry_active", "landmark " + id(l) + " is " + (e->active ? "active" : "inactive") +
+                                   " at place " + std::to_string(k) + " but " +
+                                   (dropped ? "on" : "not on") + " the dropped list");
+      if (e->active && !on_map.count(l))
+        s.fail("entry_ids", "landmark " + id(l) + " is active at place " + std::to_string(k) +
+                                " but not in the map of the state's [landmarks]");
+    }
+    listed += slots.size();
+  }
+  // Each listed (landmark, place) has its entry and no pair is listed twice: with as many entries
+  // as listed pairs, every entry is listed too.
+  if (listed != entries)
+    s.fail("landmark_places", std::to_string(listed) + " places listed for the landmarks, " +
+                                  std::to_string(entries) + " entries at the places");
+  for (const LandmarkId d : dropped_)
+    if (!places_of_.count(d))
+      s.fail("dropped_ids", "landmark " + id(d) + " is dropped but at no place");
+  if (dropped_.size() > options_.remember_dropped)
+    s.fail("dropped_ids", std::to_string(dropped_.size()) +
+                              " dropped landmarks on record, more than remember_dropped = " +
+                              std::to_string(options_.remember_dropped));
 }
 
 }  // namespace budget_slam::reducers

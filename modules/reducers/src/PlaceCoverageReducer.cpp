@@ -231,10 +231,53 @@ void PlaceCoverageReducer::restoreSession(const session::SessionState& state) {
   const auto& losses = s.reals("track_loss", ids.size());
   tracks_.clear();
   for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (tracks_.count(ids[i]))
+      s.fail("track_ids", "landmark " + std::to_string(ids[i]) + " appears twice");
     Track& t = tracks_[ids[i]];
     t.places.assign(places[i].begin(), places[i].end());
     t.loss = losses[i];
   }
+  // A CRC proves the file whole, not sane: the places' landmarks and the landmarks' places must
+  // name each other (forgetPlace() and forget() follow them without looking), each place's list
+  // sorted (lower_bound), and each loss the count of its places at or under min_landmarks.
+  std::size_t sightings = 0;
+  for (std::size_t k = 0; k < places_.size(); ++k) {
+    const auto& seen_k = places_[k].seen;
+    if (!slots_.used(static_cast<std::uint32_t>(k)) && !seen_k.empty())
+      s.fail("place_seen", "place " + std::to_string(k) + " is free but holds landmarks");
+    for (std::size_t j = 1; j < seen_k.size(); ++j)
+      if (!(seen_k[j - 1] < seen_k[j]))
+        s.fail("place_seen",
+               "the landmarks of place " + std::to_string(k) + " are not in increasing order");
+    for (const LandmarkId id : seen_k)
+      if (!tracks_.count(id))
+        s.fail("place_seen", "place " + std::to_string(k) + " holds landmark " +
+                                 std::to_string(id) + ", which has no track");
+    sightings += seen_k.size();
+  }
+  std::size_t listed = 0;
+  for (const auto& [id, t] : tracks_) {
+    std::vector<std::uint32_t> sorted = t.places;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+      s.fail("track_places", "landmark " + std::to_string(id) + " lists a place twice");
+    double loss = 0;
+    for (const std::uint32_t k : t.places) {
+      const auto& seen_k = places_[k].seen;
+      if (!std::binary_search(seen_k.begin(), seen_k.end(), id))
+        s.fail("track_places", "landmark " + std::to_string(id) + " lists place " +
+                                   std::to_string(k) + ", which does not hold it");
+      if (seen_k.size() <= options_.min_landmarks) loss += 1;
+    }
+    if (t.loss != loss)
+      s.fail("track_loss", "landmark " + std::to_string(id) + " has loss " +
+                               option::numberText(t.loss) + ", its places give " +
+                               option::numberText(loss));
+    listed += t.places.size();
+  }
+  if (listed != sightings)
+    s.fail("track_places", std::to_string(listed) + " places listed for the landmarks, " +
+                               std::to_string(sightings) + " landmarks at the places");
 }
 
 }  // namespace budget_slam::reducers

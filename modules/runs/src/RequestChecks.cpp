@@ -95,6 +95,11 @@ std::size_t parseMaxSteps(const std::string& text) {
 std::size_t parseSkipSteps(const std::string& text) {
   unsigned long long n = 0;
   if (!parseCount(text, n)) throw UsageError("--skip-steps '" + text + "': not a number of steps");
+  // Step indices are written as int64 and must stay exact as doubles (a session state's bound).
+  constexpr unsigned long long kMaxSkip = 1ULL << 53;
+  if (n > kMaxSkip)
+    throw UsageError("--skip-steps '" + text + "': more steps than a rawlog can hold (at most " +
+                     std::to_string(kMaxSkip) + ")");
   return static_cast<std::size_t>(n);
 }
 

@@ -1,6 +1,7 @@
 // runs::run: a `run` from its request, around runSlam (docs/ARCHITECTURE.md "A run").
 #include <filesystem>
 
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/runs/BuiltinBackends.h"
@@ -67,6 +68,11 @@ RunReport run(const Request& request, RequestContext context, const RunHooks& ho
         spec.given["wake_up"] = w.json;
         if (!w.found) return ended(RunStatus::Failed, ErrorKind::Input, "--wake-up: " + w.why);
         spec.wake_up_steps = w.steps;
+      } catch (const Interrupted&) {
+        // Before any output, as a robot not found: nothing written, exit 130.
+        return ended(RunStatus::Interrupted, ErrorKind::Stopped,
+                     std::string("interrupted by ") + Cancellation::signalName() +
+                         " while waking up on the saved map");
       } catch (const std::exception& e) {
         return ended(RunStatus::Failed, errorKindOf(e), printable(e.what()));
       }

@@ -97,6 +97,8 @@ void applySet(mrpt::config::CConfigFileMemory& ini, const std::string& set, cons
 void checkValues(const mrpt::config::CConfigFileBase& ini) {
   for (const auto* e : builtinBackends().entries()) e->validate(ini);
   metrics::MetricsOptions().loadFromConfigFile(ini, metrics::MetricsOptions::kSection);
+  // [WakeUp] whether or not this run wakes up (a run without --wake-up, a localize with a start).
+  wakeup::WakeUpOptions().loadFromConfigFile(ini, wakeup::WakeUpOptions::kSection);
   for (const auto* e : reducers::builtinReducers().entries()) e->validate(ini);
 }
 

@@ -6,6 +6,7 @@
 #include <set>
 #include <vector>
 
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/session/SessionStateFile.h"
@@ -57,6 +58,8 @@ WakeUpOutcome wakeUpOnMap(const RunConfig& rc, session::SessionState& state, std
   // The steps after the `skip` the session leaves unread, one at a time, into the same wake-up
   // as localize's (wakeup::wakeUpOver).
   dataset::RawlogReader reader(rc.rawlog);
+  // A stop request ends the reading too; wakeUpOver then throws Interrupted.
+  reader.setStopCheck([] { return Cancellation::requested(); });
   for (std::size_t k = 0; k < skip && reader.next(); ++k) {
   }
   std::optional<Step> step;

@@ -124,8 +124,9 @@ RunReport runSlam(const RunSpec& spec, const RunHooks& hooks) {
     dataset::RawlogReader reader(spec.rawlog);
     // A signal ends the reading within one read of the file, even inside a large object.
     reader.setStopCheck([] { return Cancellation::requested(); });
-    for (std::size_t k = 0; k < spec.skip_steps + spec.wake_up_steps && reader.next(); ++k) {
-    }
+    const std::size_t skip = spec.skip_steps + spec.wake_up_steps;
+    std::size_t skipped = 0;
+    while (skipped < skip && reader.next()) ++skipped;
     const std::size_t limit = spec.max_steps;
     ProgressReporter progress(progress_out, "run", hooks.progress);
     std::size_t session_steps = 0;
@@ -154,6 +155,14 @@ RunReport runSlam(const RunSpec& spec, const RunHooks& hooks) {
       }
     }
     progress.finish(true);
+    // Steps skipped (--skip-steps, a wake-up's) that leave none to run: a mistake, not a session.
+    if (session_steps == 0 && skip > 0)
+      throw InputError(
+          "--skip-steps " + std::to_string(spec.skip_steps) + ": rawlog '" + spec.rawlog +
+          "' holds " + std::to_string(skipped) + " step" + (skipped == 1 ? "" : "s") +
+          (spec.wake_up_steps ? " (" + std::to_string(spec.wake_up_steps) + " read by the wake-up)"
+                              : std::string()) +
+          "; none is left to run");
     if (reader.bearingRangeSteps() == 0)
       throw InputError("rawlog '" + spec.rawlog +
                        "' holds no CObservationBearingRange (it holds: " +

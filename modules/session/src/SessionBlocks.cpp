@@ -2,12 +2,15 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <set>
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/OptionTable.h"
+#include "budget_slam/core/Text.h"
 
 namespace budget_slam::session {
 namespace {
@@ -18,6 +21,12 @@ constexpr double kMaxCoordinate = 1e9;
 /// Relative asymmetry a covariance may have: |a_ij - a_ji| <= tol * sqrt(a_ii * a_jj). The EKF
 /// keeps its covariance exactly symmetric; the graph's marginals are symmetric to round-off.
 constexpr double kSymmetryTolerance = 1e-9;
+
+/// A state must leave room for the sessions and steps to come: a resumed run adds one session and
+/// its steps to these, and writes them as int64 (steps.csv, the next state). 2^53 steps (285
+/// million years at 1 kHz) also keeps every step index exact as a double.
+constexpr std::int64_t kMaxSessions = std::int64_t{1} << 40;
+constexpr std::int64_t kMaxStepIndex = std::int64_t{1} << 53;
 
 const char* kSession = "session";
 const char* kOptions = "resume_options";
@@ -54,6 +63,57 @@ void checkCoordinates(const SessionSection& s, const std::string& field,
       s.fail(field, "value " + std::to_string(i + 1) + " (" + num(v[i]) + ") is beyond +-1e9 m");
 }
 
+/// A path as one line of text: a backslash doubled, a control character or a byte that is not part
+/// of valid UTF-8 as a backslash, 'x' and two hex digits (Linux allows any byte but '/' and NUL in
+/// a name: a rawlog named with a newline is still a rawlog). unescapePath() gives the path back.
+std::string escapePath(const std::string& path) {
+  std::string out;
+  for (std::size_t i = 0; i < path.size();) {
+    const auto c = static_cast<unsigned char>(path[i]);
+    std::size_t n = 1;  // the bytes of the character at i, when it is valid UTF-8
+    if (c >= 0x80) {
+      n = c >= 0xF0 ? 4 : c >= 0xE0 ? 3 : c >= 0xC0 ? 2 : 0;
+      if (n == 0 || i + n > path.size() || !isValidUtf8(std::string_view(path).substr(i, n))) n = 0;
+    }
+    if (c == '\\') {
+      out += "\\\\";
+    } else if (n == 0 || c < 0x20 || c == 0x7F) {
+      char b[5];
+      std::snprintf(b, sizeof b, "\\x%02x", c);
+      out += b;
+      n = 1;
+    } else {
+      out.append(path, i, n);
+    }
+    i += n;
+  }
+  return out;
+}
+
+std::string unescapePath(const SessionSection& s, const std::string& field) {
+  const std::string& t = s.text(field);
+  std::string out;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (t[i] != '\\') {
+      out += t[i];
+      continue;
+    }
+    if (i + 1 < t.size() && t[i + 1] == '\\') {
+      out += '\\', ++i;
+      continue;
+    }
+    unsigned v = 0;
+    const auto hex = std::string_view(t).substr(std::min(t.size(), i + 2), 2);
+    const auto r = std::from_chars(hex.data(), hex.data() + hex.size(), v, 16);
+    if (i + 3 >= t.size() || t[i + 1] != 'x' || hex.size() != 2 || r.ptr != hex.data() + 2)
+      s.fail(field,
+             "'\\' at byte " + std::to_string(i + 1) + " is not an escape ('\\\\' or '\\xNN')");
+    out += static_cast<char>(v);
+    i += 3;
+  }
+  return out;
+}
+
 /// Every field of a core section must be one the block defines.
 void checkNoOtherField(const SessionSection& s) {
   const auto unread = s.unread();
@@ -64,10 +124,10 @@ void readHeader(const SessionSection& s, SessionHeader* h) {
   h->writer = s.text("writer");
   h->backend = s.text("backend");
   if (h->backend.empty()) s.fail("backend", "empty");
-  h->rawlog = s.text("rawlog");
-  h->sessions = s.integer("sessions", 1);
-  h->first_step = s.integer("first_step", 0);
-  h->next_step = s.integer("next_step", h->first_step);
+  h->rawlog = unescapePath(s, "rawlog");
+  h->sessions = s.integer("sessions", 1, kMaxSessions);
+  h->first_step = s.integer("first_step", 0, kMaxStepIndex);
+  h->next_step = s.integer("next_step", h->first_step, kMaxStepIndex);
   checkNoOtherField(s);
 }
 
@@ -147,7 +207,7 @@ std::vector<SessionSection> coreSections(const SessionState& state, const std::s
   SessionSection h(kSession, source);
   h.putText("writer", state.header.writer);
   h.putText("backend", state.header.backend);
-  h.putText("rawlog", state.header.rawlog);
+  h.putText("rawlog", escapePath(state.header.rawlog));
   h.putInteger("sessions", state.header.sessions);
   h.putInteger("first_step", state.header.first_step);
   h.putInteger("next_step", state.header.next_step);

@@ -129,7 +129,7 @@ TEST(SessionHostile, EachCorruptionClassHasItsLine) {
             "session state 's.txt': line 5: section 'session', field 'backend': empty");
   EXPECT_EQ(readError(withChecksum(replaced(g, "int sessions 2", "int sessions 0"))),
             "session state 's.txt': line 7: section 'session', field 'sessions': 0 is out of range "
-            "[1, 9223372036854775807]");
+            "[1, 1099511627776]");
 }
 
 TEST(SessionHostile, CovariancesMustBeSymmetricAndPositiveDefinite) {
@@ -246,4 +246,43 @@ TEST(SessionHostile, DeclaredSizesAreBoundedBeforeAllocating) {
   small.max_fields = 4;
   EXPECT_EQ(readError(g, small),
             "session state 's.txt': line 8: section 'session': more than 4 fields");
+}
+
+// Issue 36 case 3: a state that leaves no room for the sessions and steps to come (a resumed run
+// adds to these and writes them as int64) is refused, naming the field.
+TEST(SessionHostile, CountersLeaveRoomForTheNextSession) {
+  const std::string& g = goodText();
+  EXPECT_EQ(
+      readError(withChecksum(replaced(g, "int sessions 2", "int sessions 9223372036854775807"))),
+      "session state 's.txt': line 7: section 'session', field 'sessions': "
+      "9223372036854775807 is out of range [1, 1099511627776]");
+  EXPECT_EQ(
+      readError(
+          withChecksum(replaced(g, "int next_step 250", "int next_step 9223372036854775800"))),
+      "session state 's.txt': line 9: section 'session', field 'next_step': 9223372036854775800 "
+      "is out of range [100, 9007199254740992]");
+  EXPECT_EQ(
+      readError(withChecksum(replaced(g, "int first_step 100", "int first_step 9007199254740993"))),
+      "session state 's.txt': line 8: section 'session', field 'first_step': "
+      "9007199254740993 is out of range [0, 9007199254740992]");
+}
+
+// Issue 35 case 7: the rawlog's path may hold any byte a file name may (a newline, a backslash,
+// bytes that are not UTF-8): written escaped on one line, read back the same.
+TEST(SessionHostile, AnyRawlogPathRoundTrips) {
+  for (const std::string& path :
+       {std::string("runs/demo\nsecond line.rawlog"), std::string("a\\b\\x41.rawlog"),
+        std::string("bad\xff\xfe utf8 \xc3\xa9.rawlog"), std::string("tab\there\x7f.rawlog")}) {
+    SessionState s = sampleState(3);
+    s.header.rawlog = path;
+    const std::string text = formatSessionState(s);
+    EXPECT_EQ(readSessionStateBytes("s.txt", text).header.rawlog, path);
+  }
+  SessionState s = sampleState(3);
+  s.header.rawlog = "x\ny";
+  EXPECT_NE(formatSessionState(s).find("text rawlog x\\x0ay\n"), std::string::npos);
+  EXPECT_EQ(readError(withChecksum(replaced(goodText(), "text rawlog rawlogs/rooms.rawlog",
+                                            "text rawlog rawlogs\\rooms.rawlog"))),
+            "session state 's.txt': line 6: section 'session', field 'rawlog': '\\' at byte 8 is "
+            "not an escape ('\\\\' or '\\xNN')");
 }

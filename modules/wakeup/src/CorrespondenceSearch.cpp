@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/wakeup/PoseFit.h"
 
 namespace budget_slam::wakeup {
@@ -42,6 +43,9 @@ std::vector<LocalLandmark> mergeReadings(const std::vector<LocalReading>& readin
                                          double merge_chi2) {
   std::vector<LocalLandmark> out;
   for (std::size_t i = 0; i < readings.size(); ++i) {
+    // A stop request ends the wake-up within a second however many readings it gathered (each
+    // reading is compared with every landmark so far): Ctrl-C, SIGTERM.
+    Cancellation::check();
     const LocalReading& r = readings[i];
     std::size_t best = out.size();
     double best_d = merge_chi2;
@@ -131,13 +135,15 @@ std::optional<std::pair<std::size_t, double>> MapIndex::nearest(const Eigen::Vec
 const std::vector<MapIndex::Pair>& MapIndex::pairsUpTo(double max_distance) const {
   if (max_distance <= pairs_up_to_) return pairs_;
   pairs_.clear();
-  for (std::uint32_t a = 0; a < map_.size(); ++a)
+  for (std::uint32_t a = 0; a < map_.size(); ++a) {
+    Cancellation::check();
     for (std::uint32_t b = a + 1; b < map_.size(); ++b) {
       const double d = (map_[a].mean - map_[b].mean).norm();
       if (d <= max_distance)
         pairs_.push_back(
             {d, a, b, distanceVariance(map_[a].mean, map_[b].mean, map_[a].cov, map_[b].cov)});
     }
+  }
   std::sort(pairs_.begin(), pairs_.end(),
             [](const Pair& x, const Pair& y) { return x.distance < y.distance; });
   pairs_up_to_ = max_distance;
@@ -245,6 +251,7 @@ SearchOutcome searchPose(const std::vector<LocalLandmark>& local, const MapIndex
   };
   std::vector<Counted> counted;
   const auto tryPair = [&](const LocalPair& lp, const MapIndex::Pair& mp, bool swapped) {
+    Cancellation::check();  // up to max_hypotheses of them, each scored against the map
     const double dd = lp.distance - mp.distance;
     if (dd * dd > gate * (lp.var + mp.var)) return;
     const auto& m = index.map();
@@ -297,6 +304,7 @@ SearchOutcome searchPose(const std::vector<LocalLandmark>& local, const MapIndex
   double best_score = -1e300;
   const auto margin = static_cast<double>(options.ambiguity_margin);
   for (const auto& c : counted) {
+    Cancellation::check();
     if (static_cast<double>(c.landmarks) <= best_score - margin) break;
     bool seen = false;
     for (const auto& p : places) seen = seen || samePose(p.pose, c.pose, options);

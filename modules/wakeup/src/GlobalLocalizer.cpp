@@ -5,6 +5,7 @@
 #include <cmath>
 #include <set>
 
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/wakeup/PoseFit.h"
 #include "budget_slam/wakeup/WindowFit.h"
 
@@ -151,6 +152,7 @@ WakeUpResult GlobalLocalizer::refineAndJudge(std::optional<Pose2> start,
   const bool refit = !start.has_value();
   Refinement ref;
   while (true) {
+    Cancellation::check();  // one reading dropped a round: as many rounds as readings
     if (refit) {
       std::vector<Eigen::Vector2d> local, global;
       std::vector<double> w;

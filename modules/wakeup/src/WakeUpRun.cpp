@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Se2.h"
 
 namespace budget_slam::wakeup {
@@ -51,12 +52,17 @@ WakeUpRun wakeUpOver(const std::vector<LandmarkView>& map, const std::function<c
   const auto t0 = std::chrono::steady_clock::now();
   GlobalLocalizer localizer(map, options, noise);
   WakeUpRun run;
+  // A stop request (Ctrl-C, SIGTERM) ends the wake-up between steps and inside each attempt's
+  // search (CorrespondenceSearch.cpp) with Interrupted, never with a result: a traversal that
+  // ended because the stop came is not a robot "not found".
   while (!localizer.finished()) {
+    Cancellation::check();
     const Step* step = next();
     if (!step) break;
     localizer.add(*step);
     ++run.steps_read;
   }
+  Cancellation::check();
   run.result = localizer.result();
   run.wall_ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return run;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "budget_slam/core/Cancellation.h"
 #include "budget_slam/wakeup/RangeBearing.h"
 
 namespace budget_slam::wakeup {
@@ -144,6 +145,7 @@ Refinement fitWindow(const Pose2& start, const std::vector<WindowStep>& steps,
   double current = cost(X, L);
 
   for (int it = 0; it <= max_iterations; ++it) {
+    Cancellation::check();  // a stop ends the wake-up within a second (WakeUpRun.cpp)
     Normal N(rest);
     for (std::size_t j = 1; j < n; ++j) {
       Eigen::Matrix3d Ja, Jb;

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 
@@ -14,6 +15,7 @@
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
+#include "budget_slam/core/InputLimits.h"
 #include "budget_slam/dataset/DatasetFiles.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/dataset/RawlogWriter.h"
@@ -24,6 +26,8 @@ namespace {
 
 constexpr const char* kChangesHeader = "session,change,id,x_before,y_before,x_after,y_after";
 constexpr const char* kMark = "# Made by budget-simulate";
+/// The largest share of --change-split (SessionChangeOptions::table()'s bound).
+constexpr double kMaxShare = 1e9;
 
 bool exists(const std::string& path) {
   struct stat st;
@@ -110,13 +114,20 @@ std::vector<LandmarkChange> changeWorld(sim::World& world, const SimulationOptio
     }
     // move_distance away in a random direction; a landmark seen only from its room stays in it
     // (up to 16 directions tried, then the last one).
-    const auto away = [&](const Eigen::Vector2d& p, int region) {
+    const auto away = [&](const Eigen::Vector2d& p, int region, LandmarkId id) {
       Eigen::Vector2d q = p;
       for (int tries = 0; tries < 16; ++tries) {
         const double a = rng.uniform(-M_PI, M_PI);
         q = sim::quantize(p + o.move_distance * Eigen::Vector2d(std::cos(a), std::sin(a)));
         if (region < 0 || world.regions[static_cast<std::size_t>(region)].contains(q)) break;
       }
+      // The ground truth and the readings must stay where budget-slam reads them: refused before
+      // any file is written.
+      if (!(q.cwiseAbs().maxCoeff() <= limits::kMaxCoordinate))
+        throw ConfigError("--move-distance " + shortNum(o.move_distance) + ": puts landmark " +
+                          std::to_string(id) + " at (" + shortNum(q.x()) + ", " + shortNum(q.y()) +
+                          ") m before session " + std::to_string(s + 1) + ", beyond the +-" +
+                          shortNum(limits::kMaxCoordinate) + " m budget-slam reads");
       return q;
     };
     std::vector<sim::Landmark> added;
@@ -132,7 +143,7 @@ std::vector<LandmarkChange> changeWorld(sim::World& world, const SimulationOptio
       } else {
         c.kind = LandmarkChange::Kind::Moved;
         sim::Landmark moved = l;
-        moved.p = c.after = away(l.p, l.region);
+        moved.p = c.after = away(l.p, l.region, l.id);
         moved.first_lap = s;
         moved.last_lap = std::numeric_limits<int>::max();
         added.push_back(moved);
@@ -144,7 +155,7 @@ std::vector<LandmarkChange> changeWorld(sim::World& world, const SimulationOptio
           world.landmarks[alive[static_cast<std::size_t>(rng.uniform() * alive.size())]];
       sim::Landmark l;
       l.id = next_id++;
-      l.p = away(near.p, near.region);
+      l.p = away(near.p, near.region, l.id);
       l.region = near.region;
       l.first_lap = s;
       added.push_back(l);
@@ -180,11 +191,33 @@ std::string changesText(const std::vector<LandmarkChange>& changes) {
   return t;
 }
 
+/// What a series has put in place so far, undone when it does not finish (a stop request, a full
+/// disk): a series is all or nothing, as one rawlog is (saveDatasetFiles).
+class SeriesFiles {
+ public:
+  /// The dataset files of `rawlog`, now in place; `backups`: earlier files of ours it moved
+  /// aside (`<name>.~N~`), put back by undo().
+  void placed(const std::string& rawlog, const std::vector<std::string>& backups) {
+    for (const auto& f : datasetFiles(rawlog))
+      if (exists(f)) placed_.push_back(f);
+    for (const auto& b : backups) backups_.push_back(b);
+  }
+  void commit() { placed_.clear(), backups_.clear(); }
+  ~SeriesFiles() {
+    std::error_code ec;
+    for (const auto& f : placed_) std::filesystem::remove(f, ec);
+    for (const auto& b : backups_) std::filesystem::rename(b, b.substr(0, b.rfind(".~")), ec);
+  }
+
+ private:
+  std::vector<std::string> placed_, backups_;
+};
+
 /// Simulates `scenario` under `epochs` into `rawlog` with the ground-truth landmarks `truth`.
 std::size_t writeOne(const SimulationOptions& options, const sim::Scenario& scenario,
                      const EpochSchedule& epochs, const std::string& rawlog,
                      const std::map<LandmarkId, Eigen::Vector2d>& truth,
-                     const std::vector<std::string>& extra_notes) {
+                     const std::vector<std::string>& extra_notes, SeriesFiles& series) {
   Simulator sim(options, scenario, epochs);
   RawlogWriter writer(rawlog);
   sim.run([&](const Step& s) {
@@ -198,8 +231,10 @@ std::size_t writeOne(const SimulationOptions& options, const sim::Scenario& scen
   notes.insert(notes.begin() + 1, extra_notes.begin(), extra_notes.end());
   // Every target was checked to be ours or free before the first session (checkNotForeign); one
   // of ours from an earlier series is kept as a numbered backup, never replaced.
-  saveDatasetFiles(writer, session_truth, sim.noise(), notes, /*force=*/true);
-  return writer.stepsWritten();
+  const std::size_t steps = writer.stepsWritten();
+  series.placed(rawlog,
+                saveDatasetFiles(writer, session_truth, sim.noise(), notes, /*force=*/true));
+  return steps;
 }
 
 }  // namespace
@@ -269,9 +304,11 @@ std::vector<WrittenRawlog> simulateSessionsToFiles(const SimulationOptions& opti
                       std::to_string(SessionChangeOptions::kMaxSessions));
   if (!(o.change >= 0 && o.change <= 1))
     throw ConfigError("--change " + shortNum(o.change) + ": must be a share in [0, 1]");
+  // Bounded so that their sum is finite and each count exact (1e308 each summed to inf).
   for (const double s : {o.share_disappear, o.share_move, o.share_appear})
-    if (!(s >= 0 && std::isfinite(s)))
-      throw ConfigError("--change-split: each share must be a finite number >= 0");
+    if (!(s >= 0 && s <= kMaxShare))
+      throw ConfigError("--change-split: each share must be a number in [0, " +
+                        shortNum(kMaxShare) + "]");
   if (!(o.share_disappear + o.share_move + o.share_appear > 0))
     throw ConfigError("--change-split: the shares must not all be 0");
   if (!(o.move_distance > 0 && std::isfinite(o.move_distance)))
@@ -300,6 +337,7 @@ std::vector<WrittenRawlog> simulateSessionsToFiles(const SimulationOptions& opti
                            ", move distance " + shortNum(o.move_distance) + " m); changes in " +
                            changes_file.substr(changes_file.find_last_of('/') + 1) + ".";
   std::vector<WrittenRawlog> out;
+  SeriesFiles series;
   if (o.joined) {
     const int laps = scenario.laps;
     scenario.laps = laps * o.sessions;
@@ -308,7 +346,8 @@ std::vector<WrittenRawlog> simulateSessionsToFiles(const SimulationOptions& opti
     out.push_back({rawlog, writeOne(options, scenario, epochs, rawlog,
                                     landmarksOfEpoch(scenario.world, o.sessions - 1),
                                     {"Joined traversal of " + what +
-                                     " Ground-truth landmarks: those of the last session."})});
+                                     " Ground-truth landmarks: those of the last session."},
+                                    series)});
   } else {
     for (int s = 1; s <= o.sessions; ++s) {
       EpochSchedule epochs;
@@ -318,12 +357,14 @@ std::vector<WrittenRawlog> simulateSessionsToFiles(const SimulationOptions& opti
                                 ? 0
                                 : 1000 * static_cast<std::uint64_t>(s) +
                                       (options.route == SimulationOptions::Route::Revisit ? 2 : 1);
-      out.push_back({targets[s - 1], writeOne(options, scenario, epochs, targets[s - 1],
-                                              landmarksOfEpoch(scenario.world, s - 1),
-                                              {"Session " + std::to_string(s) + " of " + what})});
+      out.push_back(
+          {targets[s - 1], writeOne(options, scenario, epochs, targets[s - 1],
+                                    landmarksOfEpoch(scenario.world, s - 1),
+                                    {"Session " + std::to_string(s) + " of " + what}, series)});
     }
   }
   writeFileAtomically(changes_file, changesText(changes));
+  series.commit();
   out.push_back({changes_file, 0});
   return out;
 }

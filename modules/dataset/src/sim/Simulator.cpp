@@ -12,6 +12,7 @@
 #include "Scenario.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/InputLimits.h"
 #include "budget_slam/dataset/DatasetFiles.h"
 #include "budget_slam/dataset/RawlogWriter.h"
 #include "budget_slam/dataset/Sessions.h"
@@ -26,11 +27,25 @@ constexpr double kDeg = M_PI / 180;
 /// Smallest standard deviation a rawlog states (m, rad): with zero noise the stated covariance
 /// stays invertible for the graph backend, and 1e-6 is far below any real sensor.
 constexpr double kMinStd = 1e-6;
+/// Smallest standard deviation the sidecar states for a reading (m, rad): budget-slam refuses 0,
+/// and its EKF loses positive definiteness with a range noise of 1e-6 m on the rooms scenario
+/// while 1e-5 m runs; 1e-4 (0.1 mm, 0.006 deg) is still far below any real sensor.
+constexpr double kMinReadingStd = 1e-4;
 
 std::string num(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.6g", v);
   return b;
+}
+
+/// A noise option: < 0 (the scenario's default), or a standard deviation in [0, most]. The most
+/// keeps every reading, step and sidecar value within what budget-slam reads
+/// (core/InputLimits.h, IniSection::readStd): a draw beyond ten standard deviations (odds below
+/// 1e-22) is never made. ConfigError names the budget-simulate flag.
+void checkNoise(const char* flag, double v, double most, const char* unit) {
+  if (std::isnan(v) || v > most)
+    throw ConfigError(std::string("--") + flag + " " + num(v) + ": must be at most " + num(most) +
+                      " " + unit + " (ten standard deviations within what budget-slam reads)");
 }
 
 }  // namespace
@@ -59,6 +74,11 @@ Simulator::Simulator(const SimulationOptions& options, const sim::Scenario& scen
   if (!(options.dt > 0)) throw ConfigError("dt must be positive");
   m.scenario = scenario;
   m.epochs = epochs;
+  checkNoise("odo-std-xy", options.odo_std_xy, limits::kMaxStepTranslation / 10, "m");
+  checkNoise("odo-std-yaw-deg", options.odo_std_yaw_deg, limits::kMaxAngle / 10 / kDeg, "deg");
+  checkNoise("sensor-std-range", options.sensor_std_range, limits::kMaxRange / 10, "m");
+  // The bearing is wrapped; the reducers read std_sensor_yaw_deg up to a full turn.
+  checkNoise("sensor-std-yaw-deg", options.sensor_std_yaw_deg, 360, "deg");
   m.noise = m.scenario.sensor;
   if (options.sensor_std_range >= 0) m.noise.std_range = options.sensor_std_range;
   if (options.sensor_std_yaw_deg >= 0) m.noise.std_yaw = options.sensor_std_yaw_deg * kDeg;
@@ -74,7 +94,14 @@ Simulator::Simulator(const SimulationOptions& options, const sim::Scenario& scen
 Simulator::~Simulator() = default;
 
 const GroundTruth& Simulator::groundTruth() const { return impl_->gt; }
-const SensorNoise& Simulator::noise() const { return impl_->noise; }
+SensorNoise Simulator::noise() const {
+  // A reading's standard deviation below kMinReadingStd (zero noise included) is stated as
+  // kMinReadingStd, so that the sidecar holds a value budget-slam reads and filters with.
+  SensorNoise stated = impl_->noise;
+  stated.std_range = std::max(stated.std_range, kMinReadingStd);
+  stated.std_yaw = std::max(stated.std_yaw, kMinReadingStd);
+  return stated;
+}
 
 void Simulator::run(const std::function<void(const Step&)>& sink) {
   auto& m = *impl_;

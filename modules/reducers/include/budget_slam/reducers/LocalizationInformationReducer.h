@@ -134,6 +134,11 @@ class LocalizationInformationReducer : public Reducer,
   /// Recomputes the places changed since the last refresh (lazy evaluation).
   void refresh() const;
   const Entry* entryOf(const Place& p, LandmarkId id) const;
+  /// restoreSession's checks of what it read against itself and the state's map: InputError
+  /// naming the field of `s` whose value breaks a cross-reference the methods rely on.
+  void checkRestored(const session::SessionSection& s,
+                     const std::vector<std::int64_t>& landmark_ids,
+                     const session::SessionState& state) const;
 
   LocalizationInformationOptions options_;
   double std_range_, std_bearing_;
