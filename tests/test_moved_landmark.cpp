@@ -177,10 +177,36 @@ TEST_F(MovedLandmarkSessions, FusedWhenOffDragsTheEstimate) {
   EXPECT_GT((two.at(world_->id).mean - world_->before).norm(), 0.2);
 }
 
-TEST_F(MovedLandmarkSessions, SplitNotFusedOnTheGraph) {
+// The graph backend, on the same two sessions driven as one process (budget-simulate --joined):
+// a landmark removed from a resumed graph is not supported yet (a resumed session with a split
+// ends "graph: information matrix is not positive definite"; docs/ALGORITHMS.md "Moved
+// landmarks").
+TEST_F(MovedLandmarkSessions, SplitNotFusedOnTheGraphInOneProcess) {
   ASSERT_NE(world_->id, kNoLandmarkId);
-  const auto s2 = runSessions(*world_, *dir_ / "graph_split", "split", "graph");
-  expectSplit(*world_, *dir_ / "graph_split" / "s1", s2);
+  const auto dir = *dir_ / "graph_joined";
+  std::filesystem::create_directories(dir);
+  dataset::SimulationOptions sim;
+  sim.scenario = dataset::SimulationOptions::ScenarioKind::Rooms;
+  sim.seed = 2001;
+  dataset::SessionChangeOptions sessions;
+  sessions.sessions = 2;
+  sessions.change = 0.006;
+  sessions.share_disappear = 0;
+  sessions.share_appear = 0;
+  sessions.joined = true;
+  dataset::simulateSessionsToFiles(sim, sessions, (dir / "life.rawlog").string());
+  const AppResult r =
+      runApp({"run", "-c", kRoot + "/config.ini", "-i", (dir / "life.rawlog").string(), "-o",
+              (dir / "run").string(), "--reducer", "none", "--cap", "none", "--backend", "graph",
+              "--quiet", "--set", "LandmarkBudget.moved_landmarks=split"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = evictionsOf(dir / "run" / "evictions.csv");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0], std::make_pair(world_->id, std::string("moved")));
+  const auto lm = landmarksOf(dir / "run" / "landmarks.csv");
+  ASSERT_TRUE(lm.count(world_->id));
+  EXPECT_LT((lm.at(world_->id).mean - world_->after).norm(), 0.15);
+  EXPECT_GE(lm.at(world_->id).first_step, 424u);  // started in the second session's lap
 }
 
 }  // namespace
