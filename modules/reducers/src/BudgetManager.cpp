@@ -1,5 +1,6 @@
 #include "budget_slam/reducers/BudgetManager.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -78,6 +79,14 @@ BudgetManager::BudgetManager(const BudgetOptions& options, std::unique_ptr<Reduc
     ne.range_margin = options_.view_margin_range;
     ne.fov_margin = options_.view_margin_deg * M_PI / 180;
     negative_ = std::make_unique<NegativeEvidence>(ne);
+  }
+  if (options_.moved_landmarks == BudgetOptions::MovedMode::Split) {
+    MovedLandmarks::Settings m;
+    m.gate_chi2 = options_.moved_gate_chi2;
+    m.readings = options_.moved_readings;
+    m.place_distance = options_.moved_place_distance;
+    m.min_agreeing = options_.moved_min_agreeing;
+    moved_ = std::make_unique<MovedLandmarks>(m);
   }
   scheduler_ = dropScheduler(active_.get());
   if (ObservationKeeper* k = observationKeeper(active_.get())) observers_.push_back(k);
@@ -184,7 +193,8 @@ std::vector<Eviction> BudgetManager::weighNegativeEvidence(Backend& backend, Ste
   sensor.max_range = scan.max_range;
   sensor.fov = scan.fov_yaw;
   const std::vector<LandmarkView> landmarks = backend.landmarks();
-  negative_->update(step, backend.robotPose().mean, sensor, landmarks, backend.observedAt(step));
+  negative_->update(step, backend.robotPose().mean, sensor, landmarks, backend.observedAt(step),
+                    held_);
   if (options_.negative_evidence != BudgetOptions::NegativeEvidenceMode::Always) return out;
   for (const LandmarkId id : negative_->distrusted()) {
     if (stopBetweenDrops(out)) break;
@@ -246,6 +256,40 @@ Step BudgetManager::admissible(const Step& raw) const {
   return withoutReadingsOf(raw, out);
 }
 
+void BudgetManager::setReadingNoise(double std_range, double std_bearing) {
+  if (moved_) moved_->setReadingNoise(std_range, std_bearing);
+}
+
+Step BudgetManager::admit(Backend& backend, const Step& raw) {
+  Step step = admissible(raw);
+  held_.clear();
+  if (!moved_) return step;
+  const MovedScreening screening = moved_->screen(backend, step, last_step_);
+  if (!screening.moved.empty()) {
+    const std::vector<LandmarkView> landmarks = backend.landmarks();
+    for (const auto& [id, nis] : screening.moved) {
+      Eviction e;
+      e.step = raw.index;
+      e.id = id;
+      e.reducer = active_ ? active_->name() : "none";
+      e.score = nis;
+      e.n_before = backend.landmarkCount();
+      const auto it = std::find_if(landmarks.begin(), landmarks.end(),
+                                   [&](const LandmarkView& l) { return l.id == id; });
+      if (it != landmarks.end()) e.mean = it->mean;
+      e.reason = "moved";
+      backend.removeLandmark(id);
+      e.n_after = backend.landmarkCount();
+      // Not remembered as evicted: the same sensor ID is the new landmark.
+      for (ObservationKeeper* r : observers_) r->forget(id);
+      if (negative_) negative_->forget(id);
+      moved_drops_.push_back(std::move(e));
+    }
+  }
+  held_ = screening.held;
+  return held_.empty() ? step : withoutReadingsOf(step, held_);
+}
+
 std::vector<Eviction> BudgetManager::runScheduled(Backend& backend, StepIndex step, bool final) {
   std::vector<Eviction> out;
   if (!scheduler_) return out;
@@ -300,10 +344,12 @@ std::vector<Eviction> BudgetManager::enforce(Backend& backend, const Step& proce
 
 std::vector<Eviction> BudgetManager::enforceAt(Backend& backend, StepIndex step,
                                                const Step* processed, const Step* raw) {
-  std::vector<Eviction> out;
+  last_step_ = step;
+  std::vector<Eviction> out = std::move(moved_drops_);
+  moved_drops_.clear();
   if (!active_) return out;
   tellObservations(backend, step, processed, raw);
-  out = weighNegativeEvidence(backend, step, processed);
+  for (auto& e : weighNegativeEvidence(backend, step, processed)) out.push_back(std::move(e));
   for (auto& e : runScheduled(backend, step, false)) out.push_back(std::move(e));
   const bool compete = options_.admission == BudgetOptions::Admission::Compete;
   bool event_started = false;
@@ -424,6 +470,76 @@ void restoreNegativeEvidence(const session::SessionSection& s, NegativeEvidence&
   ne.restore(std::move(records));
 }
 
+/// Section `moved_landmarks`: the step of the backend's latest pose and every suspect landmark's
+/// evidence (docs/ALGORITHMS.md "Moved landmarks"), one entry a landmark in id order; the pieces
+/// of all landmarks one after another, `evidence_counts` saying how many are whose.
+void saveMoved(const MovedLandmarks& moved, const std::optional<StepIndex>& last_step,
+               session::SessionSection& s) {
+  std::vector<std::int64_t> ids, counts, steps;
+  std::vector<double> robot, point, cov, nis;
+  for (const auto& [id, evidence] : moved.suspects()) {
+    ids.push_back(id);
+    counts.push_back(static_cast<std::int64_t>(evidence.size()));
+    for (const MovedEvidence& e : evidence) {
+      steps.push_back(static_cast<std::int64_t>(e.step));
+      robot.insert(robot.end(), {e.robot.x(), e.robot.y()});
+      point.insert(point.end(), {e.point.x(), e.point.y()});
+      cov.insert(cov.end(), {e.point_cov(0, 0), e.point_cov(0, 1), e.point_cov(1, 1)});
+      nis.push_back(e.nis);
+    }
+  }
+  s.putInteger("last_step", last_step ? static_cast<std::int64_t>(*last_step) : -1);
+  s.putIntegers("ids", std::move(ids));
+  s.putIntegers("evidence_counts", std::move(counts));
+  s.putIntegers("steps", std::move(steps));
+  s.putReals("robot_xy", std::move(robot));
+  s.putReals("point_xy", std::move(point));
+  s.putReals("point_cov", std::move(cov));
+  s.putReals("nis", std::move(nis));
+}
+
+void restoreMoved(const session::SessionSection& s, MovedLandmarks& moved,
+                  std::optional<StepIndex>& last_step) {
+  constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();
+  const std::int64_t last = s.integer("last_step", -1, kMax);
+  last_step.reset();
+  if (last >= 0) last_step = static_cast<StepIndex>(last);
+  const auto& ids = s.integers("ids");
+  const std::size_t n = ids.size();
+  if (n > moved.settings().max_suspects)
+    s.fail("ids", std::to_string(n) + " suspects, more than " +
+                      std::to_string(moved.settings().max_suspects));
+  const auto max_pieces = static_cast<std::int64_t>(moved.settings().readings);
+  const auto& counts = s.integers("evidence_counts", n, 1, max_pieces);
+  std::size_t total = 0;
+  for (const auto c : counts) total += static_cast<std::size_t>(c);
+  const auto& steps = s.integers("steps", total, 0, kMax);
+  const auto& robot = s.reals("robot_xy", 2 * total);
+  const auto& point = s.reals("point_xy", 2 * total);
+  const auto& cov = s.reals("point_cov", 3 * total);
+  const auto& nis = s.reals("nis", total);
+  std::map<LandmarkId, std::vector<MovedEvidence>> suspects;
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (ids[i] < 0) s.fail("ids", "negative landmark id " + std::to_string(ids[i]));
+    if (i > 0 && ids[i] <= ids[i - 1]) s.fail("ids", "not in increasing order");
+    std::vector<MovedEvidence> evidence;
+    for (std::int64_t k = 0; k < counts[i]; ++k, ++next) {
+      MovedEvidence e;
+      e.step = static_cast<StepIndex>(steps[next]);
+      e.robot = Eigen::Vector2d(robot[2 * next], robot[2 * next + 1]);
+      e.point = Eigen::Vector2d(point[2 * next], point[2 * next + 1]);
+      e.point_cov << cov[3 * next], cov[3 * next + 1], cov[3 * next + 1], cov[3 * next + 2];
+      e.nis = nis[next];
+      if (!(e.point_cov(0, 0) > 0 && e.point_cov.determinant() > 0))
+        s.fail("point_cov", "not positive definite for landmark " + std::to_string(ids[i]));
+      evidence.push_back(e);
+    }
+    suspects.emplace(ids[i], std::move(evidence));
+  }
+  moved.restore(std::move(suspects));
+}
+
 }  // namespace
 
 void BudgetManager::saveSession(session::SessionState& state) const {
@@ -443,6 +559,7 @@ void BudgetManager::saveSession(session::SessionState& state) const {
   b.putIntegers("retry_at", std::move(retry));
   b.putIntegers("refusals", std::move(count));
   if (negative_) saveNegativeEvidence(*negative_, state.section("negative_evidence"));
+  if (moved_) saveMoved(*moved_, last_step_, state.section("moved_landmarks"));
   // One section a reducer name: a shadow of the active reducer's own name sees the same steps
   // and decisions, so its memory is the active one's (mi's schedule runs only when active).
   std::set<std::string> saved;
@@ -493,6 +610,9 @@ void BudgetManager::restoreSession(const session::SessionState& state) {
   if (negative_)
     if (const auto* n = state.takeIfPresent("negative_evidence"))
       restoreNegativeEvidence(*n, *negative_);
+  if (moved_)
+    if (const auto* m = state.takeIfPresent("moved_landmarks"))
+      restoreMoved(*m, *moved_, last_step_);
   if (auto* o = session::sessionOwner(active_.get())) o->restoreSession(state);
   for (const auto& s : shadows_)
     if (auto* o = session::sessionOwner(s.get())) o->restoreSession(state);  // saved once a name

@@ -25,6 +25,12 @@ const EnumNames<BudgetOptions::NegativeEvidenceMode>& negativeEvidenceNames() {
   return n;
 }
 
+const EnumNames<BudgetOptions::MovedMode>& movedNames() {
+  using M = BudgetOptions::MovedMode;
+  static const EnumNames<M> n = {{"off", M::Off}, {"split", M::Split}};
+  return n;
+}
+
 /// `max_landmarks`: a count >= 1, or `none` for no cap.
 OptionKey<BudgetOptions> capKey() {
   return {"max_landmarks",
@@ -67,6 +73,11 @@ const OptionTable<BudgetOptions>& BudgetOptions::table() {
       option::real("viewpoint_cell", &O::viewpoint_cell, 1e-3, 1e6, "[m]"),
       option::real("view_margin_range", &O::view_margin_range, 0, 1e6, "[m]"),
       option::real("view_margin_deg", &O::view_margin_deg, 0, 180, "[deg]"),
+      option::choice("moved_landmarks", &O::moved_landmarks, movedNames()),
+      option::real("moved_gate_chi2", &O::moved_gate_chi2, 1e-3, 1e6, "chi-square, 2 dof"),
+      option::integer("moved_readings", &O::moved_readings, 1, 1000000, "[readings]"),
+      option::real("moved_place_distance", &O::moved_place_distance, 0, 1e6, "[m]"),
+      option::integer("moved_min_agreeing", &O::moved_min_agreeing, 1, 1000000, "[landmarks]"),
   };
   return t;
 }
@@ -78,6 +89,8 @@ std::string BudgetOptions::toString(Admission a) { return nameOf(admissionNames(
 std::string BudgetOptions::toString(NegativeEvidenceMode m) {
   return nameOf(negativeEvidenceNames(), m);
 }
+
+std::string BudgetOptions::toString(MovedMode m) { return nameOf(movedNames(), m); }
 
 std::string BudgetOptions::capText(const std::optional<std::size_t>& cap) {
   return cap ? std::to_string(*cap) : "none";

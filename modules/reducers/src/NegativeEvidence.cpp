@@ -34,7 +34,8 @@ bool NegativeEvidence::inView(const mrpt::math::TPose2D& robot, const SensorView
 
 void NegativeEvidence::update(StepIndex step, const mrpt::math::TPose2D& robot,
                               const SensorView& sensor, const std::vector<LandmarkView>& landmarks,
-                              const std::vector<LandmarkId>& observed) {
+                              const std::vector<LandmarkId>& observed,
+                              const std::set<LandmarkId>& held) {
   const std::set<LandmarkId> seen(observed.begin(), observed.end());
   const std::int64_t cell = cellOf(robot.x, robot.y);
   std::map<LandmarkId, ConfirmationRecord> kept;  // records of landmarks still in the map
@@ -45,6 +46,10 @@ void NegativeEvidence::update(StepIndex step, const mrpt::math::TPose2D& robot,
       r = std::move(it->second);
     } else {
       r.last_confirmed_step = l.last_step;  // a landmark new to the record: its last sighting
+    }
+    if (held.count(l.id)) {
+      kept.emplace(l.id, std::move(r));
+      continue;
     }
     const bool sighted = seen.count(l.id) > 0;
     auto at = std::lower_bound(r.viewpoints.begin(), r.viewpoints.end(), cell);

@@ -13,6 +13,7 @@
 #include "budget_slam/runs/SummaryJson.h"
 #include "budget_slam/session/SessionStateFile.h"
 #include "budget_slam/session/SessionStateOwner.h"
+#include "budget_slam/wakeup/WakeUpRun.h"
 
 namespace budget_slam::runs {
 namespace {
@@ -63,6 +64,9 @@ RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegi
       rawlog_name_(spec.rawlog_name),
       heap_release_(kReleaseHeapEverySteps) {
   const auto& budget = spec.budget;
+  // The moved-landmark test reads the same reading noise as the backends.
+  const wakeup::ReadingNoise noise = wakeup::readingNoiseOf(ini);
+  manager_->setReadingNoise(noise.std_range, noise.std_bearing);
   // The observers, in the order they are called: the probes first (their afterDrops closes the
   // step's timed window), the eviction log after the map's counts and the NEES, the periodic
   // scenes last (their title counts the step's drops).
@@ -89,8 +93,9 @@ RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegi
 
 void RunDriver::process(const Step& raw) {
   for (const auto& o : observers_) o->stepStarts();
-  // Without the readings of landmarks dropped for good and of refused newcomers still waiting.
-  const Step filtered = manager_->admissible(raw);
+  // Without the readings of landmarks dropped for good, of refused newcomers still waiting and
+  // of landmarks suspected of having moved; a landmark found moved leaves the map here.
+  const Step filtered = manager_->admit(*backend_, raw);
 
   const std::size_t before = backend_->landmarkCount();
   backend_->process(filtered);

@@ -1,6 +1,7 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -8,6 +9,7 @@
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/core/Reducer.h"
 #include "budget_slam/reducers/BudgetOptions.h"
+#include "budget_slam/reducers/MovedLandmarks.h"
 #include "budget_slam/reducers/NegativeEvidence.h"
 #include "budget_slam/reducers/RefusalMemory.h"
 #include "budget_slam/session/SessionStateOwner.h"
@@ -22,7 +24,9 @@ struct Eviction {
   double score = 0;
   std::size_t n_before = 0, n_after = 0;
   /// over_cap: an unprotected landmark went; over_cap_all_protected: every landmark was protected
-  /// (see BudgetOptions::protect) so the lowest-scored protected one went; refused: a newcomer
+  /// (see BudgetOptions::protect) so the lowest-scored protected one went; moved: its readings
+  /// put it elsewhere, pass after pass (MovedLandmarks; its readings start a new landmark, the
+  /// score is the evidence's mean normalized innovation squared); refused: a newcomer
   /// lost its admission (admission = compete) and left the map in the step it entered;
   /// otherwise the reason of a drop event the reducer scheduled itself (ScheduledDrops::reason:
   /// objective, incremental).
@@ -85,6 +89,18 @@ class BudgetManager : public session::SessionStateOwner {
   /// (readmit_evicted = false) and the refused newcomers still waiting for a retry
   /// (admission = compete). Returns `raw` itself (shared) when none of its readings is affected.
   Step admissible(const Step& raw) const;
+  /// admissible(raw), then, with [LandmarkBudget] moved_landmarks = split, the readings of the
+  /// landmarks under suspicion of having moved left out too (MovedLandmarks::screen), and every
+  /// landmark recognised as moved removed from `backend` now, before the step is fused, so that
+  /// the step's reading of it starts a new landmark. Those removals (reason `moved`) lead the
+  /// drops the next enforce() returns.
+  Step admit(Backend& backend, const Step& raw);
+  /// The readings of the reading noise the moved-landmark test uses, 1 sigma [m], [rad] (the
+  /// backends' [RangeBearingKFSLAM] std_sensor_range and std_sensor_yaw_deg).
+  void setReadingNoise(double std_range, double std_bearing);
+  /// The moved-landmark record (suspects and their evidence; a session saves it), null when
+  /// [LandmarkBudget] moved_landmarks = off.
+  const MovedLandmarks* movedLandmarks() const { return moved_.get(); }
 
   /// Called once after the last step, before Backend::finish() and the outputs: the active
   /// reducer's final scheduled event (mi objective mode runs Alg. 3 here). Returns its drops.
@@ -147,6 +163,10 @@ class BudgetManager : public session::SessionStateOwner {
   std::vector<ObservationKeeper*> observers_;  ///< active and shadow reducers keeping a record
   std::vector<ShadowFailures> shadow_failures_;  ///< one a shadow, in shadow order
   std::unique_ptr<NegativeEvidence> negative_;   ///< null when negative_evidence = off
+  std::unique_ptr<MovedLandmarks> moved_;        ///< null when moved_landmarks = off
+  std::vector<Eviction> moved_drops_;   ///< splits made by admit(), returned by the next enforce()
+  std::set<LandmarkId> held_;           ///< landmarks whose readings admit() held at this step
+  std::optional<StepIndex> last_step_;  ///< the last step enforce() saw (the backend's pose)
 
   /// Updates the negative evidence with the step (a step with readings), then, in mode always,
   /// drops every distrusted landmark (reason negative_evidence).

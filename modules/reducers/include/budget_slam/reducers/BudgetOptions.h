@@ -33,6 +33,13 @@ struct BudgetOptions : public TabledOptions<BudgetOptions> {
     OverCap,  ///< over_cap: over the cap, a distrusted landmark goes before the reducer is asked
     Always,   ///< always: a distrusted landmark goes at once, under the cap too
   };
+  /// What the budget does with a landmark whose readings persistently disagree with its estimate
+  /// while the rest of the view agrees (MovedLandmarks.h; docs/ALGORITHMS.md "Moved landmarks").
+  enum class MovedMode {
+    Off,    ///< off: every reading is fused
+    Split,  ///< split: its readings are held; once it has moved, the old estimate leaves the map
+            ///< (reason moved) and the readings start a new landmark
+  };
 
   std::string reducer = "none";  ///< active reducer by registry name; none = no cap
   /// The cap: landmarks in the map after every step, >= 1 [landmarks]. Empty (ini and --cap:
@@ -60,6 +67,13 @@ struct BudgetOptions : public TabledOptions<BudgetOptions> {
   double view_margin_range = 0.5;  ///< a landmark is in view this far inside the sensor's range
                                    ///< limits [m], >= 0
   double view_margin_deg = 5;      ///< ... and this far inside its field of view's edges [deg]
+  MovedMode moved_landmarks = MovedMode::Off;  ///< off | split
+  double moved_gate_chi2 = 13.8155;    ///< innovation gate of a reading, chi-square 2 dof (99.9%)
+  std::size_t moved_readings = 3;      ///< readings outside the gate, from distinct places, that
+                                       ///< make a landmark moved [readings], >= 1
+  double moved_place_distance = 0.5;   ///< robot positions of two such readings at least [m], >= 0
+  std::size_t moved_min_agreeing = 2;  ///< other landmarks of the step inside their gates (and
+                                       ///< more than those outside) for a reading to count, >= 1
 
   /// Every key: name, field, check and unit (the defaults are the initializers above).
   static const OptionTable<BudgetOptions>& table();
@@ -69,6 +83,7 @@ struct BudgetOptions : public TabledOptions<BudgetOptions> {
   static std::string toString(Protect p);
   static std::string toString(Admission a);
   static std::string toString(NegativeEvidenceMode m);
+  static std::string toString(MovedMode m);
 };
 
 }  // namespace budget_slam::reducers

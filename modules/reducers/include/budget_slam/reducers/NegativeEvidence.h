@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <map>
+#include <set>
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
@@ -52,9 +53,12 @@ class NegativeEvidence {
   explicit NegativeEvidence(const Settings& settings) : settings_(settings) {}
 
   /// After a step with readings: `robot` is the pose estimate, `landmarks` the map, `observed`
-  /// the landmarks the step's readings went to.
+  /// the landmarks the step's readings went to, `held` those whose readings were left out as
+  /// suspected of having moved (MovedLandmarks): seen, but not where the map has them, so the
+  /// step neither confirms them nor counts against them.
   void update(StepIndex step, const mrpt::math::TPose2D& robot, const SensorView& sensor,
-              const std::vector<LandmarkView>& landmarks, const std::vector<LandmarkId>& observed);
+              const std::vector<LandmarkView>& landmarks, const std::vector<LandmarkId>& observed,
+              const std::set<LandmarkId>& held = {});
 
   /// Landmarks with at least K misses: most misses first, then the longest unconfirmed, then id.
   std::vector<LandmarkId> distrusted() const;
