@@ -61,8 +61,6 @@ ReducibleKFSLAM2D::KFMatrix ReducibleKFSLAM2D::innovationCovariance(
 }
 
 void ReducibleKFSLAM2D::runSparseIteration() {
-  // As MRPT's iteration: its profiler (used by addNewLandmarks) runs only when asked for.
-  m_timLogger.enable(KF_options.enable_profiler);
   // 1-4. Prediction: the robot's mean, its covariance block and its cross-covariances, O(n).
   KFArray_ACT u;
   OnGetAction(u);
