@@ -25,12 +25,12 @@ std::array<double, 3> lastTumPose(const fs::path& tum) {
   ls >> t >> x >> y >> z >> qx >> qy >> qz >> qw;
   return {x, y, 2 * std::atan2(qz, qw)};
 }
-}  // namespace
 
-// Issue 2: with --reducer none and MRPT's EKF-SLAM_test_2d.ini, the last pose equals the one
-// MRPT's kf-slam app writes in its robot_pose_*.txt, to 1e-6.
-TEST(RunKfDemo, NoReducerMatchesMrptKfSlamApp) {
-  const auto dir = freshDir("kfslam_app");
+/// Runs MRPT's kf-slam app and `budget-slam run --reducer none` (plus `extra` arguments) on the
+/// demo with MRPT's EKF-SLAM_test_2d.ini: the last poses agree to 1e-6 (kf-slam writes them
+/// with 6 decimals), and the run is unreduced and accurate.
+void expectLastPoseOfKfSlamApp(const std::string& name, const std::vector<std::string>& extra) {
+  const auto dir = freshDir(name);
   fs::create_directories(dir);
   // kf-slam saves robot_pose_<step>.txt every SAVE_LOG_FREQUENCY steps; 1 gives the last step.
   std::string ini = slurp(kMrptIni);
@@ -47,8 +47,11 @@ TEST(RunKfDemo, NoReducerMatchesMrptKfSlamApp) {
   pose >> kx >> ky >> kyaw;
   ASSERT_TRUE(pose) << "kf-slam wrote no pose for step 248";
 
-  const auto r = runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", (dir / "ours").string(),
-                         "--reducer", "none", "--quiet"});
+  std::vector<std::string> args = {
+      "run",       "-c",   kMrptIni, "-i", kDemo, "-o", (dir / "ours").string(),
+      "--reducer", "none", "--quiet"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  const auto r = runApp(args);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto p = lastTumPose(dir / "ours" / "trajectory.tum");
   EXPECT_NEAR(p[0], kx, 1e-6);
@@ -62,6 +65,16 @@ TEST(RunKfDemo, NoReducerMatchesMrptKfSlamApp) {
   // Unreduced EKF against simul-landmarks' ground truth: sub-decimetre on this easy set.
   EXPECT_LT(summary["ground_truth"]["trajectory_rmse_m"].get<double>(), 0.05);
   EXPECT_LT(summary["ground_truth"]["landmark_rmse_m"].get<double>(), 0.05);
+}
+}  // namespace
+
+// Issue 2: with --reducer none and MRPT's EKF-SLAM_test_2d.ini, the last pose equals the one
+// MRPT's kf-slam app writes in its robot_pose_*.txt, to 1e-6 (the default, sparse update).
+TEST(RunKfDemo, NoReducerMatchesMrptKfSlamApp) { expectLastPoseOfKfSlamApp("kfslam_app", {}); }
+
+// Issue 38: the exact mode, MRPT's own Kalman iteration ([EkfSLAM] update = mrpt), against kf-slam.
+TEST(RunKfDemo, MrptUpdateMatchesMrptKfSlamApp) {
+  expectLastPoseOfKfSlamApp("kfslam_app_mrpt_update", {"--set", "EkfSLAM.update=mrpt"});
 }
 
 // Issue 2: every step of steps.csv is at or under the cap, for every baseline; evictions.csv

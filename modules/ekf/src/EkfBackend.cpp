@@ -18,6 +18,9 @@ EkfBackend::EkfBackend(const mrpt::config::CConfigFileBase& ini) {
                       exceptionLine(e));
   }
   kf_.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
+  EkfSlamOptions options;
+  options.loadFromConfigFile(ini, EkfSlamOptions::kSection);
+  kf_.setUpdate(options.update);
 }
 
 std::unique_ptr<Backend> EkfBackend::clone() const { return std::make_unique<EkfBackend>(*this); }

@@ -1,4 +1,5 @@
 #include "budget_slam/ekf/EkfBackend.h"
+#include "budget_slam/ekf/EkfSlamOptions.h"
 #include "budget_slam/ekf/MrptIniCheck.h"
 #include "budget_slam/ekf/MrptIniKeys.h"
 
@@ -6,7 +7,8 @@ namespace budget_slam::ekf {
 namespace {
 
 /// MRPT's kf-slam sections in name order, their keys MRPT's own (no default of ours). One check,
-/// on [RangeBearingKFSLAM], covers both filter sections (checkMrptKfSlamOptions).
+/// on [RangeBearingKFSLAM], covers both filter sections (checkMrptKfSlamOptions). Then ours,
+/// [EkfSLAM].
 std::vector<OptionSection> kfSlamSections() {
   std::vector<OptionSection> out;
   for (const auto& [section, keys] : mrptKfSlamIniKeys()) {
@@ -14,6 +16,7 @@ std::vector<OptionSection> kfSlamSections() {
     if (section == "RangeBearingKFSLAM") s.check = checkMrptKfSlamOptions;
     out.push_back(std::move(s));
   }
+  out.push_back(tabledSection<EkfSlamOptions>());  // ours: how the update is done
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "budget_slam/core/Step.h"
+#include "budget_slam/ekf/EkfSlamOptions.h"
 
 namespace budget_slam::ekf {
 
@@ -14,6 +15,13 @@ class ReducibleKFSLAM2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   /// One MRPT Kalman iteration on the step's own action and frame. A frame with no
   /// CObservationBearingRange is run as prediction only (MRPT itself would assert).
   void processStep(const Step& step);
+
+  /// How the Kalman update is done ([EkfSLAM] update; EkfSlamOptions::Update). Default: sparse.
+  void setUpdate(EkfSlamOptions::Update update) { update_ = update; }
+  EkfSlamOptions::Update update() const { return update_; }
+  /// Whether the next step takes the sparse update: `update` is sparse and MRPT's options are
+  /// those it covers (kfEKFNaive or kfIKFFull, analytic Jacobians, no Jacobian check).
+  bool usesSparseUpdate() const;
 
   std::size_t landmarkCount() const { return getNumberOfLandmarksInTheMap(); }
   LandmarkId idAt(std::size_t state_index) const;  ///< throws std::out_of_range
@@ -52,6 +60,22 @@ class ReducibleKFSLAM2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   void OnNewLandmarkAddedToMap(const size_t in_obsIdx, const size_t in_idxNewFeat) override;
 
  private:
+  /// MRPT's Kalman iteration (CKalmanFilterCapable::runOneKalmanIteration: prediction, predicted
+  /// readings, Jacobians, innovation covariance, data association, update, new landmarks) through
+  /// the same hooks, with the update of sparseKalmanUpdate (src/SparseKalmanIteration.cpp).
+  void runSparseIteration();
+  /// MRPT's innovation covariance of the predicted landmarks, S = H P Hᵀ + R from the 2 x 2
+  /// blocks of each pair (as runOneKalmanIteration builds it for the data association).
+  KFMatrix innovationCovariance(const std::vector<size_t>& predicted,
+                                const std::vector<KFMatrix_OxV>& Hx,
+                                const std::vector<KFMatrix_OxF>& Hy, const KFMatrix_OxO& R) const;
+
+  /// The readings associated with no landmark (-1) become landmarks at the end of the state, as
+  /// MRPT's detail::addNewLandmarks makes them, with P reallocated once for all of them.
+  void addNewLandmarks(const vector_KFArray_OBS& Z, const std::vector<int>& association,
+                       const KFMatrix_OxO& R);
+
+  EkfSlamOptions::Update update_ = EkfSlamOptions::Update::Sparse;
   mrpt::maps::CLandmark::TLandmarkID next_free_id_ = 0;
   std::vector<long> last_association_;
 };
