@@ -30,12 +30,10 @@ namespace {
 
 /// --relocalize: every final map of an ok run (the reference's too) localizes each traversal;
 /// fills the reloc_* columns of `rows` and adds the failed localizations to `outcome`.
-std::vector<RelocalizationResult> relocalizeMaps(const CompareRuns& compared,
-                                                 const std::vector<Traversal>& traversals,
-                                                 const std::vector<TrajectoryPoint>* reference,
-                                                 const Request& request,
-                                                 std::vector<report::ComparisonRow>& rows,
-                                                 CompareOutcome& outcome) {
+std::vector<RelocalizationResult> relocalizeMaps(
+    const CompareRuns& compared, const std::vector<Traversal>& traversals,
+    const std::vector<TrajectoryPoint>* reference, const Request& request,
+    std::vector<report::ComparisonRow>& rows, CompareOutcome& outcome, ProgressReporter& progress) {
   // One mapped area for every map (the reference run's path, when it ended ok), so that every
   // map is scored on the same steps.
   std::vector<mrpt::math::TPose2D> reference_path;
@@ -52,7 +50,7 @@ std::vector<RelocalizationResult> relocalizeMaps(const CompareRuns& compared,
                       r->driver->mapAlignment(), reference_path.empty() ? own : reference_path});
     }
   auto relocalized = relocalizeAll(maps, traversals, reference, request.reference_trajectory,
-                                   request.threads, request.force);
+                                   request.threads, request.force, &progress);
   addRelocalizationColumns(rows, relocalized, kReferenceRun);
   for (const auto& r : relocalized)
     if (r.status != RunStatus::Ok)
@@ -173,7 +171,7 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
     traversals = loadTraversals(context.params, request, label);
     if (!request.reference_trajectory.empty())
       reference_tum = report::readTrajectoryTum(request.reference_trajectory, 50'000'000);
-    writeFileAtomically(top->file("config_used.ini"), rc.ini.getContent());
+    writeFileAtomically(top->file("config_used.ini"), configUsed(rc.ini));
     truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
     ProgressReporter reading(progress_out, "reading the rawlog", progress_settings);
@@ -200,9 +198,20 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
   const std::size_t wanted = request.threads ? request.threads : availableCpus();
   const std::size_t threads =
       std::max<std::size_t>(1, std::min<std::size_t>(wanted, compared.size()));
+  if (const std::string note = largeReferenceNote(rc.mapping.backend, distinctLandmarkIds(steps));
+      !note.empty() && hooks.note)
+    hooks.note(note);
   {
+    std::size_t traversal_steps = 0;
+    for (const auto& t : traversals) traversal_steps += t.steps.size();
+    // Said with the runs' ETA, which does not cover it (its own progress follows).
+    const std::string after = traversals.empty()
+                                  ? ""
+                                  : "then relocalization: " + std::to_string(compared.size()) +
+                                        " maps on " + std::to_string(traversal_steps) + " steps";
     ProgressReporter progress(progress_out, "compare", progress_settings);
-    const std::string fewer = runInThreads(compared, steps, threads, hooks.on_end_phase, progress);
+    const std::string fewer =
+        runInThreads(compared, steps, threads, hooks.on_end_phase, progress, after);
     if (!fewer.empty()) warn(fewer + "; the runs went on in them");
   }
 
@@ -231,10 +240,12 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
   }
 
   std::vector<RelocalizationResult> relocalized;
-  if (!traversals.empty())
+  if (!traversals.empty()) {
+    ProgressReporter progress(progress_out, "relocalize", progress_settings);
     relocalized = relocalizeMaps(compared, traversals,
                                  request.reference_trajectory.empty() ? nullptr : &reference_tum,
-                                 request, rows, outcome);
+                                 request, rows, outcome, progress);
+  }
 
   // Every output is attempted; the first that cannot be written (a full disk) fails the
   // comparison in one line, and summary.json, written last, says which were not.
@@ -269,8 +280,8 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
   figure_title.replace(figure_title.find(rc.rawlog), rc.rawlog.size(),
                        std::filesystem::path(rc.rawlog).filename().string());
   attempt("comparison figure", [&] {
-    writeComparisonChart(*top, figure_title, compared, steps, truth.get(), rc.budget.max_landmarks,
-                         rc.report.figure_formats);
+    writeComparisonChart(*top, rc.report.figure_title ? figure_title : "", compared, steps,
+                         truth.get(), rc.budget.max_landmarks, rc.report.figure_formats);
   });
   RunOutcome summary;
   summary.status = outcome.status, summary.kind = outcome.kind;

@@ -9,6 +9,7 @@
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
+#include "budget_slam/runs/RunConfig.h"
 
 namespace budget_slam::runs {
 namespace {
@@ -122,7 +123,7 @@ void makeRuns(const mrpt::config::CConfigFileMemory& merged, const BackendRegist
       ini.write(reducers::BudgetOptions::kSection, "seed", std::to_string(*seed));
     }
     report::OutputFolder folder(top.file(name), force);
-    writeFileAtomically(folder.file("config_used.ini"), ini.getContent());
+    writeFileAtomically(folder.file("config_used.ini"), configUsed(ini));
     DriverSpec spec = base;
     spec.budget = budget;
     spec.keep_history = true;  // the comparison's figures need every run's history
