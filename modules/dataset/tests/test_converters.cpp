@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cmath>
 #include <set>
 
@@ -288,8 +290,8 @@ TEST(UtiasConverter, CsvFormConvertsAsTheDatForm) {
   EXPECT_EQ(inputErrorOf([&] { convertUtias(csv.path(), 1); }),
             csv.file("Odometry.csv") + ":2: field 2 is empty");
   // Every missing file at once, whichever form the others are in.
-  std::filesystem::remove(csv.file("Barcodes.csv"));
-  std::filesystem::remove(csv.file("Measurement.csv"));
+  std::remove(csv.file("Barcodes.csv").c_str());
+  std::remove(csv.file("Measurement.csv").c_str());
   EXPECT_EQ(inputErrorOf([&] { convertUtias(csv.path(), 1); }),
             "UTIAS folder '" + csv.path() +
                 "': missing Barcodes, Robot1_Measurement (or Measurement) (each as .dat, .dat.gz "

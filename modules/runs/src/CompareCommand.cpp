@@ -102,13 +102,13 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
     RunOutcome o;
     o.fail(status, kind, msg);
     o.given = {{"started", false}};
-    // The runs' summaries say the comparison's status and error (their own line is this one).
-    const nlohmann::json given = summaryJson(o);
     if (top) {
       result.folder = top->path();
+      // Each run made so far says its own end: it did not start, and why (issue 35: they carried
+      // another run's error as their own).
       for (const auto& r : compared) {
         try {
-          r->driver->finish(status, kind, "the comparison did not start: " + msg, 0, given);
+          r->driver->finish(status, kind, "the comparison did not start: " + msg, 0, o.given);
         } catch (const std::exception&) {
           // its line is this failure's line; the top summary says it
         }
