@@ -159,7 +159,12 @@ TEST(Limits, FewFileDescriptorsGiveEveryRunItsOwnSummary) {
     for (const char* run : {"reference", "mi", "oldest"}) {
       if (!fs::exists(out / run)) continue;
       SCOPED_TRACE(run);
-      ASSERT_TRUE(fs::exists(out / run / "summary.json")) << r.err;
+      if (!fs::exists(out / run / "summary.json")) {
+        // No descriptor was left even for it: the line says so.
+        EXPECT_NE(r.err.find("/" + std::string(run) + "/"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("its summary.json not written either"), std::string::npos) << r.err;
+        continue;
+      }
       const auto s = readJson(out / run / "summary.json");
       if (s["status"] == "ok") continue;
       const std::string error = s["error"];

@@ -135,15 +135,19 @@ void makeRuns(const mrpt::config::CConfigFileMemory& merged, const BackendRegist
       run->driver = std::make_unique<RunDriver>(ini, backends, spec, *folder, truth);
     } catch (const std::exception& e) {
       // The run whose making failed (few file descriptors, a full disk) says its own error in
-      // its own folder, when it has one; the comparison's line says it too.
+      // its own folder, when it has one; when even that cannot be written (no descriptor left
+      // for it), the comparison's line says so.
+      std::string not_saved;
       if (folder) try {
           RunOutcome o;
           o.fail(RunStatus::Failed, errorKindOf(e), printable(exceptionLine(e)));
           o.given = {{"started", false}, {"run", name}};
           writeSummary(folder->file("summary.json"), o);
-        } catch (const std::exception&) {
+        } catch (const std::exception& s) {
+          not_saved = "its summary.json not written either: " + exceptionLine(s);
         }
-      throw;
+      if (not_saved.empty()) throw;
+      throw Error(withAlso(exceptionLine(e), not_saved));
     }
     runs.push_back(std::move(run));
   }
