@@ -68,9 +68,10 @@ struct UtiasFiles {
   RobotFiles robot, frame;  ///< frame: the --frame-robot's, when one is given
 };
 
+/// There, and not a folder (a device or a FIFO is read, and refused for what it holds).
 bool isFile(const std::string& path) {
   struct stat st {};
-  return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+  return ::stat(path.c_str(), &st) == 0 && !S_ISDIR(st.st_mode);
 }
 
 /// `dir + name` with the extension it has (.dat also for .dat.gz: TextTable reads either), or ""
