@@ -46,7 +46,9 @@ std::string topLevelHelp() {
   for (const auto* e : reducers::builtinReducers().entries())
     text += "   " + e->name + std::string(e->name.size() < 14 ? 14 - e->name.size() : 1, ' ') +
             e->summary + "\n";
-  return text + "\nExit codes: 0 ok, 1 failed run, 2 bad command line, 130 interrupted.\n";
+  return text +
+         "\nExit codes: 0 ok, 1 failed run, 2 bad command line, 3 not found on the map (localize\n"
+         "--wake-up), 130 interrupted.\n";
 }
 
 std::vector<std::string> splitList(const std::string& s) {

@@ -23,8 +23,19 @@ inline std::string binary(const std::string& tool) {
 struct ChildExit {
   int code = -1;         ///< exit code, or -signal when killed
   long max_rss_kib = 0;  ///< peak resident memory (wait4)
+  double cpu_s = 0;      ///< user + system CPU time [s] (wait4): what a load does not stretch
   bool signaled() const { return code < 0; }
 };
+
+/// A child's exit from wait4's status and resource use.
+inline ChildExit childExit(int status, const rusage& use) {
+  ChildExit r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+  r.max_rss_kib = use.ru_maxrss;
+  r.cpu_s = static_cast<double>(use.ru_utime.tv_sec + use.ru_stime.tv_sec) +
+            1e-6 * static_cast<double>(use.ru_utime.tv_usec + use.ru_stime.tv_usec);
+  return r;
+}
 
 /// Starts `program args` with stderr into `err_file`, stdout into `out_fd` (default /dev/null),
 /// every other descriptor closed, SIGPIPE at its default as a shell leaves it, and `setup` run in
@@ -52,10 +63,7 @@ inline ChildExit waitChild(pid_t pid) {
   int status = 0;
   rusage use{};
   ::wait4(pid, &status, 0, &use);
-  ChildExit r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
-  r.max_rss_kib = use.ru_maxrss;
-  return r;
+  return childExit(status, use);
 }
 
 /// Waits (at most `seconds`) until child `pid` is blocked opening a FIFO (Linux: its wait channel
@@ -94,12 +102,7 @@ inline ChildExit feedFifoAndWait(pid_t pid, const std::string& fifo, const std::
     }
     int status = 0;
     rusage use{};
-    if (::wait4(pid, &status, WNOHANG, &use) == pid) {
-      ChildExit r;
-      r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
-      r.max_rss_kib = use.ru_maxrss;
-      return r;
-    }
+    if (::wait4(pid, &status, WNOHANG, &use) == pid) return childExit(status, use);
     ::usleep(10000);
   }
 }
@@ -128,9 +131,7 @@ inline void runChildren(std::size_t count, std::size_t parallel,
     if (pid <= 0) break;
     const auto it = running.find(pid);
     if (it == running.end()) continue;
-    ChildExit r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
-    r.max_rss_kib = use.ru_maxrss;
+    const ChildExit r = childExit(status, use);
     const std::size_t i = it->second;
     running.erase(it);
     done(i, r);

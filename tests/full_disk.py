@@ -8,7 +8,7 @@ with trajectory.tum and with summary.json's step count. The largest size holds e
 run must succeed there.
 
 Tiny disks and the other commands (issue 23, case 5): run on 4 to 24 KiB, compare and localize on
-100 KiB. Each exits 1 with one line (compare: one a run and one for its own files), and every
+100 KiB, and localize on 30 to 60 KiB, where steps.csv and summary.json must agree on the steps. Each exits 1 with one line (compare: one a run and one for its own files), and every
 folder made holds a valid summary.json, or the line says why it could not be written.
 
 Exits 77 (skipped) where a tmpfs cannot be mounted (no privileges): tests/test_limits.cpp runs the
@@ -160,6 +160,21 @@ def main():
         rc, err, out = run_on_tmpfs(a.budget_slam, localize, 100, work)
         check_small(rc, err, out, "localize on a tmpfs of 100 KiB")
         print("localize, tmpfs 100 KiB: exit 1, %s" % err.strip())
+        # localize's steps.csv and summary.json agree on the steps done (issue 35: on 30 KiB,
+        # 93 rows and 94 steps, every time).
+        for size in (30, 40, 60):
+            rc, err, out = run_on_tmpfs(a.budget_slam, localize, size, work)
+            where = "localize on a tmpfs of %d KiB" % size
+            check_small(rc, err, out, where)
+            steps_csv, summary = os.path.join(out, "steps.csv"), os.path.join(out, "summary.json")
+            if os.path.exists(steps_csv) and os.path.exists(summary):
+                with open(summary, "rb") as f:
+                    counts = json.loads(f.read().decode("utf-8")).get("counts")
+                if counts is not None:
+                    rows = whole_lines(steps_csv) - 1
+                    assert rows == counts["steps"], "%s: steps.csv %d rows, summary.json %d steps" % (
+                        where, rows, counts["steps"])
+            print("%s: exit 1, steps.csv and summary.json agree" % where)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     print("ok")

@@ -138,3 +138,42 @@ TEST(BadRawlogs, ObservationsOnlyRawlogRuns) {
   EXPECT_EQ(readJson(out / "summary.json")["status"], "ok");
   EXPECT_EQ(readCsv(out / "steps.csv").size(), scans);
 }
+
+TEST(BadRawlogs, ARawlogThatSwitchesFormMidwayIsRefusedAtTheEntry) {
+  // The demo's first 100 action-frame pairs, then the rest in the observations-only form (bare
+  // CObservationOdometry and CObservationBearingRange): the second half was dropped without a
+  // word (exit 0, status ok; issue 35). Now refused at the entry where the form changes, with the
+  // outputs of the 100 steps read before it.
+  const auto out = freshDir("switched_form");
+  const auto path = out.parent_path() / "switched_form.rawlog";
+  constexpr std::size_t kPairs = 100;
+  {
+    mrpt::io::CFileGZInputStream in(kDemo);
+    auto ia = mrpt::serialization::archiveFrom(in);
+    mrpt::io::CFileGZOutputStream o(path.string());
+    auto oa = mrpt::serialization::archiveFrom(o);
+    mrpt::obs::CActionCollection::Ptr act;
+    mrpt::obs::CSensoryFrame::Ptr sf;
+    std::size_t entry = 0, pairs = 0;
+    mrpt::poses::CPose2D odometry;
+    while (mrpt::obs::CRawlog::readActionObservationPair(ia, act, sf, entry)) {
+      if (pairs++ < kPairs) {
+        oa << *act << *sf;
+        continue;
+      }
+      if (auto move = act->getBestMovementEstimation())
+        odometry = odometry + move->poseChange->getMeanVal();
+      mrpt::obs::CObservationOdometry odo;
+      odo.odometry = odometry;
+      oa << odo << *sf->getObservationByClass<mrpt::obs::CObservationBearingRange>();
+    }
+  }
+  const auto r = runCapped(path, out);
+  expectFailedAfter(r, out,
+                    "rawlog '" + path.string() + "': step " + std::to_string(kPairs) +
+                        " holds a bare mrpt::obs::CObservationOdometry (entry " +
+                        std::to_string(2 * kPairs) +
+                        " of the file) after actions-observations data: the file switches to the "
+                        "observations-only form there, and budget-slam reads one form a file",
+                    kPairs);
+}

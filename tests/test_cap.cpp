@@ -130,3 +130,38 @@ TEST(Cap, NoneOnlyWhereTheReducerDecidesTheMapSize) {
   EXPECT_TRUE(readJson(reference / "summary.json")["cap"].is_null());
   EXPECT_EQ(peakLandmarks(reference).first, 70);
 }
+
+TEST(Cap, ANumberWithReducerNoneIsAnErrorNamingTheFlag) {
+  // MRPT's kf-slam ini has no [LandmarkBudget]: its reducer is none, which keeps every landmark.
+  // A --cap given with it was ignored (70 landmarks kept, "cap": null) while config_used.ini said
+  // max_landmarks = 20 (issue 35): the user believed the run capped.
+  const std::string why =
+      "--cap 20: reducer none keeps every landmark, so a cap would do nothing; give --reducer NAME "
+      "(budget-slam --help lists them), or leave --cap out for the unreduced run";
+  const auto dir = freshDir("cap_with_none");
+  auto r =
+      runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--quiet", "--cap", "20"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(isErrorLine(r.err, why));
+  EXPECT_EQ(readJson(dir / "summary.json")["error"], why);
+  EXPECT_FALSE(fs::exists(dir / "steps.csv"));
+  // Named explicitly, the same.
+  const auto named = freshDir("cap_with_none_named");
+  r = runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", named.string(), "--quiet", "--reducer",
+              "none", "--cap", "20"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(isErrorLine(r.err, why));
+  // With a reducer the same command caps the map (the README's second command).
+  const auto capped = freshDir("cap_with_reducer");
+  r = runApp({"run", "-c", kMrptIni, "-i", kDemo, "-o", capped.string(), "--quiet", "--reducer",
+              "info-content", "--cap", "20"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(readJson(capped / "summary.json")["cap"], 20);
+  EXPECT_EQ(peakLandmarks(capped).first, 20);
+  // The cap an ini holds for the other reducers (config.ini's 50) does not stop an unreduced run.
+  const auto unreduced = freshDir("cap_ini_with_none");
+  r = runApp({"run", "-c", kConfig, "-i", kDemo, "-o", unreduced.string(), "--quiet", "--reducer",
+              "none"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(readJson(unreduced / "summary.json")["cap"].is_null());
+}

@@ -4,7 +4,9 @@
 // no non-finite landmark in landmarks.csv; a value that does not apply is an empty CSV field.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "AppTestUtil.h"
 
@@ -171,5 +173,28 @@ TEST(Failures, MetricsThatDoNotApplyAreEmptyCsvFields) {
       const bool applies = !truth && !traversal && !(row[0] == "reference" && header[c] == "cap");
       EXPECT_EQ(row[c].empty(), !applies) << row[0] << " " << header[c];
     }
+  }
+}
+
+TEST(Failures, ARunThatReadNoStepWritesNoResultFile) {
+  // A missing rawlog left an empty map.png (axes -1..1, a legend), an empty trajectory.tum and
+  // map.3Dscene, which look like results (issue 35). Now only what says why: summary.json, and
+  // config_used.ini (what the run was asked).
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"missing", (fs::path(freshDir("no_such_rawlog_in")) / "nothing.rawlog").string()},
+      {"not a rawlog", kMrptIni}};
+  for (const auto& [what, rawlog] : cases) {
+    SCOPED_TRACE(what);
+    const auto dir = freshDir("no_step_read");
+    const auto r = runApp({"run", "-c", kMrptIni, "-i", rawlog, "-o", dir.string(), "--quiet"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    std::set<std::string> files;
+    for (const auto& e : fs::directory_iterator(dir)) files.insert(e.path().filename().string());
+    EXPECT_EQ(files, (std::set<std::string>{"config_used.ini", "summary.json"}));
+    const auto s = readJson(dir / "summary.json");
+    EXPECT_EQ(s["status"], "failed");
+    EXPECT_NE(s["error"].get<std::string>().find(rawlog), std::string::npos) << s["error"];
+    EXPECT_EQ(s["counts"]["steps"], 0);
   }
 }

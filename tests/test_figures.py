@@ -3,7 +3,7 @@
 map and compare's comparison figure, and the sweep's plots with `--figure-format png,pdf`, come as
 PNG at 300 dpi and as vector PDF and SVG, one paper column (3.5 in = 252 pt) or two (7.16 in =
 516 pt) wide. Headless: every PDF opens and renders (poppler's `pdftoppm`), and its text
-(`pdftotext`) holds every legend entry; every SVG is XML of the same size; every PNG is 300 dpi.
+(`pdftotext`) holds every legend entry; every SVG is XML of the same size with its text as <text> elements; every PNG is 300 dpi.
 
     test_figures.py --source SOURCE_DIR --build BUILD_DIR [unittest options]
 """
@@ -42,6 +42,12 @@ def png_width(path):
 def svg_width(path):
     root = ET.parse(path).getroot()
     return root.get("width")
+
+
+def svg_text(path):
+    """The text of the SVG's <text> elements, joined as pdftotext joins a PDF's."""
+    root = ET.parse(path).getroot()
+    return " ".join(" ".join(t.text or "" for t in root.iter("{http://www.w3.org/2000/svg}text")).split())
 
 
 class PaperFigures(unittest.TestCase):
@@ -91,6 +97,7 @@ class PaperFigures(unittest.TestCase):
                       "kept landmark, 2-sigma ellipse, colour: coverage cluster", "dropped landmark",
                       "x [m]", "y [m]"]:
             self.assertIn(entry, text)
+            self.assertIn(entry, svg_text(stem + ".svg"))  # text as text in the SVG too
 
     def test_comparison_two_columns_wide_with_every_run_and_the_cap(self):
         stem = os.path.join(self.cmp_dir, "comparison")

@@ -138,6 +138,47 @@ TEST(Limits, FewFileDescriptorsGiveOneLineAndASummary) {
   }
 }
 
+// Issue 35: compare --threads 3 under 12 to 18 file descriptors. Every run folder made holds a
+// summary.json with its own error: the run whose making failed says why in its own folder (it had
+// none), the others that they did not start (they carried that run's error as their own).
+TEST(Limits, FewFileDescriptorsGiveEveryRunItsOwnSummary) {
+  for (rlim_t n = 12; n <= 18; n += 2) {
+    SCOPED_TRACE("compare --threads 3 under ulimit -n " + std::to_string(n));
+    const auto out = freshDir("fds_threads" + std::to_string(n));
+    const auto r = runBinary(
+        with({"compare", "-c", kMrptIni, "-i", kDemo, "--quiet", "--reducers", "mi,oldest", "--cap",
+              "10", "--threads", "3", "--set", "MappingApplication.max_steps=60"},
+             out),
+        out.string() + ".err", [n] {
+          const rlimit l{n, n};
+          ::setrlimit(RLIMIT_NOFILE, &l);
+        });
+    expectOneLineAndSummary(r, out, 4);
+    if (!fs::exists(out / "summary.json")) continue;
+    const auto top = readJson(out / "summary.json");
+    for (const char* run : {"reference", "mi", "oldest"}) {
+      if (!fs::exists(out / run)) continue;
+      SCOPED_TRACE(run);
+      if (!fs::exists(out / run / "summary.json")) {
+        // No descriptor was left even for it: the line says so.
+        EXPECT_NE(r.err.find("/" + std::string(run) + "/"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("its summary.json not written either"), std::string::npos) << r.err;
+        continue;
+      }
+      const auto s = readJson(out / run / "summary.json");
+      if (s["status"] == "ok") continue;
+      const std::string error = s["error"];
+      const bool own_failure = error.find("/" + std::string(run) + "/") != std::string::npos;
+      const bool did_not_start = error.rfind("the comparison did not start: ", 0) == 0;
+      EXPECT_TRUE(own_failure || did_not_start || top["started"] == true) << error;
+      if (top["started"] == false && !own_failure) {
+        EXPECT_TRUE(did_not_start) << error;
+        EXPECT_EQ(fs::exists(out / run / "map.png"), false);  // no result of a run never started
+      }
+    }
+  }
+}
+
 // Case 7: compare under a 400 MB address-space limit: threads that cannot start are not a crash.
 TEST(Limits, CompareUnderAnAddressSpaceLimitEndsCleanly) {
   const auto out = freshDir("address_space");

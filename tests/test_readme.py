@@ -4,7 +4,9 @@ repository's top folder: each block is one `bash -e -o pipefail` script, run in 
 whose entries are the tracked top-level files and folders of the source tree (symbolic links) and
 `build`, the build folder. A block passes when it exits 0, prints no warning or error line, and
 every output folder a `budget-slam` command of it names (`-o DIR`) holds a summary.json with
-status ok. The README can therefore never show a command that does not run.
+status ok; after the last block, nothing was written beside the tracked entries but `out/`, which
+git ignores. The README can therefore never show a command that does not run, nor one that leaves
+`git status` unclean.
 
 `tools/test.sh` in the README runs the whole suite; inside the suite (BUDGET_SLAM_IN_SUITE=1) it
 lists the tests instead of running them again.
@@ -78,6 +80,9 @@ class ReadmeRunsAsPrinted(unittest.TestCase):
                             continue
                         with open(os.path.join(work, m.group(2), "summary.json")) as f:
                             self.assertEqual(json.load(f)["status"], "ok", c)
+            # Everything the blocks wrote is under out/ (git ignores it): `git status` stays clean.
+            made = sorted(set(os.listdir(work)) - set(tracked_top_level(SOURCE)) - {"build", "out"})
+            self.assertEqual(made, [], "the README's commands wrote outside out/")
 
 
 if __name__ == "__main__":

@@ -77,6 +77,18 @@ std::string IniSchema::unknownSection(const std::string& section) const {
 }
 
 void IniSchema::validate(const mrpt::config::CConfigFileBase& ini) const {
+  // Every unknown section and key at once (a foreign ini is not fixed one key a try), the first
+  // with its suggestion; the list bounded, so that a hostile file's thousand keys stay one line.
+  constexpr std::size_t kListed = 12;
+  struct Unknown {
+    std::string section, key, message;
+    ConfigErrorKind kind;
+  };
+  std::vector<Unknown> unknown;
+  std::size_t count = 0;
+  const auto add = [&](Unknown u) {
+    if (count++ < kListed) unknown.push_back(std::move(u));
+  };
   std::vector<std::string> sections;
   ini.getAllSections(sections);
   for (const auto& section : sections) {
@@ -85,20 +97,33 @@ void IniSchema::validate(const mrpt::config::CConfigFileBase& ini) const {
     });
     if (it == sections_.end()) {
       if (isForeign(section)) continue;  // another application's section
-      throw KeyError(section, "", unknownSection(section), ConfigErrorKind::UnknownSection);
+      add({section, "", unknownSection(section), ConfigErrorKind::UnknownSection});
+      continue;
     }
     std::vector<std::string> keys;
     ini.getAllKeys(section, keys);
     for (const auto& key : keys) {
       if (containsNoCase(it->second, key)) continue;
       const std::string near = closestMatch(key, it->second);
-      throw KeyError(section, key,
-                     "unknown key [" + section + "] " + key +
-                         (near.empty() ? std::string(" (no similar key in this section)")
-                                       : " (did you mean " + near + "?)"),
-                     ConfigErrorKind::UnknownKey);
+      add({section, key,
+           "unknown key [" + section + "] " + key +
+               (near.empty() ? std::string(" (no similar key in this section)")
+                             : " (did you mean " + near + "?)"),
+           ConfigErrorKind::UnknownKey});
     }
   }
+  if (unknown.empty()) return;
+  std::string message = unknown.front().message;
+  if (count > 1) {
+    message += "; " + std::to_string(count - 1) + " more unknown:";
+    for (std::size_t i = 1; i < unknown.size(); ++i)
+      message += (i > 1 ? ", [" : " [") + printable(unknown[i].section) + "]" +
+                 (unknown[i].key.empty() ? std::string(" (the section)")
+                                         : " " + printable(unknown[i].key));
+    if (count > unknown.size())
+      message += ", ... (" + std::to_string(count - unknown.size()) + " not listed)";
+  }
+  throw KeyError(unknown.front().section, unknown.front().key, message, unknown.front().kind);
 }
 
 }  // namespace budget_slam

@@ -47,8 +47,8 @@ ProgressReporter::~ProgressReporter() {
 }
 
 ProgressSnapshot ProgressReporter::snapshot(double fraction, std::size_t steps_done,
-                                            std::size_t steps_total,
-                                            const std::string& detail) const {
+                                            std::size_t steps_total, const std::string& detail,
+                                            double eta_s) const {
   ProgressSnapshot s;
   s.task = task_;
   s.fraction = std::clamp(std::isfinite(fraction) ? fraction : 0.0, 0.0, 1.0);
@@ -56,7 +56,10 @@ ProgressSnapshot ProgressReporter::snapshot(double fraction, std::size_t steps_d
   s.steps_total = steps_total;
   s.elapsed_s = std::max(0.0, clock_() - start_);
   if (s.elapsed_s > 0) s.steps_per_s = steps_done / s.elapsed_s;
-  if (s.fraction > 0) s.eta_s = s.elapsed_s * (1 - s.fraction) / s.fraction;
+  if (std::isfinite(eta_s) && eta_s >= 0)
+    s.eta_s = eta_s;
+  else if (s.fraction > 0)
+    s.eta_s = s.elapsed_s * (1 - s.fraction) / s.fraction;
   s.detail = detail;
   return s;
 }
@@ -74,7 +77,7 @@ std::string ProgressReporter::line(const ProgressSnapshot& s) {
 }
 
 void ProgressReporter::update(double fraction, std::size_t steps_done, std::size_t steps_total,
-                              const std::string& detail) {
+                              const std::string& detail, double eta_s) {
   last_steps_done_ = steps_done, last_steps_total_ = steps_total, last_detail_ = detail;
   const bool bar = settings_.style == ProgressSettings::Style::Bar;
   const bool lines =
@@ -85,7 +88,7 @@ void ProgressReporter::update(double fraction, std::size_t steps_done, std::size
   const bool line_due = lines && now - last_line_ >= settings_.line_every_s;
   const bool callback_due = settings_.callback && now - last_callback_ >= kCallbackEvery;
   if (!bar_due && !line_due && !callback_due) return;
-  const ProgressSnapshot s = snapshot(fraction, steps_done, steps_total, detail);
+  const ProgressSnapshot s = snapshot(fraction, steps_done, steps_total, detail, eta_s);
   if (bar_due) {
     last_bar_ = now;
     bar_drawn_ = true;

@@ -72,6 +72,27 @@ TEST(IniSchema, RejectsUnknownKeyWithClosestSuggestion) {
             "unknown section [LandmarkBuget] (did you mean [LandmarkBudget]?)");
 }
 
+TEST(IniSchema, ListsEveryUnknownKeyAtOnceBounded) {
+  // A foreign ini was refused one unknown key a try (issue 35): the first with its suggestion,
+  // then every other, at most 12 named in all.
+  IniSchema schema;
+  schema.addSection("LandmarkBudget", {"reducer", "max_landmarks"});
+  mrpt::config::CConfigFileMemory three(
+      "[LandmarkBudget]\nmax_landmark=3\nreducer=none\nfoo=1\n[Other]\nx=1\n");
+  const std::string e = errorOf([&] { schema.validate(three); });
+  EXPECT_EQ(e.find("\n"), std::string::npos);
+  EXPECT_EQ(e.find("2 more unknown: "), e.find(';') + 2) << e;
+  for (const char* named : {"max_landmark", "foo", "[Other] (the section)"})
+    EXPECT_NE(e.find(named), std::string::npos) << named << " in " << e;
+  std::string many = "[LandmarkBudget]\n";
+  for (int k = 0; k < 500; ++k) many += "unknown_" + std::to_string(k) + "=1\n";
+  mrpt::config::CConfigFileMemory hostile(many);
+  const std::string h = errorOf([&] { schema.validate(hostile); });
+  EXPECT_NE(h.find("499 more unknown: "), std::string::npos) << h;
+  EXPECT_NE(h.find("(488 not listed)"), std::string::npos) << h;
+  EXPECT_LT(h.size(), 600u) << h;
+}
+
 TEST(IniSchema, EditDistance) {
   EXPECT_EQ(editDistance("kitten", "sitting"), 3u);
   EXPECT_EQ(editDistance("ABC", "abc"), 0u);

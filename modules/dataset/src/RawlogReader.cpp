@@ -119,6 +119,8 @@ struct RawlogReader::Impl {
   std::function<bool()> stop;
   Format format = Format::kUnknown;
   std::size_t objects = 0;  // top-level objects read
+  std::size_t current = 0;  // the object being handled: its entry in the file, from 0
+  std::size_t pending_entry = 0;
   /// An object read ahead (to tell the formats apart) and not handled yet; a null Ptr inside
   /// the optional is a stored null object, an empty optional with `pending_end` the end.
   std::optional<mrpt::serialization::CSerializable::Ptr> pending;
@@ -132,6 +134,7 @@ struct RawlogReader::Impl {
     if (pending) {
       auto p = std::move(pending);
       pending.reset();
+      current = pending_entry;
       return p;
     }
     if (pending_end) return std::nullopt;
@@ -139,7 +142,7 @@ struct RawlogReader::Impl {
     if (!stream->beginObject()) return std::nullopt;
     checker->checkTopLevel();
     auto obj = rawlog::decodeObject(stream->objectData(), stream->objectSize());
-    ++objects;
+    current = objects++;
     return obj;
   }
 
@@ -243,8 +246,11 @@ std::optional<Step> RawlogReader::nextStep() {
     if (auto a = std::dynamic_pointer_cast<CActionCollection>(obj)) {
       if (m.format == Format::kObservations)
         throw ReadFailure(Kind::kUnsupported,
-                          "holds a mrpt::obs::CActionCollection after observations-only data "
-                          "(budget-slam reads one format per file)");
+                          "holds a mrpt::obs::CActionCollection (entry " +
+                              std::to_string(m.current) +
+                              " of the file) after observations-only data: the file switches "
+                              "to the actions-observations form there, and budget-slam reads one "
+                              "form a file");
       m.format = Format::kActionsObservations;
       if (!m.action) m.action = a;  // MRPT keeps the first action and waits for a frame
       continue;
@@ -253,7 +259,10 @@ std::optional<Step> RawlogReader::nextStep() {
       if (m.format == Format::kUnknown) {
         // A frame before any action: the first of an observations-only file, or one that
         // kf-slam passes over before the first action-frame pair. The next object tells.
+        const std::size_t entry = m.current;
         m.pending = m.nextObject();
+        m.pending_entry = m.current;
+        m.current = entry;
         m.pending_end = !m.pending;
         const bool action_follows =
             m.pending && std::dynamic_pointer_cast<CActionCollection>(*m.pending);
@@ -265,12 +274,21 @@ std::optional<Step> RawlogReader::nextStep() {
         m.record(*f, m.used_classes);
         pair = {std::exchange(m.action, nullptr), f};
       } else {
+        // kf-slam passes over a frame with no action before it; one with odometry in it is the
+        // observations-only form, whose steps would all be lost.
+        if (f->getObservationByClass<CObservationOdometry>())
+          switchedForm(m.current, "a mrpt::obs::CSensoryFrame holding a CObservationOdometry");
         m.record(*f, m.passed_over_classes);
       }
       continue;
     }
     if (auto o = std::dynamic_pointer_cast<CObservation>(obj)) {
       if (m.format == Format::kActionsObservations) {
+        // A bare odometry or bearing-range observation is the observations-only form: a file
+        // that switches to it midway would lose every later step (issue 35), so it is refused.
+        if (std::dynamic_pointer_cast<CObservationOdometry>(o) ||
+            std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o))
+          switchedForm(m.current, "a bare mrpt::obs::" + shortName(*o));
         m.passed_over_classes.insert(shortName(*o));  // kf-slam reads pairs only
         continue;
       }
@@ -289,6 +307,13 @@ std::optional<Step> RawlogReader::nextStep() {
   // need strictly increasing times).
   const double fallback = last_t_ ? *last_t_ + 1.0 : 0.0;
   return parseStep(pair.first, pair.second, steps_, fallback);
+}
+
+void RawlogReader::switchedForm(std::size_t entry, const std::string& what) const {
+  throw ReadFailure(Kind::kUnsupported,
+                    "holds " + what + " (entry " + std::to_string(entry) +
+                        " of the file) after actions-observations data: the file switches to "
+                        "the observations-only form there, and budget-slam reads one form a file");
 }
 
 Step RawlogReader::finishStep(Step step) {

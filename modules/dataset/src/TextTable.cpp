@@ -35,6 +35,7 @@ std::string numberText(double v) {
 }  // namespace
 
 TextTable::TextTable(std::string path) : path_(std::move(path)) {
+  csv_ = path_.size() >= 4 && path_.compare(path_.size() - 4, 4, ".csv") == 0;
   struct stat st {};
   if (::stat(path_.c_str(), &st) != 0) {
     const int err = errno;
@@ -117,8 +118,30 @@ bool TextTable::next() {
     if (++records_ > limits::kMaxRecords)
       fail("more than " + std::to_string(limits::kMaxRecords) + " records in one file");
     words_.clear();
-    std::istringstream ss(text);
-    for (std::string w; ss >> w;) words_.push_back(w);
+    if (!csv_) {
+      std::istringstream ss(text);
+      for (std::string w; ss >> w;) words_.push_back(w);
+      return true;
+    }
+    for (std::size_t at = 0;;) {
+      const std::size_t comma = text.find(',', at);
+      const std::string field = text.substr(at, comma == std::string::npos ? comma : comma - at);
+      const auto b = field.find_first_not_of(" \t\r"), e = field.find_last_not_of(" \t\r");
+      if (b == std::string::npos) fail("field " + std::to_string(words_.size() + 1) + " is empty");
+      words_.push_back(field.substr(b, e - b + 1));
+      if (comma == std::string::npos) break;
+      at = comma + 1;
+    }
+    // A header names the columns ("Time,Subject,Range,Bearing"): the first record, not a number.
+    if (!header_checked_) {
+      header_checked_ = true;
+      char* end = nullptr;
+      std::strtod(words_[0].c_str(), &end);
+      if (end == words_[0].c_str() || *end != '\0') {
+        --records_;
+        continue;
+      }
+    }
     return true;
   }
   words_.clear();

@@ -8,7 +8,9 @@ namespace budget_slam::dataset {
 
 /// Reads a whitespace-separated text data file record by record, skipping blank lines and lines
 /// starting with '#' or '%'. Plain or gzip-compressed: when `path` does not exist but `path.gz`
-/// does, that is read (the project keeps its copies of public data gzipped). Every error is an
+/// does, that is read (the project keeps its copies of public data gzipped). A `.csv` file is
+/// comma-separated (each field trimmed of spaces, none empty), and its first record is a header,
+/// skipped, when its first field is not a number. Every error is an
 /// InputError of one line naming the file and line:
 ///   "<path>:<line>: <what is wrong>"  (or "<path>: cannot open (<reason>)").
 /// The input is hostile until checked (docs/RELIABILITY.md "Converters"): a line is at most
@@ -64,6 +66,8 @@ class TextTable {
   std::size_t line_ = 0;  ///< lines read
   std::size_t records_ = 0;
   std::vector<std::string> words_;
+  bool csv_ = false;             ///< comma-separated, with an optional header
+  bool header_checked_ = false;  ///< csv: the first record was looked at
 };
 
 }  // namespace budget_slam::dataset

@@ -153,6 +153,9 @@ TEST(ConvertBounds, AnEndlessLineOrABinaryFileIsOneLineAtOnce) {
   const std::string dir = tmp.file("utias");
   ::mkdir(dir.c_str(), 0755);
   ::symlink("/dev/zero", (dir + "/Barcodes.dat").c_str());
+  for (const char* other : {"Landmark_Groundtruth.dat", "Robot1_Odometry.dat",
+                            "Robot1_Groundtruth.dat", "Robot1_Measurement.dat"})
+    writeFile(dir + "/" + other, "");  // every file there: the first one read is refused
   r = runTool(tmp, convert("utias", dir, tmp.file("u.rawlog")));
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.err, "budget-convert: " + dir +

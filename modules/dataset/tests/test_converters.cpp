@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cmath>
 #include <set>
 
@@ -240,7 +242,58 @@ TEST(UtiasConverter, MalformedInputs) {
       inputErrorOf([&] { convertUtias(dir, 1); }),
       tmp.file("Robot1_Measurement.dat") + ":2: time 100 is earlier than the previous record's");
   EXPECT_EQ(inputErrorOf([&] { convertUtias(dir, 2); }),
-            tmp.file("Robot2_Odometry.dat") + ": cannot open (No such file or directory)");
+            "UTIAS folder '" + dir +
+                "': missing Robot2_Odometry (or Odometry), Robot2_Groundtruth (or Groundtruth), "
+                "Robot2_Measurement (or Measurement) (each as .dat, .dat.gz or .csv; "
+                "docs/DATASETS.md shows the layout)");
   EXPECT_EQ(inputErrorOf([&] { convertUtias(dir, 6); }),
             "UTIAS robot number must be 1 to 5, found 6");
+}
+
+// Issue 35: UTIAS data in the CSV form other projects ship (Barcodes.csv, Landmark_Groundtruth.csv,
+// and one robot's Odometry.csv, Groundtruth.csv, Measurement.csv, each with a header line)
+// converts exactly as the same records in MRCLAM's .dat form; a folder missing files names every
+// one of them at once.
+TEST(UtiasConverter, CsvFormConvertsAsTheDatForm) {
+  TempDir dat, csv;
+  const auto expected = convertUtias(writeTinyUtias(dat), 1);
+  writeFile(csv.file("Barcodes.csv"), "Subject,Barcode\n1,5\n6,63\n7,81\n");
+  writeFile(csv.file("Landmark_Groundtruth.csv"), "Subject,X,Y,Xstd,Ystd\n6,1,0,0,0\n7,3,1,0,0\n");
+  writeFile(csv.file("Odometry.csv"), "Time,Forward,Angular\n100,1,0\n102,0,0\n");
+  writeFile(csv.file("Groundtruth.csv"),
+            "Time,X,Y,Orientation\n100, 1, 1, 1.5707963267948966\n102, 3 ,1.5707963267948966\n");
+  // (the line above has a field too few: fixed below, after its error is checked)
+  writeFile(
+      csv.file("Measurement.csv"),
+      "Time,Subject,Range,Bearing\n100.5,63,0.5,0\n100.5,5,1,0\n101,81,2,0.1\n101.5,99,1,0\n");
+  EXPECT_EQ(inputErrorOf([&] { convertUtias(csv.path(), 1); }),
+            csv.file("Groundtruth.csv") +
+                ":3: ground-truth record (time x y theta) needs 4 fields, found 3");
+  writeFile(csv.file("Groundtruth.csv"),
+            "Time,X,Y,Orientation\n100, 1, 1, 1.5707963267948966\n102,1,3,1.5707963267948966\n");
+  const auto d = convertUtias(csv.path(), 1);
+  ASSERT_EQ(d.steps.size(), expected.steps.size());
+  for (std::size_t k = 0; k < d.steps.size(); ++k) {
+    EXPECT_EQ(d.steps[k].t, expected.steps[k].t);
+    EXPECT_EQ(d.steps[k].odometry->mean.x, expected.steps[k].odometry->mean.x);
+    ASSERT_EQ(d.steps[k].scan->readings.size(), expected.steps[k].scan->readings.size());
+    EXPECT_EQ(d.steps[k].scan->readings[0].id, expected.steps[k].scan->readings[0].id);
+  }
+  ASSERT_EQ(d.ground_truth.path.size(), expected.ground_truth.path.size());
+  EXPECT_EQ(d.ground_truth.path.back().x, expected.ground_truth.path.back().x);
+  ASSERT_EQ(d.ground_truth.landmarks.size(), expected.ground_truth.landmarks.size());
+  for (const auto& [id, p] : expected.ground_truth.landmarks)
+    EXPECT_EQ((d.ground_truth.landmarks.at(id) - p).norm(), 0.0) << id;
+  EXPECT_EQ(d.noise.std_range, expected.noise.std_range);
+  // An empty field is an error naming it, not a shifted column.
+  writeFile(csv.file("Odometry.csv"), "Time,Forward,Angular\n100,,0\n");
+  EXPECT_EQ(inputErrorOf([&] { convertUtias(csv.path(), 1); }),
+            csv.file("Odometry.csv") + ":2: field 2 is empty");
+  // Every missing file at once, whichever form the others are in.
+  std::remove(csv.file("Barcodes.csv").c_str());
+  std::remove(csv.file("Measurement.csv").c_str());
+  EXPECT_EQ(inputErrorOf([&] { convertUtias(csv.path(), 1); }),
+            "UTIAS folder '" + csv.path() +
+                "': missing Barcodes, Robot1_Measurement (or Measurement) (each as .dat, .dat.gz "
+                "or .csv; docs/DATASETS.md shows the layout)");
 }

@@ -5,6 +5,7 @@
 #include <cairo.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
@@ -65,6 +66,8 @@ Figure::Figure(double width, double height) : width_(width), height_(height) {
   const cairo_rectangle_t extents = {0, 0, width, height};
   recording_ = cairo_recording_surface_create(CAIRO_CONTENT_COLOR_ALPHA, &extents);
   cr_ = cairo_create(recording_);
+  shapes_ = cairo_recording_surface_create(CAIRO_CONTENT_COLOR_ALPHA, &extents);
+  shapes_cr_ = cairo_create(shapes_);
   // Text laid out at its size in points, not fitted to a screen's pixel grid: the same spacing at
   // every resolution and in the vector formats.
   cairo_font_options_t* fonts = cairo_font_options_create();
@@ -72,21 +75,27 @@ Figure::Figure(double width, double height) : width_(width), height_(height) {
   cairo_font_options_set_hint_style(fonts, CAIRO_HINT_STYLE_NONE);
   cairo_set_font_options(cr_, fonts);
   cairo_font_options_destroy(fonts);
-  cairo_set_line_join(cr_, CAIRO_LINE_JOIN_ROUND);
-  cairo_set_source_rgb(cr_, 1, 1, 1);
-  cairo_paint(cr_);
+  both([](cairo_t* cr) {
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+  });
 }
 
 Figure::~Figure() {
+  cairo_destroy(shapes_cr_);
+  cairo_surface_destroy(shapes_);
   cairo_destroy(cr_);
   cairo_surface_destroy(recording_);
 }
 
 void Figure::polyline(const std::vector<Point>& points, Colour c, double line_width, Dash dash) {
   if (points.size() < 2) return;
-  cairo_move_to(cr_, points[0].x, points[0].y);
-  for (std::size_t i = 1; i < points.size(); ++i) cairo_line_to(cr_, points[i].x, points[i].y);
-  stroke(cr_, c, line_width, dash);
+  both([&](cairo_t* cr) {
+    cairo_move_to(cr, points[0].x, points[0].y);
+    for (std::size_t i = 1; i < points.size(); ++i) cairo_line_to(cr, points[i].x, points[i].y);
+    stroke(cr, c, line_width, dash);
+  });
 }
 
 void Figure::line(Point a, Point b, Colour c, double line_width, Dash dash) {
@@ -94,43 +103,53 @@ void Figure::line(Point a, Point b, Colour c, double line_width, Dash dash) {
 }
 
 void Figure::rectangle(Point top_left, double w, double h, Colour c, double line_width) {
-  cairo_rectangle(cr_, top_left.x, top_left.y, w, h);
-  stroke(cr_, c, line_width, Dash::Solid);
+  both([&](cairo_t* cr) {
+    cairo_rectangle(cr, top_left.x, top_left.y, w, h);
+    stroke(cr, c, line_width, Dash::Solid);
+  });
 }
 
 void Figure::disc(Point centre, double radius, Colour c) {
-  cairo_new_sub_path(cr_);
-  cairo_arc(cr_, centre.x, centre.y, radius, 0, 2 * M_PI);
-  cairo_set_source_rgb(cr_, c.r, c.g, c.b);
-  cairo_fill(cr_);
+  both([&](cairo_t* cr) {
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, centre.x, centre.y, radius, 0, 2 * M_PI);
+    cairo_set_source_rgb(cr, c.r, c.g, c.b);
+    cairo_fill(cr);
+  });
 }
 
 void Figure::ellipse(Point centre, double a, double b, double angle, Colour c, double line_width) {
   if (!(a > 0) || !(b > 0)) return;
-  cairo_save(cr_);
-  cairo_translate(cr_, centre.x, centre.y);
-  cairo_rotate(cr_, -angle);  // y down: counter-clockwise on paper is a negative angle
-  cairo_scale(cr_, a, b);
-  cairo_new_sub_path(cr_);
-  cairo_arc(cr_, 0, 0, 1, 0, 2 * M_PI);
-  cairo_restore(cr_);  // the stroke in unscaled points
-  stroke(cr_, c, line_width, Dash::Solid);
+  both([&](cairo_t* cr) {
+    cairo_save(cr);
+    cairo_translate(cr, centre.x, centre.y);
+    cairo_rotate(cr, -angle);  // y down: counter-clockwise on paper is a negative angle
+    cairo_scale(cr, a, b);
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, 0, 0, 1, 0, 2 * M_PI);
+    cairo_restore(cr);  // the stroke in unscaled points
+    stroke(cr, c, line_width, Dash::Solid);
+  });
 }
 
 void Figure::plus(Point p, double half, Colour c, double line_width) {
-  cairo_move_to(cr_, p.x - half, p.y);
-  cairo_line_to(cr_, p.x + half, p.y);
-  cairo_move_to(cr_, p.x, p.y - half);
-  cairo_line_to(cr_, p.x, p.y + half);
-  stroke(cr_, c, line_width, Dash::Solid);
+  both([&](cairo_t* cr) {
+    cairo_move_to(cr, p.x - half, p.y);
+    cairo_line_to(cr, p.x + half, p.y);
+    cairo_move_to(cr, p.x, p.y - half);
+    cairo_line_to(cr, p.x, p.y + half);
+    stroke(cr, c, line_width, Dash::Solid);
+  });
 }
 
 void Figure::cross(Point p, double half, Colour c, double line_width) {
-  cairo_move_to(cr_, p.x - half, p.y - half);
-  cairo_line_to(cr_, p.x + half, p.y + half);
-  cairo_move_to(cr_, p.x - half, p.y + half);
-  cairo_line_to(cr_, p.x + half, p.y - half);
-  stroke(cr_, c, line_width, Dash::Solid);
+  both([&](cairo_t* cr) {
+    cairo_move_to(cr, p.x - half, p.y - half);
+    cairo_line_to(cr, p.x + half, p.y + half);
+    cairo_move_to(cr, p.x - half, p.y + half);
+    cairo_line_to(cr, p.x + half, p.y - half);
+    stroke(cr, c, line_width, Dash::Solid);
+  });
 }
 
 void Figure::text(Point p, const std::string& s, double size, Colour c, Align align, bool bold) {
@@ -146,6 +165,9 @@ void Figure::text(Point p, const std::string& s, double size, Colour c, Align al
   cairo_set_source_rgb(cr_, c.r, c.g, c.b);
   cairo_show_text(cr_, s.c_str());
   cairo_new_path(cr_);
+  cairo_matrix_t m;
+  cairo_get_matrix(cr_, &m);
+  texts_.push_back({x, p.y, size, {m.xx, m.yx, m.xy, m.yy, m.x0, m.y0}, s, c, bold});
 }
 
 void Figure::verticalText(Point p, const std::string& s, double size, Colour c) {
@@ -166,15 +188,65 @@ double Figure::textWidth(const std::string& s, double size, bool bold) const {
 }
 
 void Figure::clip(Point top_left, double w, double h) {
-  cairo_save(cr_);
-  cairo_rectangle(cr_, top_left.x, top_left.y, w, h);
-  cairo_clip(cr_);
+  both([&](cairo_t* cr) {
+    cairo_save(cr);
+    cairo_rectangle(cr, top_left.x, top_left.y, w, h);
+    cairo_clip(cr);
+  });
 }
 
-void Figure::unclip() { cairo_restore(cr_); }
+void Figure::unclip() {
+  both([](cairo_t* cr) { cairo_restore(cr); });
+}
+
+std::string Figure::svgWithText(const std::string& svg) const {
+  const auto escaped = [](const std::string& t) {
+    std::string out;
+    for (const char ch : t) {
+      switch (ch) {
+        case '&':
+          out += "&amp;";
+          break;
+        case '<':
+          out += "&lt;";
+          break;
+        case '>':
+          out += "&gt;";
+          break;
+        case '"':
+          out += "&quot;";
+          break;
+        default:
+          out += ch;
+      }
+    }
+    return out;
+  };
+  const auto num = [](double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return std::string(b);
+  };
+  std::string g = "<g font-family=\"" + std::string(kFont) + "\" xml:space=\"preserve\">\n";
+  for (const auto& t : texts_) {
+    const auto channel = [&](double v) {
+      return std::to_string(static_cast<int>(std::lround(255 * v)));
+    };
+    g += "<text x=\"" + num(t.x) + "\" y=\"" + num(t.y) + "\" font-size=\"" + num(t.size) + "\"" +
+         (t.bold ? " font-weight=\"bold\"" : "") + " fill=\"rgb(" + channel(t.colour.r) + "," +
+         channel(t.colour.g) + "," + channel(t.colour.b) + ")\" transform=\"matrix(";
+    for (int k = 0; k < 6; ++k) g += (k ? " " : "") + num(t.matrix[k]);
+    g += ")\">" + escaped(t.text) + "</text>\n";
+  }
+  g += "</g>\n";
+  const auto end = svg.rfind("</svg>");
+  if (end == std::string::npos) return svg;  // not cairo's document: left as it is
+  return svg.substr(0, end) + g + svg.substr(end);
+}
 
 void Figure::write(const std::string& path, FigureFormat format, double dpi) const {
   cairo_surface_flush(recording_);
+  cairo_surface_flush(shapes_);
   std::string bytes;
   cairo_surface_t* target = nullptr;
   if (format == FigureFormat::Png) {
@@ -193,7 +265,9 @@ void Figure::write(const std::string& path, FigureFormat format, double dpi) con
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
   }
-  cairo_set_source_surface(cr, recording_, 0, 0);
+  // cairo's SVG draws text as glyph outlines: the SVG takes the drawing without its text, and
+  // the text as <text> elements on top (svgWithText).
+  cairo_set_source_surface(cr, format == FigureFormat::Svg ? shapes_ : recording_, 0, 0);
   cairo_paint(cr);
   cairo_status_t status = cairo_status(cr);
   cairo_destroy(cr);
@@ -204,7 +278,7 @@ void Figure::write(const std::string& path, FigureFormat format, double dpi) con
   cairo_surface_destroy(target);
   if (status != CAIRO_STATUS_SUCCESS)
     throw Error("cannot draw '" + path + "' (" + cairo_status_to_string(status) + ")");
-  writeFileAtomically(path, bytes);
+  writeFileAtomically(path, format == FigureFormat::Svg ? svgWithText(bytes) : bytes);
 }
 
 }  // namespace budget_slam::report

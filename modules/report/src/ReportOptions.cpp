@@ -51,6 +51,7 @@ const OptionTable<ReportOptions>& ReportOptions::table() {
   static const OptionTable<O> t = {
       figureFormats(),
       option::real("progress_every_s", &O::progress_every_s, 0, 86400, "[s], 0: no lines"),
+      option::flag("figure_title", &O::figure_title, "false: figures without a title"),
   };
   return t;
 }

@@ -1,6 +1,7 @@
 #include "budget_slam/report/RunOutputs.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <iomanip>
 #include <optional>
 #include <sstream>
@@ -145,6 +146,13 @@ RunOutputs::EndFilesResult RunOutputs::writeEndFiles(const RunEndFiles& files) {
                           files.steps_in_rawlog);
     });
   return result;
+}
+
+void RunOutputs::discardStepFiles() {
+  for (const std::string& path : {steps_csv_.path(), evictions_csv_.path()}) {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);  // gone already, or never made: nothing to discard
+  }
 }
 
 void writeGroundTruthTum(const std::string& path, const std::vector<TrajectoryPoint>& trajectory,

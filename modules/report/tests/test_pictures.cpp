@@ -222,4 +222,10 @@ TEST(Pictures, VectorFormatsAreWritten) {
   std::string text((std::istreambuf_iterator<char>(s)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("<svg"), std::string::npos);
   EXPECT_NE(text.find("width=\"252pt\""), std::string::npos);  // one column, in points
+  // Text as text (issue 35: cairo drew it as glyph outlines, 0 <text> elements): the title is a
+  // <text> element in DejaVu Sans, and no glyph outline is left.
+  EXPECT_NE(text.find(">vector</text>"), std::string::npos);
+  EXPECT_NE(text.find("font-family=\"DejaVu Sans\""), std::string::npos);
+  EXPECT_EQ(text.find("<symbol"), std::string::npos);
+  EXPECT_EQ(text.find("id=\"glyph"), std::string::npos);
 }

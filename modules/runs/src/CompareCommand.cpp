@@ -31,12 +31,10 @@ namespace {
 
 /// --relocalize: every final map of an ok run (the reference's too) localizes each traversal;
 /// fills the reloc_* columns of `rows` and adds the failed localizations to `outcome`.
-std::vector<RelocalizationResult> relocalizeMaps(const CompareRuns& compared,
-                                                 const std::vector<Traversal>& traversals,
-                                                 const std::vector<TrajectoryPoint>* reference,
-                                                 const Request& request,
-                                                 std::vector<report::ComparisonRow>& rows,
-                                                 CompareOutcome& outcome) {
+std::vector<RelocalizationResult> relocalizeMaps(
+    const CompareRuns& compared, const std::vector<Traversal>& traversals,
+    const std::vector<TrajectoryPoint>* reference, const Request& request,
+    std::vector<report::ComparisonRow>& rows, CompareOutcome& outcome, ProgressReporter& progress) {
   // One mapped area for every map (the reference run's path, when it ended ok), so that every
   // map is scored on the same steps.
   std::vector<mrpt::math::TPose2D> reference_path;
@@ -53,7 +51,7 @@ std::vector<RelocalizationResult> relocalizeMaps(const CompareRuns& compared,
                       r->driver->mapAlignment(), reference_path.empty() ? own : reference_path});
     }
   auto relocalized = relocalizeAll(maps, traversals, reference, request.reference_trajectory,
-                                   request.threads, request.force);
+                                   request.threads, request.force, &progress);
   addRelocalizationColumns(rows, relocalized, kReferenceRun);
   for (const auto& r : relocalized)
     if (r.status != RunStatus::Ok)
@@ -105,13 +103,13 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
     RunOutcome o;
     o.fail(status, kind, msg);
     o.given = {{"started", false}};
-    // The runs' summaries say the comparison's status and error (their own line is this one).
-    const nlohmann::json given = summaryJson(o);
     if (top) {
       result.folder = top->path();
+      // Each run made so far says its own end: it did not start, and why (issue 35: they carried
+      // another run's error as their own).
       for (const auto& r : compared) {
         try {
-          r->driver->finish(status, kind, "the comparison did not start: " + msg, 0, given);
+          r->driver->finish(status, kind, "the comparison did not start: " + msg, 0, o.given);
         } catch (const std::exception&) {
           // its line is this failure's line; the top summary says it
         }
@@ -174,7 +172,7 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
     traversals = loadTraversals(context.params, request, label);
     if (!request.reference_trajectory.empty())
       reference_tum = report::readTrajectoryTum(request.reference_trajectory, 50'000'000);
-    writeFileAtomically(top->file("config_used.ini"), rc.ini.getContent());
+    writeFileAtomically(top->file("config_used.ini"), configUsed(rc.ini));
     truth = std::make_shared<dataset::GroundTruth>(dataset::loadGroundTruth(
         rc.rawlog, rc.mapping.ground_truth_file, rc.mapping.ground_truth_file_robot));
     ProgressReporter reading(progress_out, "reading the rawlog", progress_settings);
@@ -201,9 +199,20 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
   const std::size_t wanted = request.threads ? request.threads : availableCpus();
   const std::size_t threads =
       std::max<std::size_t>(1, std::min<std::size_t>(wanted, compared.size()));
+  if (const std::string note = largeReferenceNote(rc.mapping.backend, distinctLandmarkIds(steps));
+      !note.empty() && hooks.note)
+    hooks.note(note);
   {
+    std::size_t traversal_steps = 0;
+    for (const auto& t : traversals) traversal_steps += t.steps.size();
+    // Said with the runs' ETA, which does not cover it (its own progress follows).
+    const std::string after = traversals.empty()
+                                  ? ""
+                                  : "then relocalization: " + std::to_string(compared.size()) +
+                                        " maps on " + std::to_string(traversal_steps) + " steps";
     ProgressReporter progress(progress_out, "compare", progress_settings);
-    const std::string fewer = runInThreads(compared, steps, threads, hooks.on_end_phase, progress);
+    const std::string fewer =
+        runInThreads(compared, steps, threads, hooks.on_end_phase, progress, after);
     if (!fewer.empty()) warn(fewer + "; the runs went on in them");
   }
 
@@ -232,10 +241,12 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
   }
 
   std::vector<RelocalizationResult> relocalized;
-  if (!traversals.empty())
+  if (!traversals.empty()) {
+    ProgressReporter progress(progress_out, "relocalize", progress_settings);
     relocalized = relocalizeMaps(compared, traversals,
                                  request.reference_trajectory.empty() ? nullptr : &reference_tum,
-                                 request, rows, outcome);
+                                 request, rows, outcome, progress);
+  }
 
   // Every output is attempted; the first that cannot be written (a full disk) fails the
   // comparison in one line, and summary.json, written last, says which were not.
@@ -270,8 +281,8 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
   figure_title.replace(figure_title.find(rc.rawlog), rc.rawlog.size(),
                        std::filesystem::path(rc.rawlog).filename().string());
   attempt("comparison figure", [&] {
-    writeComparisonChart(*top, figure_title, compared, steps, truth.get(), rc.budget.max_landmarks,
-                         rc.report.figure_formats);
+    writeComparisonChart(*top, rc.report.figure_title ? figure_title : "", compared, steps,
+                         truth.get(), rc.budget.max_landmarks, rc.report.figure_formats);
   });
   RunOutcome summary;
   summary.status = outcome.status, summary.kind = outcome.kind;

@@ -1,6 +1,7 @@
 #include "budget_slam/runs/Comparison.h"
 
 #include <cmath>
+#include <optional>
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
@@ -9,6 +10,9 @@
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
+#include "budget_slam/runs/RunConfig.h"
+#include "budget_slam/runs/RunStatus.h"
+#include "budget_slam/runs/SummaryJson.h"
 
 namespace budget_slam::runs {
 namespace {
@@ -121,12 +125,30 @@ void makeRuns(const mrpt::config::CConfigFileMemory& merged, const BackendRegist
       budget.seed = *seed;
       ini.write(reducers::BudgetOptions::kSection, "seed", std::to_string(*seed));
     }
-    report::OutputFolder folder(top.file(name), force);
-    writeFileAtomically(folder.file("config_used.ini"), ini.getContent());
-    DriverSpec spec = base;
-    spec.budget = budget;
-    spec.keep_history = true;  // the comparison's figures need every run's history
-    run->driver = std::make_unique<RunDriver>(ini, backends, spec, folder, truth);
+    std::optional<report::OutputFolder> folder;
+    try {
+      folder.emplace(top.file(name), force);
+      writeFileAtomically(folder->file("config_used.ini"), configUsed(ini));
+      DriverSpec spec = base;
+      spec.budget = budget;
+      spec.keep_history = true;  // the comparison's figures need every run's history
+      run->driver = std::make_unique<RunDriver>(ini, backends, spec, *folder, truth);
+    } catch (const std::exception& e) {
+      // The run whose making failed (few file descriptors, a full disk) says its own error in
+      // its own folder, when it has one; when even that cannot be written (no descriptor left
+      // for it), the comparison's line says so.
+      std::string not_saved;
+      if (folder) try {
+          RunOutcome o;
+          o.fail(RunStatus::Failed, errorKindOf(e), printable(exceptionLine(e)));
+          o.given = {{"started", false}, {"run", name}};
+          writeSummary(folder->file("summary.json"), o);
+        } catch (const std::exception& s) {
+          not_saved = "its summary.json not written either: " + exceptionLine(s);
+        }
+      if (not_saved.empty()) throw;
+      throw Error(withAlso(exceptionLine(e), not_saved));
+    }
     runs.push_back(std::move(run));
   }
 }

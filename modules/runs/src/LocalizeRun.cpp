@@ -137,7 +137,7 @@ LocalizeReport localize(const Request& request, RequestContext context, const Ru
 
   try {
     Cancellation::check();  // a stop request that came while the program started
-    writeFileAtomically(folder->file("config_used.ini"), rc.ini.getContent());
+    writeFileAtomically(folder->file("config_used.ini"), configUsed(rc.ini));
     metrics::MetricsOptions metric_options;
     metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);
     const MapFolder map = loadMapFolder(cli.map_dir, rc.localization.max_map_landmarks);

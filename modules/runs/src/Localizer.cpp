@@ -135,6 +135,7 @@ Localizer::Localizer(const mrpt::config::CConfigFileBase& ini, const Localizatio
   report::ReportOptions report_options;
   report_options.loadFromConfigFile(ini, report::ReportOptions::kSection);
   figure_formats_ = report_options.figure_formats;
+  figure_title_ = report_options.figure_title;
   traversal_name_ = std::filesystem::path(ini.read_string("MappingApplication", "rawlog_file", ""))
                         .filename()
                         .string();
@@ -148,8 +149,8 @@ Localizer::Localizer(const mrpt::config::CConfigFileBase& ini, const Localizatio
 
 void Localizer::process(const Step& step) {
   const auto t0 = std::chrono::steady_clock::now();
-  const std::size_t k = steps_done_++;
-  std::size_t seen = 0, used = 0, gated = 0;
+  const std::size_t k = steps_done_;
+  std::size_t seen = 0, used = 0, gated = 0, not_in_map = 0, consistent = 0;
   bool recovered = false;
   if (!diverged_at_) {
     try {
@@ -176,16 +177,13 @@ void Localizer::process(const Step& step) {
         if (id == kNoLandmarkId && r < use.size() && use[r] != kNoLandmarkId)
           in_view.insert(use[r]);
         if (r < use.size() && use[r] != kNoLandmarkId) ++used;
-        if (id != kNoLandmarkId && !map_ids_.count(id)) ++not_in_map_;
+        if (id != kNoLandmarkId && !map_ids_.count(id)) ++not_in_map;
       }
     seen = in_view.size();
     gated = kf_.lastGated();
     recovered = kf_.lastRecovered();
-    recoveries_ += recovered;
-    consistent_ += kf_.lastConsistent();
+    consistent = kf_.lastConsistent();
   }
-  used_ += used;
-  gated_ += gated;
 
   const auto& truth = k < inputs_.truth.poses.size() ? inputs_.truth.poses[k] : std::nullopt;
   const PoseEstimate pose = diverged_at_ ? PoseEstimate() : kf_.robotPose();
@@ -200,16 +198,13 @@ void Localizer::process(const Step& step) {
       e.nees = metrics::poseNees(pose, *truth);
     e.in_mapped_area = area_.contains(truth->x, truth->y);
     e.place = inputs_.places.placeOf(*truth);
-    truth_rows_.push_back({step.index, step.t, *truth});
   }
   const double error = e.error_m;
-  const bool lost = scorer_.add(e);
-  if (!diverged_at_) {
-    trajectory_.push_back({step.index, step.t, pose.mean});
-    in_view_.push_back(seen);
-  }
+  // The step counts once its row is written: a row that cannot be (a full disk) leaves the
+  // step out of every count, so that steps.csv, trajectory.tum and summary.json agree.
+  metrics::LocalizationScorer scored = scorer_;
+  const bool lost = scored.add(e);
   const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  total_s_ += dt;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   steps_csv_.cell(step.index)
       .cell(step.t)
@@ -229,6 +224,16 @@ void Localizer::process(const Step& step) {
       .cell(truth ? (e.in_mapped_area ? 1 : 0) : -1)
       .cell(truth && e.in_mapped_area ? (scorer_.tracked(e.error_m, e.yaw_error) ? 1 : 0) : -1);
   steps_csv_.endRow();
+  scorer_ = std::move(scored);
+  ++steps_done_;
+  used_ += used, gated_ += gated, not_in_map_ += not_in_map;
+  recoveries_ += recovered, consistent_ += consistent;
+  total_s_ += dt;
+  if (truth) truth_rows_.push_back({step.index, step.t, *truth});
+  if (!diverged_at_) {
+    trajectory_.push_back({step.index, step.t, pose.mean});
+    in_view_.push_back(seen);
+  }
 }
 
 LocalizationOutcome Localizer::outcome() const {
@@ -300,6 +305,7 @@ runs::RunOutcome Localizer::finish(runs::RunStatus status, runs::ErrorKind kind,
   for (const auto& p : truth_rows_) map.ground_truth_path.push_back(p.pose);
   map.ground_truth_landmarks = inputs_.truth.landmarks;
   if (!traversal_name_.empty()) map.title = traversal_name_ + ": " + map.title;
+  if (!figure_title_) map.title.clear();
   for (const auto format : figure_formats_) {
     const std::string name = report::figureFile("map", format);
     attempt(name, [&] { report::writeMapFigure(folder_.file(name), map, format); });

@@ -2,6 +2,7 @@
 #include "budget_slam/runs/Relocalize.h"
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +19,7 @@
 #include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/runs/Localizer.h"
 #include "budget_slam/runs/ProcessProbes.h"
+#include "budget_slam/runs/RunConfig.h"
 
 namespace budget_slam::runs {
 namespace {
@@ -72,7 +74,7 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
                                                 const std::vector<Traversal>& traversals,
                                                 const std::vector<TrajectoryPoint>* reference,
                                                 const std::string& reference_file, unsigned threads,
-                                                bool force) {
+                                                bool force, ProgressReporter* progress) {
   std::vector<RelocalizationResult> results;
   for (const auto& m : maps)
     for (const auto& t : traversals) {
@@ -81,7 +83,10 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
       r.traversal = t.name;
       results.push_back(r);
     }
-  std::atomic<std::size_t> next{0};
+  std::atomic<std::size_t> next{0}, steps_done{0}, ended{0};
+  std::size_t steps_total = 0;
+  for (std::size_t i = 0; i < results.size(); ++i)
+    steps_total += traversals[i % traversals.size()].steps.size();
   const auto worker = [&] {
     for (std::size_t i; (i = next++) < results.size();) {
       auto& r = results[i];
@@ -104,7 +109,7 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
         inputs.mapping_path = m.mapping_path;
         report::OutputFolder folder(
             (std::filesystem::path(m.folder) / "relocalize" / t.name).string(), force);
-        writeFileAtomically(folder.file("config_used.ini"), t.rc.ini.getContent());
+        writeFileAtomically(folder.file("config_used.ini"), configUsed(t.rc.ini));
         loc = std::make_unique<Localizer>(t.rc.ini, t.rc.localization, mo.reloc_min_landmarks,
                                           folder, m.landmarks, inputs);
         for (const auto& s : t.steps) {
@@ -114,6 +119,7 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
             break;
           }
           loc->process(s);
+          ++steps_done;
         }
         loc->finish(r.status, r.kind, r.error,
                     {{"rawlog", t.rc.rawlog}, {"map", m.folder}, {"run", m.run}});
@@ -126,11 +132,23 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
           } catch (const std::exception&) {
           }
       }
+      ++ended;
     }
   };
   const std::size_t n = std::max<std::size_t>(
       1, std::min<std::size_t>(threads ? threads : runs::availableCpus(), results.size()));
-  WorkerThreads(n, worker).join();
+  WorkerThreads pool(n, worker);
+  // Every localization costs about the same a step: the elapsed time scaled by the steps left is
+  // an honest ETA here.
+  while (progress && pool.started() > 0 && ended < results.size()) {
+    const std::size_t d = steps_done;
+    progress->update(
+        static_cast<double>(d) / std::max<std::size_t>(1, steps_total), d, steps_total,
+        std::to_string(ended) + "/" + std::to_string(results.size()) + " localizations done");
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  pool.join();
+  if (progress) progress->finish(ended == results.size());
   return results;
 }
 

@@ -176,6 +176,15 @@ void checkBackendFlag(const std::string& backend) {
 
 void checkCapFor(const RunConfig& rc, const Request& cli, const std::string& reducer,
                  const std::string& config_label) {
+  // A number given with --cap is a request for a capped run; reducer none keeps every landmark,
+  // so the run would be unreduced while the user believes it capped (issue 35). compare's none is
+  // its unreduced reference, which no cap concerns.
+  if (cli.command != "compare" && reducer == "none" && cli.cap && *cli.cap != "none")
+    throw ConfigError(
+        "--cap " + *cli.cap +
+            ": reducer none keeps every landmark, so a cap would do nothing; give --reducer NAME "
+            "(budget-slam --help lists them), or leave --cap out for the unreduced run",
+        ConfigErrorKind::Invalid, "--cap");
   if (rc.budget.max_landmarks) return;
   std::unique_ptr<Reducer> r;
   try {
@@ -265,6 +274,33 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Req
   // compare checks the cap against each reducer it runs (not the ini's reducer).
   if (cli.command != "compare") checkCapFor(rc, cli, rc.budget.reducer, config_label);
   return rc;
+}
+
+std::string configUsed(const mrpt::config::CConfigFileBase& ini) {
+  mrpt::config::CConfigFileMemory used;
+  copyIni(ini, used);
+  // Every key of every section budget-slam reads, with the value it was read as: the default
+  // where no file or flag gave one (issue 35: the sensor noise of a rawlog without a sidecar ran
+  // unrecorded). MRPT's kf-slam keys have no default of ours, but the noise they share with the
+  // graph backend's table does.
+  std::vector<std::pair<std::string, std::vector<OptionInfo>>> tables;
+  for (const auto* e : builtinBackends().entries())
+    for (const auto& sec : e->sections) tables.emplace_back(sec.name, sec.options);
+  tables.emplace_back(MappingOptions::kSection, MappingOptions::describe());
+  tables.emplace_back(reducers::BudgetOptions::kSection, reducers::BudgetOptions::describe());
+  tables.emplace_back(metrics::MetricsOptions::kSection, metrics::MetricsOptions::describe());
+  tables.emplace_back(LocalizationOptions::kSection, LocalizationOptions::describe());
+  tables.emplace_back(report::ReportOptions::kSection, report::ReportOptions::describe());
+  tables.emplace_back(wakeup::WakeUpOptions::kSection, wakeup::WakeUpOptions::describe());
+  for (const auto* e : reducers::builtinReducers().entries())
+    for (const auto& sec : e->sections) tables.emplace_back(sec.name, sec.options);
+  for (const auto& [section, options] : tables)
+    for (const auto& o : options)
+      if (o.default_text && !used.keyExists(section, o.key))
+        used.write(section, o.key, *o.default_text);
+  return "# The configuration this run used: the -c file, the rawlog's sidecar (summary.json's\n"
+         "# sidecar_ini), every --set and flag, and the default of every key none of them gave.\n" +
+         used.getContent();
 }
 
 RunConfig loadRunConfig(const Request& request, RequestContext& context) {

@@ -86,6 +86,7 @@ RunDriver::RunDriver(const mrpt::config::CConfigFileBase& ini, const BackendRegi
   report::ReportOptions report_options;
   report_options.loadFromConfigFile(ini, report::ReportOptions::kSection);
   figure_formats_ = report_options.figure_formats;
+  figure_title_ = report_options.figure_title;
   if (budget.dump_states)
     manager_->setBeforeDropEvent(
         [this](const Backend& b, StepIndex step) { outputs_.writeState(b, step); });
@@ -218,15 +219,26 @@ RunOutcome RunDriver::finish(RunStatus status, ErrorKind kind, const std::string
   const std::vector<TrajectoryPoint>& trajectory = files.trajectory;
   const std::vector<LandmarkView>& landmarks = files.landmarks;
 
-  // Every output is attempted; the first failure (a full disk) is the run's error.
-  const FinalRelocCoverage& reloc = reloc_->settle(*backend_);
-  files.map = [&] { return mapContent(trajectory, landmarks, &reloc); };
-  files.scene = save_3d_scene_;
-  files.figure_formats = figure_formats_;
-  if (save_3d_scene_) files.robot = backend_->robotPose().mean;
-  files.truth = truth_.get();
-  files.steps_in_rawlog = steps_in_rawlog;
-  const auto written = outputs_.writeEndFiles(files);
+  // Every output is attempted; the first failure (a full disk) is the run's error. A run that
+  // failed before its first step has no result: no file that looks like one (an empty map.png,
+  // trajectory.tum, map.3Dscene), only summary.json saying why (issue 35).
+  report::RunOutputs::EndFilesResult written;
+  if (steps_done_ == 0 && status != RunStatus::Ok) {
+    outputs_.discardStepFiles();
+  } else {
+    const FinalRelocCoverage& reloc = reloc_->settle(*backend_);
+    files.map = [&] {
+      auto map = mapContent(trajectory, landmarks, &reloc);
+      if (!figure_title_) map.title.clear();
+      return map;
+    };
+    files.scene = save_3d_scene_;
+    files.figure_formats = figure_formats_;
+    if (save_3d_scene_) files.robot = backend_->robotPose().mean;
+    files.truth = truth_.get();
+    files.steps_in_rawlog = steps_in_rawlog;
+    written = outputs_.writeEndFiles(files);
+  }
   std::string first_error = written.first_error;
 
   RunOutcome o;
@@ -260,7 +272,7 @@ RunOutcome RunDriver::finish(RunStatus status, ErrorKind kind, const std::string
   // The observers' blocks: timings, relocalization, the map's and the drops' counts, the NEES.
   for (const auto& ob : observers_) ob->fill(o, steps_in_rawlog);
 
-  if (o.ground_truth) {
+  if (o.ground_truth && steps_done_ > 0) {
     GroundTruthOutcome& gt = *o.ground_truth;
     try {
       gt.errors = metrics::groundTruthErrors(trajectory, landmarks, *truth_, steps_in_rawlog);

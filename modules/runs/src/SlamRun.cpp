@@ -7,6 +7,7 @@
 #include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
+#include "budget_slam/runs/RunConfig.h"
 #include "budget_slam/runs/Runs.h"
 #include "budget_slam/runs/SummaryJson.h"
 #include "budget_slam/session/SessionStateFile.h"
@@ -107,7 +108,7 @@ RunReport runSlam(const RunSpec& spec, const RunHooks& hooks) {
   std::ostringstream no_progress;
   std::ostream& progress_out = hooks.progress_out ? *hooks.progress_out : no_progress;
   try {
-    writeFileAtomically(folder->file("config_used.ini"), spec.ini.getContent());
+    writeFileAtomically(folder->file("config_used.ini"), configUsed(spec.ini));
     // Step indices run on across sessions. A resumed session on the same rawlog from the step
     // the last one stopped at (--skip-steps = its next step) keeps the rawlog's indices and so
     // its ground truth; on another rawlog the ground truth's rows would not match them.

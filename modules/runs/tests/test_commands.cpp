@@ -179,8 +179,10 @@ TEST(RunCommand, ARequestRunsAsItsSummarySays) {
   EXPECT_EQ(s.json.at("counts").at("landmarks_final"), report.landmarks);
   // The sidecar's key over the ini's is a warning, as it arises.
   warnings.clear();
+  Request warned = request("run", outdir("run_warned"));
+  warned.reducer = "oldest";  // a cap with reducer none is refused
   const RunReport again =
-      run(request("run", outdir("run_warned")),
+      run(warned,
           context("[MappingApplication]\nsave_3d_scene = false\n[RangeBearingKFSLAM]\n"
                   "std_sensor_range = 0.5\n"),
           hooks);
@@ -209,8 +211,11 @@ TEST(RunCommand, ABadConfigTextEndsBeforeTheRunAndSaysWhyInTheFolder) {
 TEST(RunCommand, AMismatchedResumeIsOneLineAndNoFolder) {
   Cancellation::clear();
   const std::string first = outdir("resume_first"), second = outdir("resume_second");
-  ASSERT_TRUE(run(request("run", first), context(), {}).outcome.ok());
+  Request made = request("run", first);
+  made.reducer = "oldest";  // a cap with reducer none is refused
+  ASSERT_TRUE(run(made, context(), {}).outcome.ok());
   Request r = request("run", second);
+  r.reducer = "oldest";
   r.resume = first;
   r.cap = "12";
   const RunReport report = run(r, context(), {});

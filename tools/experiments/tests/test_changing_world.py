@@ -63,6 +63,11 @@ class ThroughTheBinaries(unittest.TestCase):
                 self.assertEqual(r["always"]["status"], "ok")
             with open(os.path.join(out, "seed1", "always", "evictions.csv")) as f:
                 self.assertIn(",negative_evidence,", f.read())
+            # The table is in OUT too, as printed (it was on stdout only).
+            with open(os.path.join(out, "changing_world.md")) as f:
+                table = f.read()
+            self.assertIn("| `always` − `off` | share_existing |", table)
+            self.assertEqual(table, p.stdout)
             with open(md) as f:
                 text = f.read()
             self.assertTrue(text.startswith("# Results\n\nhand-written\n\n## A world that changes\n"))

@@ -1,6 +1,7 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPoint2D.h>
 #include <mrpt/poses/CPose2D.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -53,20 +54,81 @@ std::vector<Timed> readTimed(const std::string& file, const std::string& what,
   return out;
 }
 
-/// One robot's three time-ordered files (`prefix` = folder + "RobotN_").
+/// One robot's three time-ordered files.
+struct RobotFiles {
+  std::string odometry, groundtruth, measurement;
+};
+
+/// The files of a UTIAS folder (docs/DATASETS.md "UTIAS MR.CLAM"), each in either form: MRCLAM's
+/// own `Name.dat` (or `Name.dat.gz`), whitespace-separated, or `Name.csv`, comma-separated with a
+/// header line, as other projects ship it. A robot's files are `RobotN_Name`; a folder of one
+/// robot may name them `Name` alone.
+struct UtiasFiles {
+  std::string barcodes, landmarks;
+  RobotFiles robot, frame;  ///< frame: the --frame-robot's, when one is given
+};
+
+/// There, and not a folder (a device or a FIFO is read, and refused for what it holds).
+bool isFile(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && !S_ISDIR(st.st_mode);
+}
+
+/// `dir + name` with the extension it has (.dat also for .dat.gz: TextTable reads either), or ""
+/// when none is there.
+std::string findForm(const std::string& dir, const std::string& name) {
+  if (isFile(dir + name + ".dat") || isFile(dir + name + ".dat.gz")) return dir + name + ".dat";
+  if (isFile(dir + name + ".csv")) return dir + name + ".csv";
+  return "";
+}
+
+/// Every file of the folder found, or one InputError naming every missing one at once.
+UtiasFiles findUtiasFiles(const std::string& folder, const std::string& dir, int robot,
+                          int frame_robot) {
+  std::vector<std::string> missing;
+  const auto need = [&](const std::string& name, const std::string& alone = "") {
+    std::string path = findForm(dir, name);
+    if (path.empty() && !alone.empty()) path = findForm(dir, alone);
+    if (path.empty()) missing.push_back(name + (alone.empty() ? "" : " (or " + alone + ")"));
+    return path;
+  };
+  const auto robotFiles = [&](int n, bool may_be_alone) {
+    const std::string r = "Robot" + std::to_string(n) + "_";
+    const auto alone = [&](const char* name) { return may_be_alone ? std::string(name) : ""; };
+    RobotFiles f;
+    f.odometry = need(r + "Odometry", alone("Odometry"));
+    f.groundtruth = need(r + "Groundtruth", alone("Groundtruth"));
+    f.measurement = need(r + "Measurement", alone("Measurement"));
+    return f;
+  };
+  UtiasFiles files;
+  files.barcodes = need("Barcodes");
+  files.landmarks = need("Landmark_Groundtruth");
+  files.robot = robotFiles(robot, true);
+  if (frame_robot != 0) files.frame = robotFiles(frame_robot, false);
+  if (!missing.empty()) {
+    std::string list;
+    for (const auto& m : missing) list += (list.empty() ? "" : ", ") + m;
+    throw InputError("UTIAS folder '" + folder + "': missing " + list +
+                     " (each as .dat, .dat.gz or .csv; docs/DATASETS.md shows the layout)");
+  }
+  return files;
+}
+
+/// One robot's three time-ordered files' records.
 struct RobotRecords {
   std::vector<Timed> odo, gt, meas;
 };
 
-RobotRecords readRobot(const std::string& prefix) {
+RobotRecords readRobot(const RobotFiles& f) {
   RobotRecords r;
-  r.odo = readTimed(prefix + "Odometry.dat", "odometry record (time v omega)",
+  r.odo = readTimed(f.odometry, "odometry record (time v omega)",
                     {{"v", limits::kMaxSpeed}, {"omega", limits::kMaxSpeed}});
   r.gt = readTimed(
-      prefix + "Groundtruth.dat", "ground-truth record (time x y theta)",
+      f.groundtruth, "ground-truth record (time x y theta)",
       {{"x", limits::kMaxCoordinate}, {"y", limits::kMaxCoordinate}, {"theta", limits::kMaxAngle}});
   r.meas = readTimed(
-      prefix + "Measurement.dat", "measurement record (time barcode range bearing)",
+      f.measurement, "measurement record (time barcode range bearing)",
       {{"barcode", kMaxBarcode}, {"range", limits::kMaxRange}, {"bearing", limits::kMaxAngle}});
   return r;
 }
@@ -121,16 +183,14 @@ double robustStd(std::vector<double> v) {
 
 /// The true pose of `robot` when it first sights a landmark (a known barcode of subject 6 or
 /// more) at or after its first odometry record: the start pose convertUtias gives that robot.
-CPose2D trueStartPose(const std::string& dir, int robot,
-                      const std::map<long long, long long>& subject_of) {
-  const std::string prefix = dir + "Robot" + std::to_string(robot) + "_";
-  const auto [odo, gt, meas] = readRobot(prefix);
+CPose2D trueStartPose(const RobotFiles& files, const std::map<long long, long long>& subject_of) {
+  const auto [odo, gt, meas] = readRobot(files);
   for (const auto& m : meas) {
     const auto s = subject_of.find(static_cast<long long>(m.a));
     if (m.t >= odo.front().t && s != subject_of.end() && s->second > 5)
       return groundTruthAt(gt, m.t);
   }
-  throw InputError(prefix + "Measurement.dat: no landmark sighting");
+  throw InputError(files.measurement + ": no landmark sighting");
 }
 
 }  // namespace
@@ -143,12 +203,13 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
                      std::to_string(frame_robot));
   if (frame_robot == robot) frame_robot = 0;
   const std::string dir = folder.empty() || folder.back() == '/' ? folder : folder + "/";
-  const std::string prefix = dir + "Robot" + std::to_string(robot) + "_";
+  const UtiasFiles files = findUtiasFiles(folder, dir, robot, frame_robot);
+  const std::string& measurement = files.robot.measurement;
 
   // Barcodes.dat: subject barcode. Subjects 1-5 are the robots, 6-20 the landmarks.
   std::map<long long, long long> subject_of;  // barcode -> subject
   {
-    TextTable t(dir + "Barcodes.dat");
+    TextTable t(files.barcodes);
     while (t.next()) {
       t.expectFields(2, "barcode record (subject barcode)");
       const long long subject = t.landmarkId(0, "subject"), barcode = t.integer(1, "barcode");
@@ -159,7 +220,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
   }
   std::map<LandmarkId, Eigen::Vector2d> landmarks_world;
   {
-    TextTable t(dir + "Landmark_Groundtruth.dat");
+    TextTable t(files.landmarks);
     while (t.next()) {
       t.expectFields(5, "landmark record (subject x y sx sy)");
       const long long subject = t.landmarkId(0, "subject");
@@ -170,7 +231,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
       t.bounded(3, "sx", limits::kMaxCoordinate), t.bounded(4, "sy", limits::kMaxCoordinate);
     }
   }
-  const auto [odo, gt, meas] = readRobot(prefix);
+  const auto [odo, gt, meas] = readRobot(files.robot);
 
   // Steps: one per measurement time with at least one landmark sighting, from the first odometry
   // record on. The start pose is the pose of the first step (its motion is zero): MRPT's 2D EKF
@@ -183,11 +244,9 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
   std::vector<RangeBearingReading> all;
   for (const auto& m : meas) {
     if (m.a != std::floor(m.a))
-      throw InputError(prefix + "Measurement.dat:" + std::to_string(m.line) +
-                       ": barcode is not an integer");
+      throw InputError(measurement + ":" + std::to_string(m.line) + ": barcode is not an integer");
     if (m.b < 0)
-      throw InputError(prefix + "Measurement.dat:" + std::to_string(m.line) +
-                       ": range must not be negative");
+      throw InputError(measurement + ":" + std::to_string(m.line) + ": range must not be negative");
     const auto s = subject_of.find(static_cast<long long>(m.a));
     if (s == subject_of.end()) {
       ++unknown_left_out;
@@ -203,7 +262,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
     }
     if (times.empty() || m.t != times.back()) {
       if (times.size() >= limits::kMaxSteps)
-        throw InputError(prefix + "Measurement.dat:" + std::to_string(m.line) + ": more than " +
+        throw InputError(measurement + ":" + std::to_string(m.line) + ": more than " +
                          std::to_string(limits::kMaxSteps) + " steps in one conversion");
       times.push_back(m.t);
       lines.push_back(m.line);
@@ -212,12 +271,12 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
     auto& rs = readings.back();
     const LandmarkId id = s->second;
     if (std::any_of(rs.begin(), rs.end(), [&](const auto& r) { return r.id == id; }))
-      throw InputError(prefix + "Measurement.dat:" + std::to_string(m.line) + ": landmark " +
+      throw InputError(measurement + ":" + std::to_string(m.line) + ": landmark " +
                        std::to_string(id) + " seen twice at time " + std::to_string(m.t));
     rs.push_back({id, m.b, m.c, 0});
     all.push_back(rs.back());
   }
-  if (times.empty()) throw InputError(prefix + "Measurement.dat: no landmark sighting");
+  if (times.empty()) throw InputError(measurement + ": no landmark sighting");
 
   const double t0 = times.front();
   ConvertedDataset out;
@@ -247,7 +306,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
   out.noise.std_range = robustStd(er);
   out.noise.std_yaw = robustStd(eb);
   convert::limitsFromReadings(all, out.noise);
-  convert::checkSensorNoise(out.noise, prefix + "Measurement.dat");
+  convert::checkSensorNoise(out.noise, measurement);
 
   // Odometry increments, and their noise: a random walk whose variance grows with time,
   // q = sum of squared errors against ground truth / sum of durations (per axis).
@@ -260,7 +319,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
     // Speeds are bounded, durations are not: a gap in time can integrate to an impossible step.
     if (!(std::abs(inc.back().x()) <= limits::kMaxStepTranslation &&
           std::abs(inc.back().y()) <= limits::kMaxStepTranslation))
-      throw InputError(prefix + "Measurement.dat:" + std::to_string(lines[k]) +
+      throw InputError(measurement + ":" + std::to_string(lines[k]) +
                        ": the odometry since the previous step integrates to (" +
                        std::to_string(inc.back().x()) + ", " + std::to_string(inc.back().y()) +
                        ") m, more than " +
@@ -285,7 +344,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
                             std::max(qth * dt, 1e-12))
                 .asDiagonal();
     if (!(o.cov.maxCoeff() <= limits::kMaxVariance))
-      throw InputError(prefix + "Measurement.dat:" + std::to_string(lines[k]) +
+      throw InputError(measurement + ":" + std::to_string(lines[k]) +
                        ": the odometry noise fitted to the ground truth gives this step a "
                        "variance above 1e24");
     RangeBearingScan scan = convert::emptyScan(out.noise);
@@ -297,7 +356,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
   // Another robot's start frame: the robots of one dataset then share a world frame (a map made
   // by one is the frame the others' ground truth is compared in).
   if (frame_robot != 0) {
-    const CPose2D frame = trueStartPose(dir, frame_robot, subject_of);
+    const CPose2D frame = trueStartPose(files.frame, subject_of);
     for (auto& p : out.ground_truth.path) p = ((start + CPose2D(p)) - frame).asTPose();
     for (auto& [id, l] : out.ground_truth.landmarks) {
       const auto q = (start + mrpt::poses::CPoint2D(l.x(), l.y())) - frame;

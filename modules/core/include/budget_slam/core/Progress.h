@@ -55,16 +55,18 @@ class ProgressReporter {
   ProgressReporter(const ProgressReporter&) = delete;
   ProgressReporter& operator=(const ProgressReporter&) = delete;
 
-  /// `fraction` in [0, 1] of the task; `steps_total` 0 when not known. The ETA is the elapsed
-  /// time scaled by the fraction left.
+  /// `fraction` in [0, 1] of the task; `steps_total` 0 when not known. The ETA is `eta_s` [s]
+  /// when the caller knows better (compare: from each run's own pace), else the elapsed time
+  /// scaled by the fraction left.
   void update(double fraction, std::size_t steps_done, std::size_t steps_total,
-              const std::string& detail);
+              const std::string& detail, double eta_s = std::numeric_limits<double>::quiet_NaN());
   /// The task ended: the bar is cleared; when `completed`, the callback hears fraction 1 once.
   void finish(bool completed);
 
   /// The snapshot `update` would report now (tests, and the line and bar text).
   ProgressSnapshot snapshot(double fraction, std::size_t steps_done, std::size_t steps_total,
-                            const std::string& detail) const;
+                            const std::string& detail,
+                            double eta_s = std::numeric_limits<double>::quiet_NaN()) const;
   /// "run 42%, 2950 of 6969 steps, 1520 steps/s, ETA 0:03 (detail)".
   static std::string line(const ProgressSnapshot& s);
 

@@ -70,6 +70,8 @@ class RawlogReader {
   void open();
   std::optional<Step> nextStep();
   Step finishStep(Step step);
+  /// Throws the one-line failure of a file that switches form at `entry` (`what` is there).
+  [[noreturn]] void switchedForm(std::size_t entry, const std::string& what) const;
   std::string describe(const std::exception& failure) const;
 
   std::unique_ptr<Impl> impl_;

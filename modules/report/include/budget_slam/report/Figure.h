@@ -66,9 +66,31 @@ class Figure {
   void write(const std::string& path, FigureFormat format, double dpi = kPngDpi) const;
 
  private:
+  /// A piece of text as an SVG <text> element takes it: at (x, y) in user space (its baseline's
+  /// start), under the transformation `matrix` (cairo's xx, yx, xy, yy, x0, y0) to the page.
+  struct TextItem {
+    double x, y, size;
+    double matrix[6];
+    std::string text;
+    Colour colour;
+    bool bold;
+  };
+  /// `draw` on both recordings: with the text (PNG, PDF) and without it (SVG, whose text is
+  /// written as <text> elements, so that it stays text: searchable, editable, its font the
+  /// reader's DejaVu Sans).
+  template <class F>
+  void both(F draw) {
+    draw(cr_);
+    draw(shapes_cr_);
+  }
+  std::string svgWithText(const std::string& svg) const;
+
   double width_, height_;
   cairo_surface_t* recording_ = nullptr;
   cairo_t* cr_ = nullptr;
+  cairo_surface_t* shapes_ = nullptr;
+  cairo_t* shapes_cr_ = nullptr;
+  std::vector<TextItem> texts_;
 };
 
 /// Loads the fonts the figures use (fontconfig's configuration and cache files) now. Called when a

@@ -23,6 +23,10 @@ struct ReportOptions : public TabledOptions<ReportOptions> {
   /// When stderr is not a terminal (a pipe, a log file, a batch job), a progress line this often
   /// [s]; 0: none. Default: 5.
   double progress_every_s = 5;
+  /// The figures' title (map: the rawlog, backend, reducer, cap and counts; comparison: the
+  /// rawlog, backend, cap, steps and seeds); false: none, for a paper whose caption says it.
+  /// Default: true.
+  bool figure_title = true;
 
   /// Every key: name, field, check and unit (the defaults are the initializers above).
   static const OptionTable<ReportOptions>& table();

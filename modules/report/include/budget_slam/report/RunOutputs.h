@@ -96,6 +96,9 @@ class RunOutputs {
     std::string first_error;  ///< "" when all were written
   };
   EndFilesResult writeEndFiles(const RunEndFiles& files);
+  /// A run that did no step has no result: its steps.csv and evictions.csv, which hold only
+  /// their headers, are removed, and no end file is written (summary.json says why).
+  void discardStepFiles();
 
  private:
   OutputFolder folder_;

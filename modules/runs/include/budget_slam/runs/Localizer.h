@@ -105,6 +105,7 @@ class Localizer {
   ekf::LocalizationKF2D kf_;
   std::set<LandmarkId> map_ids_;
   std::vector<report::FigureFormat> figure_formats_;  ///< [Report] figure_format
+  bool figure_title_ = true;                          ///< [Report] figure_title
   std::string traversal_name_;                        ///< the rawlog's file name, for the title
   report::CsvWriter steps_csv_;
   metrics::LocalizationScorer scorer_;

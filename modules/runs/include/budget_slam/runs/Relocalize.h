@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "budget_slam/core/Progress.h"
 #include "budget_slam/core/Step.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/LocalizationScore.h"
@@ -50,12 +51,13 @@ struct RelocalizationResult {
 /// Every map localizes every traversal, `threads` at a time; each writes the outputs of
 /// `budget-slam localize` into <run folder>/relocalize/<traversal>/. A traversal without ground
 /// truth is measured against `reference` (a trajectory.tum) when given. Never throws for one
-/// localization: its result says failed and why.
+/// localization: its result says failed and why. `progress`, when given, hears the steps done
+/// over every localization.
 std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& maps,
                                                 const std::vector<Traversal>& traversals,
                                                 const std::vector<TrajectoryPoint>* reference,
                                                 const std::string& reference_file, unsigned threads,
-                                                bool force);
+                                                bool force, ProgressReporter* progress = nullptr);
 
 /// relocalization.csv: run, traversal, status, rmse_m, max_m, lost_pct, coverage_pct, nees_mean,
 /// success_pct, scored_pct.

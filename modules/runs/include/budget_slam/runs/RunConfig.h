@@ -37,6 +37,10 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Req
 /// loadRunConfig with context.config_label.
 RunConfig loadRunConfig(const Request& request, RequestContext& context);
 
+/// config_used.ini's text: `ini` (the merged configuration) with the default of every key of
+/// every section budget-slam reads that it does not give, under a comment saying so.
+std::string configUsed(const mrpt::config::CConfigFileBase& ini);
+
 /// Throws ConfigError unless `set` reads Section.key=value (--set).
 void checkSet(const std::string& set);
 
@@ -45,7 +49,8 @@ void checkSet(const std::string& set);
 void checkBackendFlag(const std::string& backend);
 
 /// Throws ConfigError, naming --cap or the ini key, when the run's cap is `none` and `reducer`
-/// (with its options from rc.ini) needs a cap (reducers::checkCap).
+/// (with its options from rc.ini) needs a cap (reducers::checkCap); and, for run and localize,
+/// naming --cap, when --cap gives a number and `reducer` is none (which keeps every landmark).
 void checkCapFor(const RunConfig& rc, const Request& cli, const std::string& reducer,
                  const std::string& config_label);
 

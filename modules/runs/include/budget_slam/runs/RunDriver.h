@@ -155,6 +155,7 @@ class RunDriver {
   report::RunOutputs outputs_;
   std::string rawlog_name_;  ///< the rawlog's file name, in map.png's title
   std::vector<report::FigureFormat> figure_formats_;  ///< [Report] figure_format
+  bool figure_title_ = true;                          ///< [Report] figure_title
   /// The observers of the step loop, called in this order (RunObservers.h), and those the
   /// driver's accessors read.
   std::vector<std::unique_ptr<StepObserver>> observers_;
