@@ -109,9 +109,11 @@ TEST(Failures, LostDefinitenessNamesTheStep) {
 
 TEST(Failures, ADivergedRunWritesNoNonFiniteLandmark) {
   // random with tiny noise: the EKF diverges (its landmarks turn NaN) after 4 steps.
+  // MRPT's own update (EkfSLAM.update = mrpt): where a filter this ill-conditioned diverges
+  // depends on the order of its arithmetic, and this test is about the divergence.
   const auto dir = freshDir("diverged_landmarks");
   const auto r = runApp(plus({"run", "-c", kMrptIni, "-i", kDemo, "-o", dir.string(), "--quiet",
-                              "--reducer", "random", "--cap", "10"},
+                              "--reducer", "random", "--cap", "10", "--set", "EkfSLAM.update=mrpt"},
                              tinyNoise("1e-6")));
   EXPECT_EQ(r.exit_code, 1);
   const auto s = readJson(dir / "summary.json");

@@ -218,7 +218,10 @@ TEST(Hardening, DivergedFilterStopsCleanlyWithoutNan) {
   const auto r = runOn(
       kDemo, out,
       {"--reducer", "coverage", "--cap", "8", "--set", "RangeBearingKFSLAM.std_sensor_range=1e-12",
-       "--set", "RangeBearingKFSLAM.std_sensor_yaw_deg=1e-12"});
+       "--set", "RangeBearingKFSLAM.std_sensor_yaw_deg=1e-12",
+       // MRPT's own update: where a filter this ill-conditioned diverges depends on the order
+       // of its arithmetic, and this test is about the divergence, not the update.
+       "--set", "EkfSLAM.update=mrpt"});
   expectFailedRun(r, out,
                   "step 6: the ekf estimate diverged (the robot pose or its covariance is not "
                   "finite)");

@@ -19,6 +19,16 @@ PACKAGES=(
   poppler-utils                    # the figures test renders each PDF (pdftoppm, pdftotext)
 )
 
+# The figures are drawn in DejaVu Sans: a font cache older than the font (packages installed
+# without their triggers having run) makes cairo fall back to another face, whose PDF text then
+# extracts with letters missing. Rebuild the cache when the face is not found.
+font_cache() {
+  if command -v fc-match >/dev/null 2>&1 &&
+     ! fc-match -f '%{family}' 'DejaVu Sans' 2>/dev/null | grep -q 'DejaVu Sans'; then
+    fc-cache -f >/dev/null 2>&1 || true
+  fi
+}
+
 # One dpkg-query for every package (not one a package: this runs before every demo and test).
 installed="$(dpkg-query -W -f='${Package} ${Status}\n' "${PACKAGES[@]}" 2>/dev/null |
              awk '$4 == "installed" {print $1}' || true)"
@@ -31,6 +41,7 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#PACKAGES[@]} packages present"
+  font_cache
   exit 0
 fi
 
@@ -40,3 +51,5 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+
+font_cache
