@@ -46,14 +46,15 @@ std::vector<std::pair<LandmarkId, std::string>> evictionsOf(const std::filesyste
 }
 
 /// The world: `rooms`, seed 2001, two sessions, one landmark of 155 moved by 1 m before the
-/// second (change 0.006, split 0:1:0); written once into `dir`.
+/// second (change 0.006, split 0:1:0); written into `dir`, as two session rawlogs or, `joined`,
+/// as one rawlog of both (budget-simulate --joined).
 struct MovedWorld {
-  std::filesystem::path s1, s2;
+  std::filesystem::path s1, s2;  ///< the session rawlogs; `joined`: s1 is the one rawlog
   LandmarkId id = kNoLandmarkId;
   Eigen::Vector2d before, after;
 };
 
-MovedWorld makeWorld(const std::filesystem::path& dir) {
+MovedWorld makeWorld(const std::filesystem::path& dir, bool joined) {
   std::filesystem::create_directories(dir);
   dataset::SimulationOptions sim;
   sim.scenario = dataset::SimulationOptions::ScenarioKind::Rooms;
@@ -63,11 +64,12 @@ MovedWorld makeWorld(const std::filesystem::path& dir) {
   sessions.change = 0.006;
   sessions.share_disappear = 0;
   sessions.share_appear = 0;
+  sessions.joined = joined;
   const std::string rawlog = (dir / "life.rawlog").string();
   dataset::simulateSessionsToFiles(sim, sessions, rawlog);
   MovedWorld w;
-  w.s1 = dataset::sessionRawlogName(rawlog, 1, 2);
-  w.s2 = dataset::sessionRawlogName(rawlog, 2, 2);
+  w.s1 = joined ? rawlog : dataset::sessionRawlogName(rawlog, 1, 2);
+  if (!joined) w.s2 = dataset::sessionRawlogName(rawlog, 2, 2);
   const CsvTable changes = readCsvTable(dataset::changesFileFor(rawlog));
   EXPECT_EQ(changes.rows.size(), 1u);
   if (changes.rows.size() != 1) return w;
@@ -113,21 +115,16 @@ std::filesystem::path runSessions(const MovedWorld& w, const std::filesystem::pa
   return dir / "s2";
 }
 
+/// Each test has its own folder and world: ctest runs the tests of this file as separate processes
+/// side by side, so nothing is shared between them.
 class MovedLandmarkSessions : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    dir_ = new std::filesystem::path(freshDir("moved_landmark"));
-    world_ = new MovedWorld(makeWorld(*dir_ / "world"));
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = freshDir(std::string("moved_landmark/") + info->name());
   }
-  static void TearDownTestSuite() {
-    delete world_;
-    delete dir_;
-  }
-  static std::filesystem::path* dir_;
-  static MovedWorld* world_;
+  std::filesystem::path dir_;
 };
-std::filesystem::path* MovedLandmarkSessions::dir_ = nullptr;
-MovedWorld* MovedLandmarkSessions::world_ = nullptr;
 
 /// The split: exactly one row `moved`, of the moved id, in session 2; the same id in the map again
 /// as a newcomer of session 2 (first_step in it) at its new place; the old estimate had stood at
@@ -159,22 +156,24 @@ void expectSplit(const MovedWorld& w, const std::filesystem::path& s1,
 }
 
 TEST_F(MovedLandmarkSessions, SplitNotFusedOnTheEkf) {
-  ASSERT_NE(world_->id, kNoLandmarkId);
-  const auto s2 = runSessions(*world_, *dir_ / "ekf_split", "split", "ekf");
-  expectSplit(*world_, *dir_ / "ekf_split" / "s1", s2);
+  const MovedWorld world = makeWorld(dir_ / "world", false);
+  ASSERT_NE(world.id, kNoLandmarkId);
+  const auto s2 = runSessions(world, dir_, "split", "ekf");
+  expectSplit(world, dir_ / "s1", s2);
   // The suspects go with the session: a second session saves its record too.
   EXPECT_NE(slurp(s2 / "session_state.txt").find("moved_landmarks"), std::string::npos);
 }
 
 TEST_F(MovedLandmarkSessions, FusedWhenOffDragsTheEstimate) {
-  ASSERT_NE(world_->id, kNoLandmarkId);
-  const auto s2 = runSessions(*world_, *dir_ / "ekf_off", "off", "ekf");
+  const MovedWorld world = makeWorld(dir_ / "world", false);
+  ASSERT_NE(world.id, kNoLandmarkId);
+  const auto s2 = runSessions(world, dir_, "off", "ekf");
   EXPECT_TRUE(evictionsOf(s2 / "evictions.csv").empty());
   const auto two = landmarksOf(s2 / "landmarks.csv");
-  ASSERT_TRUE(two.count(world_->id));
+  ASSERT_TRUE(two.count(world.id));
   // Between the two places, far from both: the old estimate took in the new readings.
-  EXPECT_GT((two.at(world_->id).mean - world_->after).norm(), 0.3);
-  EXPECT_GT((two.at(world_->id).mean - world_->before).norm(), 0.2);
+  EXPECT_GT((two.at(world.id).mean - world.after).norm(), 0.3);
+  EXPECT_GT((two.at(world.id).mean - world.before).norm(), 0.2);
 }
 
 // The graph backend, on the same two sessions driven as one process (budget-simulate --joined):
@@ -182,31 +181,20 @@ TEST_F(MovedLandmarkSessions, FusedWhenOffDragsTheEstimate) {
 // ends "graph: information matrix is not positive definite"; docs/ALGORITHMS.md "Moved
 // landmarks").
 TEST_F(MovedLandmarkSessions, SplitNotFusedOnTheGraphInOneProcess) {
-  ASSERT_NE(world_->id, kNoLandmarkId);
-  const auto dir = *dir_ / "graph_joined";
-  std::filesystem::create_directories(dir);
-  dataset::SimulationOptions sim;
-  sim.scenario = dataset::SimulationOptions::ScenarioKind::Rooms;
-  sim.seed = 2001;
-  dataset::SessionChangeOptions sessions;
-  sessions.sessions = 2;
-  sessions.change = 0.006;
-  sessions.share_disappear = 0;
-  sessions.share_appear = 0;
-  sessions.joined = true;
-  dataset::simulateSessionsToFiles(sim, sessions, (dir / "life.rawlog").string());
+  const MovedWorld world = makeWorld(dir_ / "world", true);
+  ASSERT_NE(world.id, kNoLandmarkId);
   const AppResult r =
-      runApp({"run", "-c", kRoot + "/config.ini", "-i", (dir / "life.rawlog").string(), "-o",
-              (dir / "run").string(), "--reducer", "none", "--cap", "none", "--backend", "graph",
+      runApp({"run", "-c", kRoot + "/config.ini", "-i", world.s1.string(), "-o",
+              (dir_ / "run").string(), "--reducer", "none", "--cap", "none", "--backend", "graph",
               "--quiet", "--set", "LandmarkBudget.moved_landmarks=split"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto rows = evictionsOf(dir / "run" / "evictions.csv");
+  const auto rows = evictionsOf(dir_ / "run" / "evictions.csv");
   ASSERT_EQ(rows.size(), 1u);
-  EXPECT_EQ(rows[0], std::make_pair(world_->id, std::string("moved")));
-  const auto lm = landmarksOf(dir / "run" / "landmarks.csv");
-  ASSERT_TRUE(lm.count(world_->id));
-  EXPECT_LT((lm.at(world_->id).mean - world_->after).norm(), 0.15);
-  EXPECT_GE(lm.at(world_->id).first_step, 424u);  // started in the second session's lap
+  EXPECT_EQ(rows[0], std::make_pair(world.id, std::string("moved")));
+  const auto lm = landmarksOf(dir_ / "run" / "landmarks.csv");
+  ASSERT_TRUE(lm.count(world.id));
+  EXPECT_LT((lm.at(world.id).mean - world.after).norm(), 0.15);
+  EXPECT_GE(lm.at(world.id).first_step, 424u);  // started in the second session's lap
 }
 
 }  // namespace
