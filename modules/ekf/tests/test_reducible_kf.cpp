@@ -8,33 +8,18 @@
 #include <map>
 #include <set>
 
+#include "StepsWithoutIds.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/ekf/EkfBackend.h"
 
 using namespace budget_slam;
+using budget_slam::testing::withoutIds;
 
 namespace {
 const std::string kRoot = BUDGET_SLAM_SOURCE_DIR;
 const std::string kDemo = kRoot + "/rawlogs/kf-slam_demo.rawlog";
 const std::string kIni = kRoot + "/tests/data/EKF-SLAM_test_2d.ini";
 
-/// A deep copy of the step whose readings carry no landmark ID (MRPT data association).
-Step withoutIds(const Step& s) {
-  Step out = s;
-  if (!s.frame) return out;
-  out.frame = std::make_shared<mrpt::obs::CSensoryFrame>();
-  for (const auto& o : *s.frame) {
-    if (auto br = std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o)) {
-      auto c = std::make_shared<mrpt::obs::CObservationBearingRange>(*br);
-      for (auto& m : c->sensedData) m.landmarkID = -1;
-      out.frame->insert(c);
-    } else {
-      out.frame->insert(o);
-    }
-  }
-  for (auto& r : out.scan->readings) r.id = kNoLandmarkId;
-  return out;
-}
 }  // namespace
 
 // docs/ARCHITECTURE.md "EKF backend": with no reducer, a run gives the same final state as MRPT's

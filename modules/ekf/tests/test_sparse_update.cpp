@@ -10,12 +10,14 @@
 #include <random>
 #include <sstream>
 
+#include "StepsWithoutIds.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/ekf/EkfBackend.h"
 #include "budget_slam/ekf/SparseKalmanUpdate.h"
 
 using namespace budget_slam;
+using budget_slam::testing::withoutIds;
 using ekf::EkfSlamOptions;
 
 namespace {
@@ -36,25 +38,6 @@ std::unique_ptr<mrpt::config::CConfigFileMemory> iniWith(const std::string& path
   ini->write("EkfSLAM", "update", update);
   if (!method.empty()) ini->write("RangeBearingKFSLAM_KalmanFilter", "method", method);
   return ini;
-}
-
-/// A copy of the step whose readings carry no landmark ID (MRPT's own data association).
-Step withoutIds(const Step& s) {
-  Step out = s;
-  if (!s.frame) return out;
-  out.frame = std::make_shared<mrpt::obs::CSensoryFrame>();
-  for (const auto& o : *s.frame) {
-    if (auto br = std::dynamic_pointer_cast<mrpt::obs::CObservationBearingRange>(o)) {
-      auto c = std::make_shared<mrpt::obs::CObservationBearingRange>(*br);
-      for (auto& m : c->sensedData) m.landmarkID = -1;
-      out.frame->insert(c);
-    } else {
-      out.frame->insert(o);
-    }
-  }
-  if (out.scan)
-    for (auto& r : out.scan->readings) r.id = kNoLandmarkId;
-  return out;
 }
 
 struct Gap {
