@@ -74,7 +74,8 @@ ScheduledDrops HindsightReducer::scheduled(const ScheduleContext& ctx) {
   const std::size_t k = HindsightOptions::keepCount(options_.keep, map.size());
   // The prior of the record the places come from (both follow the same sections).
   const Eigen::Matrix3d& prior = future_ ? future_->prior() : record_->prior();
-  selection_ = greedyLogDetSelection(places(), prior, map, k);
+  selection_places_ = places();
+  selection_ = greedyLogDetSelection(selection_places_, prior, map, k);
   for (const LandmarkId id : map)
     if (!std::binary_search(selection_.selection.begin(), selection_.selection.end(), id))
       out.drops.push_back({id, 0.0});

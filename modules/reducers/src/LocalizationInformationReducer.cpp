@@ -69,6 +69,8 @@ const OptionTable<LocalizationInformationOptions>& LocalizationInformationOption
       option::integer("max_places", &O::max_places, 1, 100000000, "[places]"),
       option::integer("remember_dropped", &O::remember_dropped, 0, 100000000,
                       "[landmarks], 0 = forget at once"),
+      option::flag("second_landmark_admission", &O::second_landmark_admission,
+                   "compete: a newcomer that is a place's second landmark goes last"),
   };
   return t;
 }
@@ -290,6 +292,18 @@ double LocalizationInformationReducer::minLoss(LandmarkId id) const {
   return drop > 1e-9 * std::max(1.0, std::abs(m)) ? drop : 0.0;
 }
 
+std::size_t LocalizationInformationReducer::secondLandmarkPlaces(LandmarkId id) const {
+  const auto it = places_of_.find(id);
+  if (it == places_of_.end() || dropped_at_.count(id)) return 0;
+  std::size_t n = 0;
+  for (const std::uint32_t slot : it->second) {
+    const auto& entries = places_[slot].entries;
+    n +=
+        std::count_if(entries.begin(), entries.end(), [](const Entry& e) { return e.active; }) == 2;
+  }
+  return n;
+}
+
 ReducerChoice LocalizationInformationReducer::choose(const DropContext& ctx) {
   refresh();
   const bool by_min = options_.objective == LocalizationInformationOptions::Objective::MinLogDet;
@@ -297,9 +311,21 @@ ReducerChoice LocalizationInformationReducer::choose(const DropContext& ctx) {
     double key, sum;
     LandmarkId id;
   };
+  // second_landmark_admission: a newcomer (it entered at this step; a candidate only under
+  // admission = compete) that gives one of its places its second map landmark is admitted unless
+  // every candidate is one. Waking up and relocalizing need two landmarks in one view, and a
+  // newcomer's loss counts the few places it was read from so far, against the many of a landmark
+  // that has been in the map for long: without this, a place's second landmark is refused as
+  // readily as a third.
+  const auto admitted = [&](std::size_t i) {
+    return options_.second_landmark_admission && ctx.landmarks[i].first_step == ctx.step &&
+           secondLandmarkPlaces(ctx.landmarks[i].id) > 0;
+  };
+  const bool all_admitted = std::all_of(ctx.candidates.begin(), ctx.candidates.end(), admitted);
   std::vector<Scored> scored;
   double least = kInf;
   for (const std::size_t i : ctx.candidates) {
+    if (!all_admitted && admitted(i)) continue;
     const LandmarkId id = ctx.landmarks[i].id;
     const double sum = loss(id);
     scored.push_back({by_min ? minLoss(id) : sum, sum, id});

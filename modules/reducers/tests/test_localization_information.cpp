@@ -369,3 +369,116 @@ TEST(LocalizationInformationReducer, RegisteredWithItsSectionAndValidatedKeys) {
   bad_noise.write("RangeBearingKFSLAM", "std_sensor_range", "-0.1");
   EXPECT_THROW(builtinReducers().create("localization-information", bad_noise, 1), ConfigError);
 }
+
+namespace {
+
+/// Landmarks 1-3 read from places 0-29 (robot along y = 0.5), then at step 30, from place 30, the
+/// landmarks `last` (newcomer 9 among them, 12 m away: it enters at step 30). The reducer's choice
+/// among every landmark of the map at that step.
+LandmarkId newcomerCase(bool second_landmark_admission, const std::vector<LandmarkId>& last,
+                        std::size_t* second_places = nullptr) {
+  auto o = options();
+  o.second_landmark_admission = second_landmark_admission;
+  LocalizationInformationReducer r(o, kStdRange, kStdBearing);
+  const std::map<LandmarkId, Eigen::Vector2d> where = {
+      {1, {8, 3}}, {2, {15, 4}}, {3, {22, 3}}, {9, {31, 12}}};
+  for (StepIndex k = 0; k < 30; ++k)
+    r.observe(readings(k, {k + 0.5, 0.5, 0}, {}, {1, 2, 3}, where));
+  r.observe(readings(30, {30.5, 0.5, 0}, {}, last, where));
+  if (second_places) *second_places = r.secondLandmarkPlaces(9);
+  std::vector<LandmarkView> lms;
+  for (const LandmarkId id : {1, 2, 3})
+    lms.push_back(budget_slam::testing::landmark(id, 1, 1, 0, 30));
+  lms.push_back(budget_slam::testing::landmark(9, 1, 1, 30, 30));  // the newcomer
+  FakeBackend backend(lms);
+  const std::vector<std::size_t> all = {0, 1, 2, 3};
+  return r.choose({backend, lms, all, 30}).id;
+}
+
+}  // namespace
+
+TEST(LocalizationInformationReducer, ANewcomerThatIsAPlacesSecondLandmarkIsAdmittedWithTheOption) {
+  // Newcomer 9 is read from one place, with landmark 1 alone of the map: it is that place's second
+  // landmark. The objective refuses it (its loss, 9.9 nats from one place, is the least: 1-3 lose
+  // 33-72 over thirty), the option admits it and drops the established landmark of least loss
+  // instead (2 or 3: 1 is the other landmark of the place).
+  std::size_t second = 0;
+  EXPECT_EQ(newcomerCase(false, {1, 9}, &second), 9);
+  EXPECT_EQ(second, 1u);
+  const LandmarkId gone = newcomerCase(true, {1, 9});
+  EXPECT_TRUE(gone == 2 || gone == 3) << gone;
+  // Read with 1 and 2, it would be the place's third landmark: refused either way.
+  EXPECT_EQ(newcomerCase(false, {1, 2, 9}, &second), 9);
+  EXPECT_EQ(second, 0u);
+  EXPECT_EQ(newcomerCase(true, {1, 2, 9}), 9);
+}
+
+TEST(LocalizationInformationReducer, WhenEveryCandidateIsASecondLandmarkTheObjectiveDecides) {
+  // Two newcomers, each the second landmark of its own place, are the only candidates: one must
+  // go, and it is the one the objective alone would drop.
+  const std::map<LandmarkId, Eigen::Vector2d> where = {
+      {1, {2, 3}}, {2, {9, 3}}, {7, {3, 5}}, {8, {8.5, 9}}};
+  for (const bool option : {false, true}) {
+    auto o = options();
+    o.second_landmark_admission = option;
+    LocalizationInformationReducer r(o, kStdRange, kStdBearing);
+    r.observe(readings(0, {1.5, 0.5, 0}, {}, {1, 7}, where));
+    r.observe(readings(0, {8.5, 0.5, 0}, {}, {2, 8}, where));
+    EXPECT_EQ(r.secondLandmarkPlaces(7), 1u);
+    EXPECT_EQ(r.secondLandmarkPlaces(8), 1u);
+    std::vector<LandmarkView> lms;
+    for (const LandmarkId id : {1, 2})
+      lms.push_back(budget_slam::testing::landmark(id, 1, 1, 0, 0));
+    for (const LandmarkId id : {7, 8})
+      lms.push_back(budget_slam::testing::landmark(id, 1, 1, 0, 0));
+    FakeBackend backend(lms);
+    const std::vector<std::size_t> newcomers = {2, 3};
+    const LandmarkId gone = r.choose({backend, lms, newcomers, 0}).id;
+    EXPECT_EQ(gone, r.loss(7) < r.loss(8) ? 7 : 8) << "option " << option;
+  }
+}
+
+TEST(LocalizationInformationReducer, SecondLandmarkAdmissionThroughTheManagerUnderCompete) {
+  // The same case as the manager plays it, cap 3, admission = compete: with the option the
+  // newcomer stays and an established landmark goes over the cap (no refusal).
+  const std::map<LandmarkId, Eigen::Vector2d> where = {
+      {1, {8, 3}}, {2, {15, 4}}, {3, {22, 3}}, {9, {31, 12}}};
+  for (const bool option : {false, true}) {
+    auto o = options();
+    o.second_landmark_admission = option;
+    BudgetOptions bo;
+    bo.max_landmarks = 3;
+    bo.protect_recent_steps = 0;
+    bo.admission = BudgetOptions::Admission::Compete;
+    BudgetManager manager(
+        bo, std::make_unique<LocalizationInformationReducer>(o, kStdRange, kStdBearing));
+    FakeBackend b({budget_slam::testing::landmark(1, 1, 1, 0, 0),
+                   budget_slam::testing::landmark(2, 1, 1, 0, 0),
+                   budget_slam::testing::landmark(3, 1, 1, 0, 0)});
+    const auto play = [&](StepIndex k, const std::vector<LandmarkId>& ids) {
+      b.pose = mrpt::math::TPose2D(k + 0.5, 0.5, 0);
+      Step step;
+      step.index = k;
+      step.scan.emplace();
+      step.scan->max_range = 20;
+      step.scan->fov_yaw = 2 * M_PI;
+      for (const LandmarkId id : ids) {
+        const Eigen::Vector2d z = predictRangeBearing(b.pose, {0, 0, 0}, where.at(id)).z;
+        step.scan->readings.push_back({id, z(0), z(1), 0});
+        b.see(id, k);
+      }
+      return manager.enforce(b, step);
+    };
+    for (StepIndex k = 0; k < 30; ++k) EXPECT_TRUE(play(k, {1, 2, 3}).empty());
+    b.add(budget_slam::testing::landmark(9, 1, 1, 30, 30));
+    const auto drops = play(30, {1, 9});
+    ASSERT_EQ(drops.size(), 1u);
+    if (option) {
+      EXPECT_TRUE(drops[0].id == 2 || drops[0].id == 3) << drops[0].id;
+      EXPECT_EQ(drops[0].reason, "over_cap");
+    } else {
+      EXPECT_EQ(drops[0].id, 9);
+      EXPECT_EQ(drops[0].reason, "refused");
+    }
+  }
+}

@@ -56,14 +56,21 @@ class HindsightReducer : public Reducer, public DropScheduler, public Observatio
 
   /// The selection made at the end of the run (empty before).
   const LogDetSelection& selection() const { return selection_; }
-  /// The places the selection is made over: the mapping run's, or those of places_rawlogs.
+  /// The places the selection is made over as they are now: the mapping run's, or those of
+  /// places_rawlogs. Once the selection's drops are made, the mapping run's record holds only the
+  /// kept landmarks' readings (the others are off the map), and places no kept landmark is read
+  /// from are left out: the selection's own places are selectionPlaces().
   std::vector<PlaceReadings> places() const;
+  /// The places the selection was made over, as they were when it was made (empty before): the
+  /// ones selection().objective is the value of.
+  const std::vector<PlaceReadings>& selectionPlaces() const { return selection_places_; }
   const Eigen::Matrix3d& prior() const { return record_->prior(); }
 
  private:
   HindsightOptions options_;
   std::unique_ptr<LocalizationInformationReducer> record_, future_;
   LogDetSelection selection_;
+  std::vector<PlaceReadings> selection_places_;
 };
 
 /// Reads `rawlog` and its ground-truth robot path into `record` (every reading with a sensor ID

@@ -37,6 +37,11 @@ struct LocalizationInformationOptions : public TabledOptions<LocalizationInforma
   /// record, the one that left longest ago forgotten first; 0 = forgotten when they leave
   /// [landmarks]. A landmark that comes back is valued by every place it was read from.
   std::size_t remember_dropped = 1024;
+  /// Under [LandmarkBudget] admission = compete: a newcomer that is the second landmark of the
+  /// map read from one of its places (a place where exactly one other map landmark is read) goes
+  /// only when every candidate is such a newcomer; among those, and among the others, the
+  /// objective decides as before. false = the objective alone decides (the paper's rule).
+  bool second_landmark_admission = false;
 
   static const OptionTable<LocalizationInformationOptions>& table();
 };
@@ -98,6 +103,9 @@ class LocalizationInformationReducer : public Reducer,
   double loss(LandmarkId id) const;
   /// max(0, leastPlace() - the least log det of id's places without it) [nats].
   double minLoss(LandmarkId id) const;
+  /// The remembered places where `id` is one of exactly two map landmarks read there (0 for a
+  /// landmark off the map): the places whose second landmark it is.
+  std::size_t secondLandmarkPlaces(LandmarkId id) const;
   std::size_t placeCount() const { return slots_.size(); }
   /// Every remembered place with the landmarks of the map read from it and I_l(p) of each (the
   /// mean over its readings there): what F is made of, for a selection with hindsight
