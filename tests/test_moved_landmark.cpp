@@ -176,10 +176,17 @@ TEST_F(MovedLandmarkSessions, FusedWhenOffDragsTheEstimate) {
   EXPECT_GT((two.at(world.id).mean - world.before).norm(), 0.2);
 }
 
-// The graph backend, on the same two sessions driven as one process (budget-simulate --joined):
-// a landmark removed from a resumed graph is not supported yet (a resumed session with a split
-// ends "graph: information matrix is not positive definite"; docs/ALGORITHMS.md "Moved
-// landmarks").
+// The graph backend after `run --resume --wake-up`: the second session starts a new graph on the
+// saved map (each landmark under its prior, no pose yet), and the moved landmark leaves it and
+// starts again, as on the EKF.
+TEST_F(MovedLandmarkSessions, SplitNotFusedOnTheGraphAfterAResume) {
+  const MovedWorld world = makeWorld(dir_ / "world", false);
+  ASSERT_NE(world.id, kNoLandmarkId);
+  const auto s2 = runSessions(world, dir_, "split", "graph");
+  expectSplit(world, dir_ / "s1", s2);
+}
+
+// The graph backend, on the same two sessions driven as one process (budget-simulate --joined).
 TEST_F(MovedLandmarkSessions, SplitNotFusedOnTheGraphInOneProcess) {
   const MovedWorld world = makeWorld(dir_ / "world", true);
   ASSERT_NE(world.id, kNoLandmarkId);

@@ -105,10 +105,13 @@ bool FactorGraph::changesSince(std::uint64_t seq, const GraphChange** first,
 
 std::vector<GraphFactor> FactorGraph::factors() const {
   std::vector<GraphFactor> out;
-  if (poses_.empty()) return out;
-  out.push_back(posePriorFactor());
-  for (auto it = std::next(poses_.begin()); it != poses_.end(); ++it)
-    out.push_back(odometryFactor(std::prev(it), it));
+  // A graph may hold landmarks before its first pose (a session resumed on a saved map: each
+  // landmark under its prior); their priors are factors all the same.
+  if (!poses_.empty()) {
+    out.push_back(posePriorFactor());
+    for (auto it = std::next(poses_.begin()); it != poses_.end(); ++it)
+      out.push_back(odometryFactor(std::prev(it), it));
+  }
   for (auto it = landmarks_.begin(); it != landmarks_.end(); ++it) {
     for (const Observation& o : it->second.obs) out.push_back(sightingFactor(it, o));
     if (it->second.prior) out.push_back(landmarkPriorFactor(it));

@@ -20,11 +20,9 @@ constexpr double kDeg = M_PI / 180.0;
 /// Poses a saved graph may hold without `max_poses` (a bound on what a session file can make the
 /// reader build; Victoria Park's whole run is 6968).
 constexpr std::size_t kMaxSavedPoses = std::size_t{1} << 20;
-
-/// The same pose to the bit (a robot the saved chain left, not one found elsewhere).
-bool samePose(const Pose2& x, const mrpt::math::TPose2D& p) {
-  return x.x() == p.x && x.y() == p.y && x.z() == p.phi;
-}
+/// How far the saved robot may stand from the saved chain's last pose [m], [rad]: both are written
+/// from the same doubles, so only rounding in a hand-made file.
+constexpr double kSameRobotM = 1e-9, kSameRobotRad = 1e-9;
 
 Pose2 toPose2(const mrpt::math::TPose2D& p) { return Pose2(p.x, p.y, p.phi); }
 
@@ -257,8 +255,10 @@ std::vector<LandmarkId> GraphBackend::observedAt(StepIndex step) const {
 }
 
 PoseEstimate GraphBackend::robotPose() const {
+  // Before the first step of a resumed session: the robot where the last one stopped, or where
+  // the wake-up found it (what the first step's odometry starts from).
+  if (graph_.poses().empty()) return start_ ? *start_ : PoseEstimate{};
   PoseEstimate p;
-  if (graph_.poses().empty()) return p;
   const auto& [step, node] = *graph_.poses().rbegin();
   p.mean = mrpt::math::TPose2D(node.x.x(), node.x.y(), node.x.z());
   if (options_.exact_pose_covariance || !pose_cov_ || factorization_.isCurrent(graph_)) {
@@ -431,11 +431,21 @@ void GraphBackend::restoreSession(const session::SessionState& state) {
     std::sort(map_ids.begin(), map_ids.end());
     if (saved_ids != map_ids)
       s.fail("landmark_ids", "the graph's landmarks are not the map's (section 'landmarks')");
-    // The saved chain goes on when the robot is where it stopped (its last pose, bit for bit);
-    // a robot placed by --wake-up starts a new chain on the map below.
-    const bool continues = state.robot && !saved.poses().empty() &&
-                           samePose(saved.poses().rbegin()->second.x, state.robot->pose.mean);
+    // The saved chain goes on when the run says the robot starts where it stopped; a robot placed
+    // by --wake-up starts a new chain on the map below.
+    const bool continues = state.robot_start == session::RobotStart::WhereItStopped &&
+                           state.robot && !saved.poses().empty();
     if (continues) {
+      // The file's robot is the chain's last pose, written from it: another one is a file edited
+      // or mixed up, not a robot placed elsewhere (that is the run's to say).
+      const Pose2& last = saved.poses().rbegin()->second.x;
+      const mrpt::math::TPose2D& robot = state.robot->pose.mean;
+      if (std::abs(last.x() - robot.x) > kSameRobotM ||
+          std::abs(last.y() - robot.y) > kSameRobotM ||
+          std::abs(wrapAngle(last.z() - robot.phi)) > kSameRobotRad)
+        s.fail("pose_values",
+               "the last pose is not the robot of section 'robot' (the robot goes "
+               "on where the session stopped)");
       graph_ = std::move(saved);
       poses_since_update_ = static_cast<int>(since);
       updates_ = static_cast<std::size_t>(updates);

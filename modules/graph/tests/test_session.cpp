@@ -117,6 +117,18 @@ SplitRun splitAgainstOneShot(const GraphSlamOptions& options, std::size_t at) {
   return r;
 }
 
+/// The error restoreSession() throws for `st`, "" when it takes it.
+std::string restoreError(const session::SessionState& st) {
+  RangeBearingNoise noise;
+  GraphBackend b(GraphSlamOptions{}, noise);
+  try {
+    b.restoreSession(st);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 TEST(GraphSession, SplitEqualsOneShotWithDropsInBothHalves) {
@@ -141,21 +153,54 @@ TEST(GraphSession, SplitEqualsOneShotOnTheBoundedGraph) {
   EXPECT_LE(r.landmarks, 1e-6);
 }
 
+// The run says where the robot starts (session::RobotStart), not the pose: a robot placed on the
+// map starts a new chain even where the saved one stopped, and before its first step the backend
+// reports the pose it was placed at.
 TEST(GraphSession, RobotPlacedElsewhereStartsANewChainOnTheMap) {
   RangeBearingNoise noise;
   const std::vector<Step> steps = demoSteps(&noise);
   GraphBackend first(GraphSlamOptions{}, noise);
   for (std::size_t k = 0; k < 40; ++k) step(first, steps[k]);
+  for (const double dx : {0.25, 0.0}) {
+    session::SessionState st = savedAndRead(first, 40);
+    st.robot->pose.mean.x += dx;  // what --wake-up hands over: a pose found on the map
+    st.robot_start = session::RobotStart::Placed;
+    GraphBackend woken(GraphSlamOptions{}, noise);
+    woken.restoreSession(st);
+    st.checkAllRead();
+    EXPECT_EQ(woken.poseCount(), 0u) << dx;
+    EXPECT_EQ(woken.landmarkCount(), first.landmarkCount());
+    for (const auto& [id, l] : woken.graph().landmarks()) EXPECT_TRUE(l.prior.has_value()) << id;
+    EXPECT_EQ(woken.robotPose().mean.x, st.robot->pose.mean.x);
+    EXPECT_TRUE(woken.robotPose().cov == st.robot->pose.cov);
+    // The map alone (landmarks under their priors, no pose yet) is a well-posed system: its
+    // marginals are the saved ones (the priors' covariances).
+    const auto views = woken.landmarks();
+    ASSERT_EQ(views.size(), st.map.landmarks.size());
+    for (std::size_t i = 0; i < views.size(); ++i)
+      EXPECT_LE((views[i].cov - st.map.landmarks[i].cov).lpNorm<Eigen::Infinity>(), 1e-9);
+    // A landmark leaves the map before the first step (a split at the first step after a
+    // wake-up), and the session goes on.
+    woken.removeLandmark(views.front().id);
+    EXPECT_EQ(woken.landmarks().size(), views.size() - 1);
+    for (std::size_t k = 40; k < 60; ++k) step(woken, steps[k]);
+    EXPECT_EQ(woken.poseCount(), 20u);
+  }
+}
+
+// A robot the run says goes on where the session stopped must be the saved chain's last pose.
+TEST(GraphSession, ARobotOffTheSavedChainIsRefused) {
+  RangeBearingNoise noise;
+  const std::vector<Step> steps = demoSteps(&noise);
+  GraphBackend first(GraphSlamOptions{}, noise);
+  for (std::size_t k = 0; k < 40; ++k) step(first, steps[k]);
   session::SessionState st = savedAndRead(first, 40);
-  st.robot->pose.mean.x += 0.25;  // what --wake-up hands over: a pose found on the map
-  GraphBackend woken(GraphSlamOptions{}, noise);
-  woken.restoreSession(st);
-  st.checkAllRead();
-  EXPECT_EQ(woken.poseCount(), 0u);
-  EXPECT_EQ(woken.landmarkCount(), first.landmarkCount());
-  for (const auto& [id, l] : woken.graph().landmarks()) EXPECT_TRUE(l.prior.has_value()) << id;
-  woken.process(steps[40]);
-  EXPECT_EQ(woken.poseCount(), 1u);
+  st.robot->pose.mean.y += 0.01;
+  const std::string e = restoreError(st);
+  EXPECT_NE(e.find("section 'backend.graph', field 'pose_values': the last pose is not the robot"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }
 
 namespace {
@@ -177,16 +222,6 @@ session::SessionState withField(const session::SessionState& st, const std::stri
   return out;
 }
 
-std::string restoreError(const session::SessionState& st) {
-  RangeBearingNoise noise;
-  GraphBackend b(GraphSlamOptions{}, noise);
-  try {
-    b.restoreSession(st);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 }  // namespace
 
 TEST(GraphSession, BadValuesAreOneLineNamingTheField) {

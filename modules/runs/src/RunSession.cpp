@@ -94,6 +94,7 @@ WakeUpOutcome wakeUpOnMap(const RunConfig& rc, session::SessionState& state, std
   robot.cross_covariance =
       Eigen::MatrixXd::Zero(3, static_cast<Eigen::Index>(2 * state.map.landmarks.size()));
   state.robot = robot;
+  state.robot_start = session::RobotStart::Placed;
   return out;
 }
 

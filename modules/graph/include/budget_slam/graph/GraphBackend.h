@@ -62,8 +62,10 @@ class GraphBackend : public Backend, public PoseHistoryBackend, public session::
   /// whole graph factor for factor (writeGraph) and the incremental schedule (poses since the last
   /// update, the latest pose's covariance between updates).
   void saveSession(session::SessionState& state) const override;
-  /// The saved graph as it was, when the robot continues where the session stopped: the next
-  /// session's steps are the one-shot run's. When the robot was placed elsewhere (--wake-up), or
+  /// The saved graph as it was, when the robot continues where the session stopped
+  /// (state.robot_start, told by the run): the next session's steps are the one-shot run's (a
+  /// `[robot]` pose other than the chain's last is an InputError). When the robot was placed
+  /// elsewhere (session::RobotStart::Placed: --wake-up), or
   /// the state holds no graph (written before it was saved whole), a new graph on the saved map:
   /// each landmark with a prior from its marginal (2x2 block of the saved joint covariance; the
   /// correlations are not kept), and the next step's pose from the robot pose and its marginal

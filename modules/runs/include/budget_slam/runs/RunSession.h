@@ -34,7 +34,8 @@ struct WakeUpOutcome {
 
 /// Finds the robot on the saved map from the first steps of rc.rawlog after `skip` steps
 /// (wakeup::GlobalLocalizer, [WakeUp]); when found, replaces the state's robot by the pose found
-/// and its covariance, uncorrelated with the map: the hand-over to the filter (docs/ALGORITHMS.md
+/// and its covariance, uncorrelated with the map, and marks it session::RobotStart::Placed (the
+/// backends start a new chain on the map): the hand-over to the filter (docs/ALGORITHMS.md
 /// "Waking up on a saved map"). Ambiguous is never a pose.
 WakeUpOutcome wakeUpOnMap(const RunConfig& rc, session::SessionState& state, std::size_t skip);
 

@@ -46,6 +46,17 @@ struct RobotBlock {
   Eigen::MatrixXd cross_covariance;  ///< 3 x 2n, robot pose against the landmarks, in their order
 };
 
+/// Where the robot of a resumed session starts: told by the run that resumes, never read from the
+/// file (a file only knows where its session stopped).
+enum class RobotStart {
+  /// The robot goes on from where the saved session stopped (`[robot]` as saved): a backend that
+  /// saved its whole estimate (the graph's chain) continues it, step for step the one-shot run.
+  WhereItStopped,
+  /// The robot was placed elsewhere on the saved map (`run --resume --wake-up`: `robot` replaced
+  /// by the pose found, uncorrelated with the map): a new chain starts on the saved map.
+  Placed,
+};
+
 /// Bounds on what a session state file may make the reader allocate (checked before allocating).
 struct SessionLimits {
   std::size_t max_landmarks = 2000;  ///< landmarks in `[landmarks]` (the covariance is dense)
@@ -68,6 +79,8 @@ class SessionState {
   SessionHeader header;
   LandmarkBlock map;
   std::optional<RobotBlock> robot;
+  /// How `robot` came to be: WhereItStopped as read; the run's wake-up sets Placed.
+  RobotStart robot_start = RobotStart::WhereItStopped;
 
   /// Names the file and the core blocks use; owners may not take them.
   static const std::vector<std::string>& reservedSections();
