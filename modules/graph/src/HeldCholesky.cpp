@@ -2,6 +2,9 @@
 
 #include <cholmod.h>
 
+#include <algorithm>
+#include <limits>
+
 namespace budget_slam::graph::held {
 
 HeldCholesky::HeldCholesky(const HeldCholesky& o)
@@ -51,6 +54,32 @@ double HeldCholesky::refreshCap(std::size_t h_entries) const {
   return (kRefreshCostPerFlop * refresh_flops +
           kRefreshCostPerEntry * static_cast<double>(h_entries)) /
          kUpdateCostPerEntry;
+}
+
+double HeldCholesky::flopsFrom(int first) {
+  return partialCap(first, 0, std::numeric_limits<double>::infinity()) * kUpdateCostPerEntry /
+         kRefreshCostPerFlop;
+}
+
+double HeldCholesky::partialCap(int first, std::size_t h_entries, double stop) {
+  const Tree t = tree();
+  const double scale = kRefreshCostPerFlop / kUpdateCostPerEntry;
+  double s = kRefreshCostPerEntry * static_cast<double>(h_entries) / kUpdateCostPerEntry;
+  for (int j = std::max(first, 0); j < t.n; ++j) {
+    const double nz = t.nz[j];
+    s += scale * nz * nz;
+  }
+  // The leading columns' entries in the trailing rows: each is computed again, at the cost of
+  // its column's length there (the row factorization's sparse triangular solve).
+  for (int j = std::min(first, t.n) - 1; j >= 0 && s <= stop; --j) {
+    const int nz = t.nz[j];
+    const int* b = t.i + t.p[j];
+    if (nz > 1 && b[nz - 1] >= first) {
+      const double kept = static_cast<double>(std::lower_bound(b + 1, b + nz, first) - b);
+      s += scale * (static_cast<double>(nz) * nz - kept * kept);
+    }
+  }
+  return s;
 }
 
 double HeldCholesky::pathEntries(int k, double cap) {

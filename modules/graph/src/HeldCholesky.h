@@ -49,6 +49,14 @@ struct HeldCholesky {
   /// The cost-model bound on in-place work: that of a numeric refactorization of an H with
   /// `h_entries` stored entries, in entries of L.
   double refreshCap(std::size_t h_entries) const;
+  /// Flops of re-eliminating rows `first` .. n-1 of L as its pattern stands (CHOLMOD's row
+  /// factorization: about (entries of a column)^2 per column, for the entries in those rows):
+  /// a partial refactorization's work; flopsFrom(0) estimates a whole one.
+  double flopsFrom(int first);
+  /// The cost-model bound of a partial refactorization from row `first` of an H whose trailing
+  /// columns hold `h_entries` entries, in entries of L (refreshCap's units). The trailing
+  /// columns are counted first; the scan stops once above `stop` (then a lower bound).
+  double partialCap(int first, std::size_t h_entries, double stop);
   /// Entries of L on the etree path from position k to the root (the work of a rank-1 change
   /// that starts there), stopping once above `cap`.
   double pathEntries(int k, double cap);

@@ -24,6 +24,9 @@ struct Var {
   std::vector<int> factors;  ///< indices into HeldRecords::factors
   bool alive = false;
   bool dying = false;  ///< removed by the changes being folded in
+  /// The change count (IncrementalFactorization's) when a change last touched it: a fresh
+  /// ordering puts the recently touched variables last.
+  std::uint64_t touched = 0;
 };
 
 /// A factor folded into H, with the rows it put there and where its entries of H are.

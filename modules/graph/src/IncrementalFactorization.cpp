@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "HeldCholesky.h"
@@ -19,6 +20,10 @@ namespace {
 /// Spare rows for new variables after a fresh ordering: a quarter of the used ones, at least
 /// this many (64 poses).
 constexpr int kMinSpareRows = 192;
+/// A fresh ordering puts the variables touched by the last this many changes last (constrained
+/// AMD, iSAM2's constrained COLAMD): the next changes touch them again, so the rows they
+/// re-eliminate are few.
+constexpr std::uint64_t kRecentChanges = 20;
 
 /// The largest |difference| of two values of a variable of `dim` parameters, a pose's yaw
 /// (the third) wrapped.
@@ -46,6 +51,7 @@ struct IncrementalFactorization::State {
   std::uint64_t lineage = 0, seq = 0, values_version = 0;
   IncrementalStats stats;
   HeldUpdate last;
+  std::uint64_t change_count = 1;  ///< changes folded in so far (Var::touched)
   // Scratch of one change.
   std::vector<Piece> ups, downs;
   std::vector<int> deleted_rows, new_vars, new_factors, identity_rows;
@@ -97,7 +103,14 @@ struct IncrementalFactorization::State {
       i.insert(i.end(), adj[c].begin(), adj[c].end());
       p[c + 1] = static_cast<int>(i.size());
     }
-    const std::vector<int> order = L.chol.orderNodes(nv, p, i);
+    // The variables touched by the last changes last (not on the batch path: plain AMD).
+    std::vector<int> group;
+    if (!batch()) {
+      group.assign(static_cast<std::size_t>(nv), 0);
+      for (int k = 0; k < nv; ++k)
+        if (vars[alive[k]].touched + kRecentChanges >= change_count) group[k] = 1;
+    }
+    const std::vector<int> order = L.chol.orderNodes(nv, p, i, group.empty() ? nullptr : &group);
     // The estimate moves with its variables (it is the linearization point plus the last step).
     std::vector<Eigen::Vector3d> estimate(static_cast<std::size_t>(nv));
     for (int k = 0; k < nv; ++k) {
@@ -152,6 +165,45 @@ struct IncrementalFactorization::State {
     last.fold = HeldUpdate::Fold::Refactorized;
   }
 
+  /// L's rows from `first` on re-eliminated, the rows above kept (only H's columns from `first`
+  /// on changed since L D L^T = H held: every change touched only variables placed there).
+  /// Falls back to a whole refactorization when that one fails.
+  void refreshFrom(int first) {
+    if (first <= 0) {
+      refresh();
+      return;
+    }
+    if (!L.chol.refactorizeTrailing(H.upper(), first)) {
+      refresh();
+      return;
+    }
+    L.refresh_flops = L.flopsFrom(0);
+    L.computePathCosts();
+    ++stats.rebuilds;
+    ++stats.partial_refactorizations;
+    stats.partial_rows += H.capacity() - first;
+    stats.partial_of_rows += H.capacity();
+    last.fold = HeldUpdate::Fold::Partial;
+  }
+
+  /// The cost of re-eliminating L from row `first` (cost-model units), scanning no further
+  /// once above `stop`.
+  double partialCost(int first, double stop) {
+    if (batch() || first <= 0) return std::numeric_limits<double>::infinity();
+    return L.partialCap(first, H.Hx.size() - static_cast<std::size_t>(H.Hp[first]), stop);
+  }
+
+  /// The first row the queued change touches: new rows, deleted rows, the pieces' rows.
+  int firstChangedRow(const std::vector<int>& new_identity_rows) const {
+    int first = H.capacity();
+    for (const std::vector<Piece>* ps : {&ups, &downs})
+      for (const Piece& p : *ps)
+        for (int j = 0; j < p.nvar; ++j) first = std::min(first, p.row[j]);
+    for (int r : deleted_rows) first = std::min(first, r);
+    for (int r : new_identity_rows) first = std::min(first, r);
+    return first;
+  }
+
   /// L's pattern cut to that of a factorization of H (CHOLMOD's resymbol): the entries that
   /// downdates and row deletions zeroed go, so every elimination-tree path is as short as a fresh
   /// factorization's (the queries walk them). No flops.
@@ -190,8 +242,14 @@ struct IncrementalFactorization::State {
     if (work <= cap) work += L.columns(downs, deleted, &down_p, &down_i, &down_x, cap - work);
     for (int r : deleted_rows)
       if (work <= cap) work += 2 * L.pathEntries(r, cap - work);
+    // The third way: re-eliminate only the rows from the first one the change touched.
+    const int first = firstChangedRow(new_identity_rows);
+    last.first_changed_row = first;
+    bool in_place = work <= cap;
+    const double partial = partialCost(first, in_place ? work : cap);
+    if (in_place && partial < work) in_place = false;
     bool ok = false;
-    if (work <= cap) {
+    if (in_place) {
       for (int r : new_identity_rows) {
         down_i.push_back(r);
         down_x.push_back(1.0);
@@ -212,7 +270,13 @@ struct IncrementalFactorization::State {
         last.fold = HeldUpdate::Fold::InPlace;
       }
     }
-    if (!ok) refresh();
+    if (!ok) {
+      if (partialCost(first, cap) < cap) {
+        refreshFrom(first);
+      } else {
+        refresh();
+      }
+    }
     checkFill();
   }
 
@@ -234,8 +298,15 @@ struct IncrementalFactorization::State {
       const Held& h = rec.factors[k];
       work += 2.0 * h.lin.rows * L.path_cost[rec.firstRow(h)];
     }
-    const bool in_place = !batch() && work <= L.refreshCap(H.Hx.size());
-    if (!in_place && ks.size() == rec.factor_count) {
+    const double cap = L.refreshCap(H.Hx.size());
+    int first = H.capacity();
+    for (int k : ks) first = std::min(first, rec.firstRow(rec.factors[k]));
+    last.first_changed_row = first;
+    bool in_place = !batch() && work <= cap;
+    const double partial = partialCost(first, in_place ? work : cap);
+    if (in_place && partial < work) in_place = false;
+    const bool partly = !in_place && partial < cap;
+    if (!in_place && !partly && ks.size() == rec.factor_count) {
       relinearizeAll(ks);
       return;
     }
@@ -251,6 +322,9 @@ struct IncrementalFactorization::State {
       fold({});
     } else if (batch()) {
       reorder();
+    } else if (partly) {
+      refreshFrom(first);
+      checkFill();
     } else {
       refresh();
       checkFill();
@@ -329,6 +403,7 @@ struct IncrementalFactorization::State {
             throw std::logic_error("IncrementalFactorization: unknown factor removed");
           const Held& h = rec.factors[it->second];
           if (!h.added) {
+            for (int j = 0; j < 2 && h.var[j] >= 0; ++j) rec.vars[h.var[j]].touched = change_count;
             downs.push_back(rec.pieceOf(h));
             H.add(rec, h, -1.0);
             ++last.removed_factors;
@@ -386,6 +461,7 @@ struct IncrementalFactorization::State {
       if (!h.alive || !h.added) continue;
       h.lin = rec.linearizeHeld(h);
       h.added = false;
+      for (int j = 0; j < 2 && h.var[j] >= 0; ++j) rec.vars[h.var[j]].touched = change_count;
       added.push_back(k);
     }
     last.added_factors = added.size();
@@ -434,6 +510,7 @@ struct IncrementalFactorization::State {
     }
     extendH(first_new_row, added);
     fold(identity_rows);
+    ++change_count;
   }
 
   /// The graph's values against `est`, both in the graph's column order; a variable whose value

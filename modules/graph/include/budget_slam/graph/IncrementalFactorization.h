@@ -41,6 +41,11 @@ struct IncrementalStats {
   std::size_t modifications = 0;    ///< changes folded into L in place (each a batch of them)
   std::size_t folded_factors = 0;   ///< factors added, removed or relinearized in place
   std::size_t moved_variables = 0;  ///< variables relinearized in iterate() (past the threshold)
+  /// Partial re-eliminations: L's rows from the first changed one on computed again, the rows
+  /// above kept (included in `rebuilds`).
+  std::size_t partial_refactorizations = 0;
+  double partial_rows = 0;     ///< rows re-eliminated by them in all
+  double partial_of_rows = 0;  ///< rows of the factors they re-eliminated, in all
 };
 
 /// What the last change folded into the held factor did, recorded by its named steps (the
@@ -52,6 +57,7 @@ struct HeldUpdate {
     None,           ///< nothing changed
     InPlace,        ///< rank updates, row deletions and downdates (CHOLMOD's updown, rowdel)
     Refactorized,   ///< a numeric refactorization in the kept order
+    Partial,        ///< only L's rows from the first changed one on re-eliminated
     FreshOrdering,  ///< a fresh fill-reducing ordering, H rebuilt and factorized
   };
   bool restarted = false;  ///< the graph was read afresh (first time, or journal out of reach)
@@ -62,6 +68,7 @@ struct HeldUpdate {
   std::size_t relinearized_variables = 0;
   std::size_t relinearized_factors = 0;
   bool pattern_rebuilt = false;  ///< a new factor tied two variables H had no entry for
+  int first_changed_row = -1;    ///< the first row of H the change touched (-1: none)
   Fold fold = Fold::None;
 };
 
