@@ -126,7 +126,7 @@ bool HeldMatrix::extendPattern(HeldRecords& rec, int first, const std::vector<in
   return true;
 }
 
-SparseCholesky::UpperTriangle HeldMatrix::upper() {
+SparseCholesky::UpperTriangle HeldMatrix::upper(int first) {
   SparseCholesky::UpperTriangle H;
   H.n = capacity();
   if (dead_rows == 0) {
@@ -138,7 +138,8 @@ SparseCholesky::UpperTriangle HeldMatrix::upper() {
   Fp.assign(static_cast<std::size_t>(H.n) + 1, 0);
   Fi.clear();
   Fx.clear();
-  for (int c = 0; c < H.n; ++c) {
+  // Columns before `first` stay empty (Fp 0 there).
+  for (int c = std::max(first, 0); c < H.n; ++c) {
     for (int k = Hp[c]; k < Hp[c + 1]; ++k) {
       const int r = Hi[k];
       if (r != c && (owner[r] < 0 || owner[c] < 0)) continue;

@@ -76,8 +76,9 @@ struct HeldMatrix {
   bool extendPattern(HeldRecords& rec, int first, const std::vector<int>& added);
   /// H as CHOLMOD reads it. Rows of removed variables keep their entries in Hp/Hi (zeros: the
   /// factors' positions stay valid) until the next fresh ordering; a factorization or a pattern
-  /// cut reads a copy without them, so they leave no fill behind.
-  SparseCholesky::UpperTriangle upper();
+  /// cut reads a copy without them, so they leave no fill behind. With `first`: only the columns
+  /// from `first` on (the others empty), all a partial re-elimination from `first` reads.
+  SparseCholesky::UpperTriangle upper(int first = 0);
 
  private:
   std::vector<int> Fp, Fi;  ///< upper()'s copy without the dead rows

@@ -173,7 +173,7 @@ struct IncrementalFactorization::State {
       refresh();
       return;
     }
-    if (!L.chol.refactorizeTrailing(H.upper(), first)) {
+    if (!L.chol.refactorizeTrailing(H.upper(first), first)) {
       refresh();
       return;
     }
