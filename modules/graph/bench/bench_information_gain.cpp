@@ -10,6 +10,7 @@
 
 #include <map>
 #include <memory>
+#include <numeric>
 
 #include "TestGraphs.h"
 #include "budget_slam/dataset/Simulator.h"
@@ -114,6 +115,27 @@ double threadCpuMs() {
   return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
 }
 
+/// The held factor's partial re-eliminations: how many, and the mean share of L's rows each
+/// re-eliminated.
+void setPartialCounters(benchmark::State& state, const IncrementalStats& held) {
+  state.counters["partial"] = static_cast<double>(held.partial_refactorizations);
+  state.counters["partial_rows_pct"] =
+      held.partial_of_rows > 0 ? 100.0 * held.partial_rows / held.partial_of_rows : 0.0;
+}
+
+/// Mean step CPU over the first and the last 10% of the steps, and their ratio.
+void setMeanStepCounters(benchmark::State& state, const std::vector<double>& step_ms) {
+  const std::size_t tenth = std::max<std::size_t>(1, step_ms.size() / 10);
+  const auto mean = [](auto b, auto e) {
+    return std::accumulate(b, e, 0.0) / static_cast<double>(std::distance(b, e));
+  };
+  const double first = mean(step_ms.begin(), step_ms.begin() + tenth);
+  const double last = mean(step_ms.end() - tenth, step_ms.end());
+  state.counters["step_mean_first10_ms"] = first;
+  state.counters["step_mean_last10_ms"] = last;
+  state.counters["step_mean_growth"] = last / first;
+}
+
 /// Full graph SLAM over the first n steps as the app runs it: process() and robotPose() (the
 /// steps.csv row) every step, then finish() (solve to the batch optimum) and the final outputs.
 void BM_FullSlam(benchmark::State& state) {
@@ -130,11 +152,13 @@ void BM_FullSlam(benchmark::State& state) {
     GraphBackend b(options, noise);
     std::vector<double> update_ms;   // CPU time of each step that ran an incremental update
     std::vector<char> refactorized;  // ... and whether it refactorized the whole factor
+    std::vector<double> step_ms;     // CPU time of every step
     for (const Step& s : steps) {
       const std::size_t before = b.updateCount(), rebuilds = b.heldFactorStats().rebuilds;
       const double t0 = threadCpuMs();
       b.process(s);
       benchmark::DoNotOptimize(b.robotPose());
+      step_ms.push_back(threadCpuMs() - t0);
       if (b.updateCount() != before) {
         update_ms.push_back(threadCpuMs() - t0);
         refactorized.push_back(b.heldFactorStats().rebuilds != rebuilds);
@@ -167,6 +191,8 @@ void BM_FullSlam(benchmark::State& state) {
     state.counters["rebuilds"] = static_cast<double>(held.rebuilds);
     state.counters["fresh_orderings"] = static_cast<double>(held.fresh_orderings);
     state.counters["in_place"] = static_cast<double>(held.modifications);
+    setPartialCounters(state, held);
+    setMeanStepCounters(state, step_ms);
     // Median update over the first and the last 10% of the updates (the growth measure).
     const std::size_t tenth = std::max<std::size_t>(1, update_ms.size() / 10);
     const auto median = [](std::vector<double> v) {
@@ -253,6 +279,8 @@ void BM_Lifelong(benchmark::State& state) {
     state.counters["rebuilds"] = static_cast<double>(held.rebuilds);
     state.counters["fresh_orderings"] = static_cast<double>(held.fresh_orderings);
     state.counters["in_place"] = static_cast<double>(held.modifications);
+    setPartialCounters(state, held);
+    setMeanStepCounters(state, step_ms);
     setCounters(state, b.graph());
   }
 }

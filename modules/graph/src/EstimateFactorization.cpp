@@ -5,7 +5,7 @@
 namespace budget_slam::graph {
 
 EstimateFactorization::EstimateFactorization(double reorder_fill_ratio)
-    : held_(reorder_fill_ratio) {}
+    : held_(HeldFactorParams{reorder_fill_ratio}) {}
 
 EstimateFactorization::EstimateFactorization(const EstimateFactorization& o)
     : held_(o.held_),

@@ -515,8 +515,40 @@ bool SparseCholesky::refactorizeInOrder(const UpperTriangle& H) {
   return m.ok;
 }
 
+bool SparseCholesky::refactorizeTrailing(const UpperTriangle& H, int first) {
+  Impl& m = *impl_;
+  if (!m.F || H.n != m.n || m.F->is_super || m.F->ordering != CHOLMOD_NATURAL)
+    throw std::logic_error("SparseCholesky: refactorizeTrailing without factorizeInOrder");
+  if (first <= 0) return refactorizeInOrder(H);
+  if (first >= H.n) return m.ok;
+  m.invalidate();
+  cholmod_factor& L = *m.F;
+  int* Lp = static_cast<int*>(L.p);
+  int* Lnz = static_cast<int*>(L.nz);
+  const int* Li = static_cast<const int*>(L.i);
+  // Rows from `first` on are computed again: every column keeps only its rows above `first`
+  // (rows ascending in each column: the diagonal, then the rows below it), the trailing
+  // columns only their diagonal. cholmod_rowfac then computes rows first .. n-1 from the
+  // leading rows, which stay (their columns of H did not change).
+  for (int j = 0; j < first; ++j) {
+    const int* b = Li + Lp[j];
+    const int nz = Lnz[j];
+    if (nz > 1 && b[nz - 1] >= first)
+      Lnz[j] = static_cast<int>(std::lower_bound(b + 1, b + nz, first) - b);
+  }
+  for (int j = first; j < H.n; ++j) Lnz[j] = 1;
+  L.minor = static_cast<std::size_t>(H.n);
+  cholmod_sparse A = upperView(H);
+  double beta[2] = {0, 0};
+  const int ok = cholmod_rowfac(&A, nullptr, beta, static_cast<std::size_t>(first),
+                                static_cast<std::size_t>(H.n), m.F, &m.c);
+  m.ok = ok && m.c.status == CHOLMOD_OK && m.F->minor == m.F->n;
+  return m.ok;
+}
+
 std::vector<int> SparseCholesky::orderNodes(int n, const std::vector<int>& p,
-                                            const std::vector<int>& i) {
+                                            const std::vector<int>& i,
+                                            const std::vector<int>* group) {
   Impl& m = *impl_;
   if (n <= 0) return {};
   if (static_cast<int>(p.size()) != n + 1)
@@ -531,6 +563,14 @@ std::vector<int> SparseCholesky::orderNodes(int n, const std::vector<int>& p,
   }
   cholmod_sparse A = compressedView(static_cast<std::size_t>(n), static_cast<std::size_t>(n),
                                     ci.size(), cp.data(), ci.data(), nullptr, 1);
+  if (group) {
+    if (static_cast<int>(group->size()) != n)
+      throw std::invalid_argument("SparseCholesky: node groups of the wrong size");
+    std::vector<int> cmember(*group), order(static_cast<std::size_t>(n));
+    if (!cholmod_camd(&A, nullptr, 0, cmember.data(), order.data(), &m.c))
+      throw std::runtime_error("CHOLMOD: constrained ordering failed");
+    return order;
+  }
   m.c.nmethods = 1;
   m.c.method[0].ordering = CHOLMOD_AMD;
   m.c.postorder = 1;

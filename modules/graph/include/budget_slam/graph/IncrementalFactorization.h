@@ -10,7 +10,16 @@
 
 namespace budget_slam::graph {
 
-/// Gauss-Newton iterations on the held factor (IncrementalFactorization::iterate).
+/// How the held factor keeps L (IncrementalFactorization's construction parameters).
+struct HeldFactorParams {
+  /// A fresh fill-reducing ordering once nnz(L) or the factorization flops per row exceed this
+  /// many times their value after the last fresh ordering. <= 1: a fresh ordering and a full
+  /// factorization at every change (nothing in place: the batch path).
+  double reorder_fill_ratio = 1.5;
+};
+
+/// Gauss-Newton iterations on the held factor (IncrementalFactorization::iterate): the update
+/// parameters.
 struct IncrementalStep {
   int max_iterations = 2;
   /// A variable's factors are relinearized, at the start of an iteration, once its estimate has
@@ -32,6 +41,35 @@ struct IncrementalStats {
   std::size_t modifications = 0;    ///< changes folded into L in place (each a batch of them)
   std::size_t folded_factors = 0;   ///< factors added, removed or relinearized in place
   std::size_t moved_variables = 0;  ///< variables relinearized in iterate() (past the threshold)
+  /// Partial re-eliminations: L's rows from the first changed one on computed again, the rows
+  /// above kept (included in `rebuilds`).
+  std::size_t partial_refactorizations = 0;
+  double partial_rows = 0;     ///< rows re-eliminated by them in all
+  double partial_of_rows = 0;  ///< rows of the factors they re-eliminated, in all
+};
+
+/// What the last change folded into the held factor did, recorded by its named steps (the
+/// journal read, rows retired and placed, H extended, L brought to H); a sync() with nothing to
+/// fold in leaves it as it was.
+struct HeldUpdate {
+  /// How L was brought to H.
+  enum class Fold : std::uint8_t {
+    None,           ///< nothing changed
+    InPlace,        ///< rank updates, row deletions and downdates (CHOLMOD's updown, rowdel)
+    Refactorized,   ///< a numeric refactorization in the kept order
+    Partial,        ///< only L's rows from the first changed one on re-eliminated
+    FreshOrdering,  ///< a fresh fill-reducing ordering, H rebuilt and factorized
+  };
+  bool restarted = false;  ///< the graph was read afresh (first time, or journal out of reach)
+  std::size_t new_variables = 0;
+  std::size_t removed_variables = 0;
+  std::size_t added_factors = 0;
+  std::size_t removed_factors = 0;  ///< downdated out of H (not those added and removed)
+  std::size_t relinearized_variables = 0;
+  std::size_t relinearized_factors = 0;
+  bool pattern_rebuilt = false;  ///< a new factor tied two variables H had no entry for
+  int first_changed_row = -1;    ///< the first row of H the change touched (-1: none)
+  Fold fold = Fold::None;
 };
 
 /// The Cholesky factor L D L^T of the graph's information matrix H, held between updates and
@@ -52,10 +90,23 @@ struct IncrementalStats {
 ///
 /// It follows one FactorGraph through its change journal (FactorGraph::changesSince); a copy
 /// follows a copy of that graph after adopt().
+///
+/// Invariants between public calls (the implementation's parts hold them: HeldRecords,
+/// HeldMatrix, HeldCholesky in src/; test_incremental.cpp checks them against batch solves):
+/// 1. Each held variable's rows of H are its positions in the elimination order (P = I), rows
+///    past the last placed variable are spare, and spare or removed rows are identity rows.
+/// 2. H = sum over the held factors of A^T A at their variables' linearization points, g = sum
+///    A^T r, chi2 = sum |r|^2 (a factor's linearization changes only with its variables').
+/// 3. L D L^T = H to rounding (after every sync; L may hold explicit zeros after downdates
+///    and row deletions until the next query at the estimate cuts them).
+/// 4. The estimate = linearization point + the last step's minimizer; each variable's estimate
+///    is within the relinearization threshold of its linearization point, or it is
+///    relinearized at the next iteration.
+/// 5. The held records are those of the graph at (lineage, changeCount, valuesVersion): a
+///    change since is folded in by the next sync, or the graph is read afresh.
 class IncrementalFactorization {
  public:
-  /// `reorder_fill_ratio` <= 1: a fresh ordering at every rebuild.
-  explicit IncrementalFactorization(double reorder_fill_ratio = 1.5);
+  explicit IncrementalFactorization(const HeldFactorParams& params = {});
   /// A deep copy of the factor and everything it holds (CHOLMOD's copy of the factor).
   IncrementalFactorization(const IncrementalFactorization& other);
   IncrementalFactorization& operator=(const IncrementalFactorization&) = delete;
@@ -97,6 +148,8 @@ class IncrementalFactorization {
   /// Sum of squared whitened residuals at the estimate (kept with the factor).
   double chi2() const;
   const IncrementalStats& stats() const;
+  /// What the last change folded in did (sync, or a relinearization in iterate()).
+  const HeldUpdate& lastUpdate() const;
 
  private:
   struct State;

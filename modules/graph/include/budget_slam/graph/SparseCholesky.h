@@ -68,10 +68,21 @@ class SparseCholesky {
   /// accepts), no analysis and no permutation. Throws std::logic_error without a prior
   /// factorizeInOrder; returns false when H is not positive definite.
   bool refactorizeInOrder(const UpperTriangle& H);
+  /// Partial re-elimination: rows `first` .. n-1 of L (and of D) computed again from H, rows
+  /// above kept (CHOLMOD's incremental cholmod_rowfac), in the kept order. Valid when only
+  /// columns `first` .. n-1 of H (its upper triangle) changed since L was L D L^T = H: row k of
+  /// L depends only on H's columns up to k. The work is that of the rows re-eliminated (the
+  /// trailing block and its entries in the leading columns), not of the whole factor. Throws
+  /// std::logic_error without a prior factorizeInOrder; false when H is not positive definite.
+  bool refactorizeTrailing(const UpperTriangle& H, int first);
   /// A fill-reducing ordering of a symmetric pattern on n nodes (a graph's variables), given by
   /// its strict upper triangle (column c's rows r < c, sorted): AMD, postordered so every
   /// elimination subtree is contiguous. order[k] = the node eliminated k-th. No factorization.
-  std::vector<int> orderNodes(int n, const std::vector<int>& p, const std::vector<int>& i);
+  /// With `group` (one entry per node, >= 0): constrained AMD (CAMD), every node of a group
+  /// after those of the lower groups (iSAM2's constrained ordering: the variables the next
+  /// changes touch last), not postordered.
+  std::vector<int> orderNodes(int n, const std::vector<int>& p, const std::vector<int>& i,
+                              const std::vector<int>* group = nullptr);
   /// Non-zeros of L predicted by the last symbolic analysis (CHOLMOD's lnz; no extraction).
   double analysedNonZeros() const;
   /// Floating-point operations of the numeric factorization the last analysis predicts (CHOLMOD's
