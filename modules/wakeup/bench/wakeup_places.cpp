@@ -265,7 +265,7 @@ int main(int argc, char** argv) {
       const auto p0 = trueAt(s0);
       const auto on_map = r.status == wakeup::WakeUpStatus::Found ? onTheMap(t) : std::nullopt;
       const double on_map_xy =
-          on_map ? std::hypot(r.pose.mean.x - on_map->x(), r.pose.mean.y - on_map->y()) : 0;
+          on_map ? std::hypot(r.pose.mean.x - on_map->x, r.pose.mean.y - on_map->y) : 0;
       const double on_map_yaw =
           on_map ? std::abs(wrapAngle(r.pose.mean.phi - on_map->phi)) * 180 / M_PI : 0;
       const bool in_area = area.contains(p0.x, p0.y);
