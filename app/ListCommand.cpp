@@ -1,6 +1,7 @@
 #include "ListCommand.h"
 
 #include <nlohmann/json.hpp>
+#include <type_traits>
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
@@ -9,7 +10,7 @@
 namespace budget_slam::app {
 namespace {
 
-/// One registry's entries (name, summary, sections) as --list shows them.
+/// One registry's entries (name, summary, sections; a reducer's role) as --list shows them.
 template <class Registry>
 std::string listed(const Registry& registry, bool json) {
   if (json) {
@@ -24,6 +25,8 @@ std::string listed(const Registry& registry, bool json) {
                                                         : nlohmann::json(nullptr)},
                              {"doc", o.doc}});
       out.push_back({{"name", e->name}, {"summary", e->summary}, {"options", options}});
+      if constexpr (std::is_same_v<std::decay_t<decltype(*e)>, ReducerEntry>)
+        out.back()["role"] = reducerRoleName(e->role);
     }
     return out.dump(1) + "\n";
   }

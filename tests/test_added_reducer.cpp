@@ -37,6 +37,15 @@ TEST(AddedReducer, ListedWithItsOptionAndDefault) {
   EXPECT_TRUE(std::is_sorted(names.begin(), names.end()));
   for (const char* n : {"none", "mi", "place-coverage", "localization-information"})
     EXPECT_NE(listed(list, n), nullptr) << n;
+  // Each says what it is for: the experiments' candidates are the rules (an added reducer is one).
+  for (const auto& [n, role] :
+       std::vector<std::pair<const char*, const char*>>{{"id-order", "rule"},
+                                                        {"random", "rule"},
+                                                        {"localization-information", "rule"},
+                                                        {"none", "reference"},
+                                                        {"hindsight", "bound"},
+                                                        {"known-set", "bound"}})
+    EXPECT_EQ((*listed(list, n))["role"], role) << n;
 }
 
 TEST(AddedReducer, ARunWithItEndsOkAndLogsItsDecisions) {

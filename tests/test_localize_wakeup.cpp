@@ -9,7 +9,8 @@
 
 #include "AppTestUtil.h"
 #include "budget_slam/core/CommandLine.h"
-#include "budget_slam/core/Se2.h"
+#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/dataset/DatasetFiles.h"
 #include "budget_slam/dataset/StepToMrpt.h"
 #include "budget_slam/report/RunFiles.h"
@@ -76,8 +77,8 @@ std::string writeTraversal(const fs::path& dir, const std::string& name,
     if (k > 0) {
       const Pose2 u = between(path[k - 1], path[k]);
       odo.emplace();
-      odo->mean = mrpt::math::TPose2D(u.x() + odo_xy * g(rng), u.y() + odo_xy * g(rng),
-                                      u.z() + odo_yaw * g(rng));
+      odo->mean = mrpt::math::TPose2D(u.x + odo_xy * g(rng), u.y + odo_xy * g(rng),
+                                      u.phi + odo_yaw * g(rng));
       odo->cov = Eigen::Vector3d(odo_xy * odo_xy, odo_xy * odo_xy, odo_yaw * odo_yaw).asDiagonal();
     }
     RangeBearingScan scan;
@@ -87,7 +88,7 @@ std::string writeTraversal(const fs::path& dir, const std::string& name,
     scan.std_range = sensor.std_range;
     scan.std_yaw = sensor.std_yaw;
     for (const auto& l : world) {
-      const Eigen::Vector2d v = rot2(path[k].z()).transpose() * (l.p - path[k].head<2>());
+      const Eigen::Vector2d v = path[k].transformTo(l.p);
       const double r = v.norm(), b = std::atan2(v.y(), v.x());
       if (r > sensor.max_range || r < scan.min_range || std::abs(b) > sensor.fov / 2) continue;
       scan.readings.push_back({sensor.with_ids ? l.id : kNoLandmarkId,
@@ -95,7 +96,7 @@ std::string writeTraversal(const fs::path& dir, const std::string& name,
                                wrapAngle(b + sensor.std_yaw * g(rng)), 0});
     }
     d.steps.push_back(dataset::makeStep(k, 1.0 + static_cast<double>(k), odo, scan));
-    if (truth) d.ground_truth.path.emplace_back(path[k].x(), path[k].y(), path[k].z());
+    if (truth) d.ground_truth.path.push_back(toTPose2D(path[k]));
   }
   if (truth)
     for (const auto& l : world) d.ground_truth.landmarks[l.id] = l.p;
@@ -172,8 +173,8 @@ TEST(LocalizeWakeUp, KnownIdsFoundWithinTenStepsThenTracked) {
   EXPECT_LT(w["error"]["yaw_deg"].get<double>(), 5.0);
   EXPECT_TRUE(w["error"]["within_success"]);
   const Pose2& t = path[static_cast<std::size_t>(used - 1)];
-  EXPECT_NEAR(w["pose"]["x"].get<double>(), t.x(), 0.25);
-  EXPECT_NEAR(w["pose"]["y"].get<double>(), t.y(), 0.25);
+  EXPECT_NEAR(w["pose"]["x"].get<double>(), t.x, 0.25);
+  EXPECT_NEAR(w["pose"]["y"].get<double>(), t.y, 0.25);
   EXPECT_GT(w["cov"][0][0].get<double>(), 0.0);
   // The filter starts where the robot was found, with the wake-up's covariance.
   EXPECT_EQ(j["start_pose"]["source"], "wake-up");

@@ -467,10 +467,14 @@ def registry(binary, kind, plugin_args=()):
     return _REGISTRIES[key]
 
 
-def registry_names(binary, kind, plugin_args=()):
-    """The names of registry(binary, kind, plugin_args), or None."""
+def registry_names(binary, kind, plugin_args=(), role=None):
+    """The names of registry(binary, kind, plugin_args), or None; with `role`, only the reducers
+    listed with that role ("rule": the candidates of an experiment; "reference": none; "bound":
+    the instruments of the benchmark's bounds; core/ReducerRegistry.h, ReducerRole)."""
     entries = registry(binary, kind, plugin_args)
-    return [e["name"] for e in entries] if isinstance(entries, list) else None
+    if not isinstance(entries, list):
+        return None
+    return [e["name"] for e in entries if role is None or e.get("role") == role]
 
 
 def help_mentions(binary, args, option):

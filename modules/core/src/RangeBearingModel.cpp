@@ -4,31 +4,37 @@
 
 namespace budget_slam {
 
-RangeBearingPrediction predictRangeBearing(const mrpt::math::TPose2D& robot,
-                                           const mrpt::math::TPose2D& sensor,
+RangeBearingPrediction predictRangeBearing(const Pose2& robot, const Pose2& sensor,
                                            const Eigen::Vector2d& landmark) {
   const double c = std::cos(robot.phi), s = std::sin(robot.phi);
-  // The sensor's position in the world and its derivative with respect to the robot's yaw.
+  // The sensor's position in the world and its derivative with respect to the robot's heading.
   const Eigen::Vector2d offset(c * sensor.x - s * sensor.y, s * sensor.x + c * sensor.y);
-  const Eigen::Vector2d d_offset_dyaw(-offset.y(), offset.x());
-  const Eigen::Vector2d d = landmark - (Eigen::Vector2d(robot.x, robot.y) + offset);
+  const Eigen::Vector2d d_offset_dphi(-offset.y(), offset.x());
+  // (l - t) - offset: the order of the graph's factors, whose outputs it keeps to the bit.
+  const Eigen::Vector2d d = (landmark - Eigen::Vector2d(robot.x, robot.y)) - offset;
   const double r2 = d.squaredNorm(), r = std::sqrt(r2);
   RangeBearingPrediction p;
-  p.z = Eigen::Vector2d(
-      r, std::remainder(std::atan2(d.y(), d.x()) - robot.phi - sensor.phi, 2 * M_PI));
-  // d(range)/d(sensor position) = -d^T / r; d(bearing)/d(sensor position) = (d_y, -d_x) / r^2.
-  const Eigen::RowVector2d dr = -d.transpose() / r;
-  const Eigen::RowVector2d db = Eigen::RowVector2d(d.y(), -d.x()) / r2;
-  p.H_robot << dr(0), dr(1), dr.dot(d_offset_dyaw),  //
-      db(0), db(1), db.dot(d_offset_dyaw) - 1.0;
-  p.H_landmark << -dr, -db;
+  p.z = Eigen::Vector2d(r, wrapAngle(std::atan2(d.y(), d.x()) - robot.phi - sensor.phi));
+  // dz/d(the sensor's position in the world): range -d^T / r, bearing (d_y, -d_x) / r^2; the
+  // bearing has the extra -1 of the frame's heading (the robot's and the sensor's).
+  Eigen::Matrix2d dz_ds;
+  dz_ds << -d.x() / r, -d.y() / r, d.y() / r2, -d.x() / r2;
+  p.H_robot.leftCols<2>() = dz_ds;
+  p.H_robot.col(2) = dz_ds * d_offset_dphi + Eigen::Vector2d(0, -1);
+  Eigen::Matrix2d R;
+  R << c, -s, s, c;
+  p.H_sensor.leftCols<2>() = dz_ds * R;
+  p.H_sensor.col(2) = Eigen::Vector2d(0, -1);
+  p.H_landmark = -dz_ds;
   return p;
 }
 
-Eigen::Vector2d readingInRobotFrame(double range, double bearing,
-                                    const mrpt::math::TPose2D& sensor) {
-  const double a = sensor.phi + bearing;
-  return Eigen::Vector2d(sensor.x + range * std::cos(a), sensor.y + range * std::sin(a));
+Eigen::Vector2d readingPoint(double range, double bearing, const Pose2& sensor,
+                             Eigen::Matrix<double, 2, 3>* J_sensor, Eigen::Matrix2d* J_reading) {
+  const double a = sensor.phi + bearing, c = std::cos(a), s = std::sin(a);
+  if (J_sensor) *J_sensor << 1, 0, -range * s, 0, 1, range * c;
+  if (J_reading) *J_reading << c, -range * s, s, range * c;
+  return Eigen::Vector2d(sensor.x + range * c, sensor.y + range * s);
 }
 
 Eigen::Matrix3d readingInformation(const Eigen::Matrix<double, 2, 3>& H_robot, double std_range,

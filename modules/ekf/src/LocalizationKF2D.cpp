@@ -66,7 +66,7 @@ void LocalizationKF2D::afterStep(const Step& step) {
   ++rejected_run_;
   if (gate.recover_after_steps == 0) return;
   const auto& s = step.scan->sensor_pose_on_robot;
-  rejected_.push_back({steps_, robotPose().mean, mrpt::math::TPose2D(s.x, s.y, s.yaw), paired_});
+  rejected_.push_back({steps_, robotPose().mean, Pose2(s.x, s.y, s.yaw), paired_});
   while (!rejected_.empty() && steps_ - rejected_.front().step >= gate.recovery_window_steps)
     rejected_.pop_front();
   if (rejected_run_ >= gate.recover_after_steps && recover()) {
@@ -88,11 +88,9 @@ bool LocalizationKF2D::recover() {
     Eigen::Matrix2d rot;
     rot << c, -s, s, c;
     for (const PairedReading& p : r.readings) {
-      const Eigen::Vector2d q = readingInRobotFrame(p.range, p.bearing, r.sensor);
       // The reading's Cartesian covariance: polar noise through d(point)/d(range, bearing).
-      const double a = r.sensor.phi + p.bearing;
       Eigen::Matrix2d J;
-      J << std::cos(a), -p.range * std::sin(a), std::sin(a), p.range * std::cos(a);
+      const Eigen::Vector2d q = readingPoint(p.range, p.bearing, r.sensor, nullptr, &J);
       const Eigen::Matrix2d R = Eigen::Vector2d(mrpt::square(options.std_sensor_range),
                                                 mrpt::square(options.std_sensor_yaw))
                                     .asDiagonal();

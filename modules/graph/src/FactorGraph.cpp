@@ -122,7 +122,7 @@ std::vector<GraphFactor> FactorGraph::factors() const {
 void FactorGraph::addFirstPose(StepIndex step, double t, const Pose2& x, const PriorFactor& prior) {
   if (!poses_.empty()) throw std::logic_error("graph: first pose added twice");
   PoseNode n;
-  n.x = x;
+  n.x = x.vector();
   n.t = t;
   n.index = newVariableIndex();
   poses_.emplace(step, n);
@@ -138,7 +138,7 @@ void FactorGraph::addPose(StepIndex step, double t, const Pose2& x, const Betwee
   if (poses_.empty() || poses_.rbegin()->first >= step)
     throw std::logic_error("graph: pose " + std::to_string(step) + " is not after the last pose");
   PoseNode n;
-  n.x = x;
+  n.x = x.vector();
   n.t = t;
   n.odo = odo;
   n.odo_id = next_factor_id_++;
@@ -394,14 +394,14 @@ int FactorGraph::column(const VariableKey& v) const {
 double FactorGraph::chi2() const {
   if (poses_.empty()) return 0;
   const Layout& L = layout();
-  double c = (prior_.sqrt_info * prior_.error(L.poses.front()->x)).squaredNorm();
+  double c = (prior_.sqrt_info * prior_.error(Pose2(L.poses.front()->x))).squaredNorm();
   for (std::size_t k = 1; k < L.poses.size(); ++k) {
     const PoseNode& p = *L.poses[k];
-    c += (p.odo->sqrt_info * p.odo->error(L.poses[k - 1]->x, p.x)).squaredNorm();
+    c += (p.odo->sqrt_info * p.odo->error(Pose2(L.poses[k - 1]->x), Pose2(p.x))).squaredNorm();
   }
   for (const LandmarkNode* l : L.landmarks) {
     for (const Observation& o : l->obs)
-      c += (o.f.sqrt_info * o.f.error(L.pose(o.pose).x, l->x)).squaredNorm();
+      c += (o.f.sqrt_info * o.f.error(Pose2(L.pose(o.pose).x), l->x)).squaredNorm();
     if (l->prior) c += (l->prior->sqrt_info * (l->x - l->prior->mean)).squaredNorm();
   }
   return c;
@@ -422,7 +422,7 @@ void FactorGraph::linearize(Eigen::SparseMatrix<double>* H, Eigen::VectorXd* g,
   if (!L.poses.empty()) {
     const PoseNode& p0 = *L.poses.front();
     Eigen::Matrix3d J;
-    const Eigen::Vector3d r = prior_.sqrt_info * prior_.error(p0.x, &J);
+    const Eigen::Vector3d r = prior_.sqrt_info * prior_.error(Pose2(p0.x), &J);
     const Eigen::Matrix3d A = prior_.sqrt_info * J;
     addBlock(&t, p0.col, A, p0.col, A);
     g->segment<3>(p0.col) += A.transpose() * r;
@@ -432,7 +432,7 @@ void FactorGraph::linearize(Eigen::SparseMatrix<double>* H, Eigen::VectorXd* g,
     const PoseNode& p = *L.poses[k];
     const PoseNode* prev = L.poses[k - 1];
     Eigen::Matrix3d Ji, Jj;
-    const Eigen::Vector3d r = p.odo->sqrt_info * p.odo->error(prev->x, p.x, &Ji, &Jj);
+    const Eigen::Vector3d r = p.odo->sqrt_info * p.odo->error(Pose2(prev->x), Pose2(p.x), &Ji, &Jj);
     const Eigen::Matrix3d Ai = p.odo->sqrt_info * Ji, Aj = p.odo->sqrt_info * Jj;
     addBlock(&t, prev->col, Ai, prev->col, Ai);
     addBlock(&t, p.col, Aj, p.col, Aj);
@@ -447,7 +447,7 @@ void FactorGraph::linearize(Eigen::SparseMatrix<double>* H, Eigen::VectorXd* g,
       const PoseNode& p = L.pose(o.pose);
       Eigen::Matrix<double, 2, 3> Jx;
       Eigen::Matrix2d Jl;
-      const Eigen::Vector2d r = o.f.sqrt_info * o.f.error(p.x, l.x, &Jx, &Jl);
+      const Eigen::Vector2d r = o.f.sqrt_info * o.f.error(Pose2(p.x), l.x, &Jx, &Jl);
       const Eigen::Matrix<double, 2, 3> Ax = o.f.sqrt_info * Jx;
       const Eigen::Matrix2d Al = o.f.sqrt_info * Jl;
       addBlock(&t, p.col, Ax, p.col, Ax);

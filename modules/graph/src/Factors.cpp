@@ -1,5 +1,7 @@
 #include "budget_slam/graph/Factors.h"
 
+#include "budget_slam/core/RangeBearingModel.h"
+
 #include <Eigen/Cholesky>
 #include <cmath>
 #include <stdexcept>
@@ -37,7 +39,7 @@ PriorFactor PriorFactor::make(const Pose2& mean, const Eigen::Matrix3d& cov) {
 
 Eigen::Vector3d PriorFactor::error(const Pose2& x, Eigen::Matrix3d* J) const {
   if (J) J->setIdentity();
-  return Eigen::Vector3d(x.x() - mean.x(), x.y() - mean.y(), wrapAngle(x.z() - mean.z()));
+  return Eigen::Vector3d(x.x - mean.x, x.y - mean.y, wrapAngle(x.phi - mean.phi));
 }
 
 BetweenFactor BetweenFactor::make(const Pose2& z, const Eigen::Matrix3d& cov) {
@@ -51,7 +53,7 @@ BetweenFactor BetweenFactor::make(const Pose2& z, const Eigen::Matrix3d& cov) {
 Eigen::Vector3d BetweenFactor::error(const Pose2& xi, const Pose2& xj, Eigen::Matrix3d* Ji,
                                      Eigen::Matrix3d* Jj) const {
   const Pose2 h = between(xi, xj, Ji, Jj);
-  return Eigen::Vector3d(h.x() - z.x(), h.y() - z.y(), wrapAngle(h.z() - z.z()));
+  return Eigen::Vector3d(h.x - z.x, h.y - z.y, wrapAngle(h.phi - z.phi));
 }
 
 RangeBearingFactor RangeBearingFactor::make(double range, double bearing, const Pose2& sensor,
@@ -68,25 +70,10 @@ RangeBearingFactor RangeBearingFactor::make(double range, double bearing, const 
 Eigen::Vector2d RangeBearingFactor::predict(const Pose2& x, const Eigen::Vector2d& l,
                                             Eigen::Matrix<double, 2, 3>* Jx,
                                             Eigen::Matrix2d* Jl) const {
-  const double c = std::cos(x.z()), s = std::sin(x.z());
-  // Sensor origin in the world: t + R(yaw) s_t.
-  const Eigen::Vector2d st(c * sensor.x() - s * sensor.y(), s * sensor.x() + c * sensor.y());
-  const Eigen::Vector2d q = l - x.head<2>() - st;
-  const double r2 = q.squaredNorm(), r = std::sqrt(r2);
-  const Eigen::Vector2d z(r, wrapAngle(std::atan2(q.y(), q.x()) - x.z() - sensor.z()));
-  if (Jx || Jl) {
-    // d range/dq = q^T / r, d bearing/dq = (-q_y, q_x) / r^2; dq/dl = I, dq/dt = -I,
-    // dq/dyaw = -dR/dyaw s_t = (st_y, -st_x); d bearing/dyaw has the extra -1 of the frame.
-    Eigen::Matrix2d dz_dq;
-    dz_dq << q.x() / r, q.y() / r, -q.y() / r2, q.x() / r2;
-    if (Jl) *Jl = dz_dq;
-    if (Jx) {
-      Jx->leftCols<2>() = -dz_dq;
-      Jx->col(2) = dz_dq * Eigen::Vector2d(st.y(), -st.x());
-      (*Jx)(1, 2) -= 1.0;
-    }
-  }
-  return z;
+  const RangeBearingPrediction p = predictRangeBearing(x, sensor, l);
+  if (Jx) *Jx = p.H_robot;
+  if (Jl) *Jl = p.H_landmark;
+  return p.z;
 }
 
 Eigen::Vector2d RangeBearingFactor::error(const Pose2& x, const Eigen::Vector2d& l,
@@ -97,9 +84,7 @@ Eigen::Vector2d RangeBearingFactor::error(const Pose2& x, const Eigen::Vector2d&
 }
 
 Eigen::Vector2d RangeBearingFactor::landmarkFrom(const Pose2& x) const {
-  const Pose2 s = compose(x, sensor);
-  return s.head<2>() +
-         range * Eigen::Vector2d(std::cos(s.z() + bearing), std::sin(s.z() + bearing));
+  return readingPoint(range, bearing, compose(x, sensor));
 }
 
 LandmarkPrior LandmarkPrior::make(const Eigen::Vector2d& mean, const Eigen::Matrix2d& cov) {

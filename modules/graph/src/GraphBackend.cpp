@@ -8,6 +8,7 @@
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/graph/GraphSession.h"
 #include "budget_slam/graph/InformationGain.h"
 #include "budget_slam/graph/Marginals.h"
@@ -23,8 +24,6 @@ constexpr std::size_t kMaxSavedPoses = std::size_t{1} << 20;
 /// How far the saved robot may stand from the saved chain's last pose [m], [rad]: both are written
 /// from the same doubles, so only rounding in a hand-made file.
 constexpr double kSameRobotM = 1e-9, kSameRobotRad = 1e-9;
-
-Pose2 toPose2(const mrpt::math::TPose2D& p) { return Pose2(p.x, p.y, p.phi); }
 
 /// Floors a covariance to the standard deviations `min_std` in every direction: eigenvalues of
 /// D^-1 C D^-1 (D = diag(min_std)) are raised to at least 1. MRPT odometry may be singular.
@@ -74,7 +73,7 @@ std::unique_ptr<Backend> GraphBackend::clone() const {
 BetweenFactor GraphBackend::odometryFactor(const Step& step) const {
   if (!step.odometry) {
     const double sxy = options_.no_odometry_std_xy, syaw = options_.no_odometry_std_yaw_deg * kDeg;
-    return BetweenFactor::make(Pose2::Zero(),
+    return BetweenFactor::make(Pose2(),
                                Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
   }
   const Eigen::Vector3d min_std(options_.odometry_min_std_xy, options_.odometry_min_std_xy,
@@ -104,16 +103,14 @@ void GraphBackend::process(const Step& step) {
     // A resumed session starts from the saved (or woken-up) pose and its marginal instead.
     const double sxy = options_.prior_std_xy, syaw = options_.prior_std_yaw_deg * kDeg;
     const BetweenFactor start =
-        start_
-            ? BetweenFactor::make(Pose2(start_->mean.x, start_->mean.y, start_->mean.phi),
-                                  start_->cov)
-            : BetweenFactor::make(Pose2::Zero(),
-                                  Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
+        start_ ? BetweenFactor::make(toPose2(start_->mean), start_->cov)
+               : BetweenFactor::make(
+                     Pose2(), Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
     const BetweenFactor first = composeBetween(start, odo);
     graph_.addFirstPose(step.index, step.t, first.z, PriorFactor::make(first.z, first.cov));
     pose_cov_ = first.cov;
   } else {
-    const Pose2& last = graph_.poses().rbegin()->second.x;
+    const Pose2 last(graph_.poses().rbegin()->second.x);
     Eigen::Matrix3d Ja, Jb;
     graph_.addPose(step.index, step.t, compose(last, odo.z, &Ja, &Jb), odo);
     if (pose_cov_) *pose_cov_ = Ja * *pose_cov_ * Ja.transpose() + Jb * odo.cov * Jb.transpose();
@@ -126,7 +123,7 @@ void GraphBackend::process(const Step& step) {
     const RangeBearingScan& scan = *step.scan;
     const Pose2 sensor(scan.sensor_pose_on_robot.x, scan.sensor_pose_on_robot.y,
                        scan.sensor_pose_on_robot.yaw);
-    const Pose2 x = graph_.poses().rbegin()->second.x;
+    const Pose2 x(graph_.poses().rbegin()->second.x);
     const Eigen::Matrix2d R = sensorCovariance();
     for (std::size_t r = 0; r < scan.readings.size(); ++r) {
       const RangeBearingReading& z = scan.readings[r];
@@ -167,7 +164,7 @@ void GraphBackend::process(const Step& step) {
         ++resights;
       }
       graph_.addObservation(step.index, id, f);
-      tracks_.addSighting(id, x.head<2>(), step.index);
+      tracks_.addSighting(id, x.translation(), step.index);
     }
   }
 
@@ -205,10 +202,10 @@ void GraphBackend::boundPoses() {
   // with the current estimate as its mean (where the dropped sightings put it stays; their
   // information does not).
   const PriorFactor& p0 = graph_.prior();
-  BetweenFactor acc = BetweenFactor::make(graph_.poses().begin()->second.x, p0.cov);
+  BetweenFactor acc = BetweenFactor::make(Pose2(graph_.poses().begin()->second.x), p0.cov);
   for (auto it = std::next(graph_.poses().begin());; ++it) {
     const BetweenFactor hop =
-        BetweenFactor::make(between(acc.z, it->second.x), it->second.odo->cov);
+        BetweenFactor::make(between(acc.z, Pose2(it->second.x)), it->second.odo->cov);
     acc = composeBetween(acc, hop);
     if (it == first_kept) break;
   }
@@ -216,7 +213,7 @@ void GraphBackend::boundPoses() {
     const LandmarkId id = orphans[k].id;
     graph_.setLandmarkPrior(id, LandmarkPrior::make(graph_.landmark(id).x, cov[k]));
   }
-  graph_.dropFirstPoses(count, PriorFactor::make(first_kept->second.x, acc.cov));
+  graph_.dropFirstPoses(count, PriorFactor::make(Pose2(first_kept->second.x), acc.cov));
   poses_dropped_ += count;
 }
 

@@ -67,7 +67,7 @@ LinearFactor linearize(const GraphFactor& f, const Eigen::Vector3d& x0, const Ei
       Eigen::Matrix3d J;
       lf.rows = 3;
       lf.cols = 3;
-      lf.r = p.sqrt_info * p.error(x0, &J);
+      lf.r = p.sqrt_info * p.error(Pose2(x0), &J);
       lf.A.leftCols<3>() = p.sqrt_info * J;
       break;
     }
@@ -76,7 +76,7 @@ LinearFactor linearize(const GraphFactor& f, const Eigen::Vector3d& x0, const Ei
       Eigen::Matrix3d Ji, Jj;
       lf.rows = 3;
       lf.cols = 6;
-      lf.r = o.sqrt_info * o.error(x0, x1, &Ji, &Jj);
+      lf.r = o.sqrt_info * o.error(Pose2(x0), Pose2(x1), &Ji, &Jj);
       lf.A.leftCols<3>() = o.sqrt_info * Ji;
       lf.A.rightCols<3>() = o.sqrt_info * Jj;
       break;
@@ -87,7 +87,7 @@ LinearFactor linearize(const GraphFactor& f, const Eigen::Vector3d& x0, const Ei
       Eigen::Matrix2d Jl;
       lf.rows = 2;
       lf.cols = 5;
-      lf.r.head<2>() = rb.sqrt_info * rb.error(x0, x1.head<2>(), &Jx, &Jl);
+      lf.r.head<2>() = rb.sqrt_info * rb.error(Pose2(x0), x1.head<2>(), &Jx, &Jl);
       lf.A.topLeftCorner<2, 3>() = rb.sqrt_info * Jx;
       lf.A.block<2, 2>(0, 3) = rb.sqrt_info * Jl;
       break;

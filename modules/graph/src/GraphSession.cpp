@@ -91,12 +91,12 @@ void writeGraph(const FactorGraph& graph, session::SessionSection& section) {
     times.push_back(node.t);
     putMatrix(values, node.x);
     if (node.odo) {
-      putMatrix(odometry, node.odo->z);
+      putMatrix(odometry, node.odo->z.vector());
       putMatrix(odometry, node.odo->cov);
     }
   }
   if (!graph.poses().empty()) {
-    putMatrix(prior, graph.prior().mean);
+    putMatrix(prior, graph.prior().mean.vector());
     putMatrix(prior, graph.prior().cov);
   }
   std::vector<std::int64_t> ids, prior_ids, sighting_poses, sighting_landmarks;
@@ -114,7 +114,7 @@ void writeGraph(const FactorGraph& graph, session::SessionSection& section) {
       sighting_landmarks.push_back(static_cast<std::int64_t>(id));
       sightings.push_back(o.f.range);
       sightings.push_back(o.f.bearing);
-      putMatrix(sightings, o.f.sensor);
+      putMatrix(sightings, o.f.sensor.vector());
       putMatrix(sightings, o.f.cov);
     }
   }

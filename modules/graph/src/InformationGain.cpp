@@ -28,7 +28,7 @@ void landmarkInformationOnPoses(const FactorGraph& graph, LandmarkId id, std::ve
     const Observation& o = l.obs[f];
     Eigen::Matrix<double, 2, 3> Jx;
     Eigen::Matrix2d Jl;
-    o.f.error(graph.pose(o.pose).x, l.x, &Jx, &Jl);
+    o.f.error(Pose2(graph.pose(o.pose).x), l.x, &Jx, &Jl);
     A.block<2, 3>(2 * f, 3 * slot[o.pose]) = o.f.sqrt_info * Jx;
     A.block<2, 2>(2 * f, nb) = o.f.sqrt_info * Jl;
   }
@@ -65,7 +65,7 @@ void sightingJacobians(const FactorGraph& graph, LandmarkId l_id, std::vector<Sp
     const PoseNode& p = graph.pose(o.pose);
     Eigen::Matrix<double, 2, 3> Jx;
     Eigen::Matrix2d Jl;
-    o.f.error(p.x, l.x, &Jx, &Jl);
+    o.f.error(Pose2(p.x), l.x, &Jx, &Jl);
     const Eigen::Matrix<double, 2, 3> Ax = o.f.sqrt_info * Jx;
     AL->block<2, 2>(2 * f, 0) = o.f.sqrt_info * Jl;
     const int c = graph.column(VariableKey::pose(o.pose));

@@ -25,7 +25,7 @@ std::vector<LandmarkId> NearestNeighbourAssociation::associate(
   // At the held factor's linearization point: the update just run leaves it one step behind the
   // estimate, the gate's accuracy (a relinearization per step would cost more than it moves).
   const Eigen::MatrixXd Sigma = factorization.jointMarginal(graph, vars, /*at_estimate=*/false);
-  const Pose2& x = graph.pose(pose).x;
+  const Pose2 x(graph.pose(pose).x);
   struct Pair {
     double d2;
     std::size_t r;

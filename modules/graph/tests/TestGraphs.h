@@ -11,6 +11,7 @@
 
 #include <mrpt/config/CConfigFile.h>
 
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/Step.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/graph/FactorGraph.h"
@@ -31,10 +32,10 @@ inline FactorGraph randomGraph(int n_poses, int n_landmarks, unsigned seed, doub
   std::vector<Pose2> truth{Pose2(0, 0, 0)};
   for (int i = 1; i < n_poses; ++i)
     truth.push_back(compose(truth.back(), Pose2(1.0, 0.0, 0.6 * (U(rng) - 0.5))));
-  Eigen::Vector2d lo = truth[0].head<2>(), hi = lo;
+  Eigen::Vector2d lo = truth[0].translation(), hi = lo;
   for (const Pose2& p : truth) {
-    lo = lo.cwiseMin(p.head<2>());
-    hi = hi.cwiseMax(p.head<2>());
+    lo = lo.cwiseMin(p.translation());
+    hi = hi.cwiseMax(p.translation());
   }
   lo.array() -= 4;
   hi.array() += 4;
@@ -48,13 +49,13 @@ inline FactorGraph randomGraph(int n_poses, int n_landmarks, unsigned seed, doub
   const Eigen::LLT<Eigen::Matrix3d> odo_l(odo_cov);
   FactorGraph g;
   auto perturb = [&](const Pose2& p) {
-    return Pose2(p.x() + 0.1 * N(rng), p.y() + 0.1 * N(rng), p.z() + 0.03 * N(rng));
+    return Pose2(p.x + 0.1 * N(rng), p.y + 0.1 * N(rng), p.phi + 0.03 * N(rng));
   };
   g.addFirstPose(0, 0.0, perturb(truth[0]),
                  PriorFactor::make(truth[0], Eigen::Vector3d(1e-4, 1e-4, 1e-5).asDiagonal()));
   for (int i = 1; i < n_poses; ++i) {
     Pose2 z = between(truth[i - 1], truth[i]);
-    z += odo_l.matrixL() * Eigen::Vector3d(N(rng), N(rng), N(rng));
+    z = Pose2(z.vector() + odo_l.matrixL() * Eigen::Vector3d(N(rng), N(rng), N(rng)));
     g.addPose(i, i, perturb(truth[i]), BetweenFactor::make(z, odo_cov));
   }
   auto observe = [&](int i, int j, LandmarkId id) {
@@ -67,8 +68,8 @@ inline FactorGraph randomGraph(int n_poses, int n_landmarks, unsigned seed, doub
   };
   for (int i = 0; i < n_poses; ++i)
     for (int j = 0; j < n_landmarks; ++j)
-      if ((truth[i].head<2>() - lms[j]).norm() < 8.0 && U(rng) < p_see) observe(i, j, j);
-  lms.emplace_back(truth[n_poses / 2].head<2>() + Eigen::Vector2d(3, 1));
+      if ((truth[i].translation() - lms[j]).norm() < 8.0 && U(rng) < p_see) observe(i, j, j);
+  lms.emplace_back(truth[n_poses / 2].translation() + Eigen::Vector2d(3, 1));
   observe(n_poses / 2, n_landmarks, 1000);
   return g;
 }
@@ -106,20 +107,20 @@ inline SyntheticRun syntheticRun(int n_steps, int n_landmarks, unsigned seed, bo
     x = compose(x, step_z);
     run.truth.push_back(x);
     OdometryIncrement o;
-    o.mean = mrpt::math::TPose2D(step_z.x() + 0.02 * N(rng), step_z.y() + 0.01 * N(rng),
-                                 step_z.z() + 0.005 * N(rng));
+    o.mean = mrpt::math::TPose2D(step_z.x + 0.02 * N(rng), step_z.y + 0.01 * N(rng),
+                                 step_z.phi + 0.005 * N(rng));
     o.cov = odo_cov;
     s.odometry = o;
     RangeBearingScan scan;
-    scan.sensor_pose_on_robot = mrpt::math::TPose3D(sensor.x(), sensor.y(), 0, sensor.z(), 0, 0);
+    scan.sensor_pose_on_robot = mrpt::math::TPose3D(sensor.x, sensor.y, 0, sensor.phi, 0, 0);
     const Pose2 sp = compose(x, sensor);
     for (int j = 0; j < n_landmarks; ++j) {
-      const Eigen::Vector2d d = run.landmarks[j] - sp.head<2>();
+      const Eigen::Vector2d d = run.landmarks[j] - sp.translation();
       if (d.norm() > max_range) continue;
       RangeBearingReading z;
       z.id = with_ids ? j : kNoLandmarkId;
       z.range = d.norm() + 0.05 * N(rng);
-      z.yaw = wrapAngle(std::atan2(d.y(), d.x()) - sp.z() + 0.01 * N(rng));
+      z.yaw = wrapAngle(std::atan2(d.y(), d.x()) - sp.phi + 0.01 * N(rng));
       scan.readings.push_back(z);
     }
     s.scan = scan;

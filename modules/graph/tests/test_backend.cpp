@@ -36,7 +36,7 @@ TEST(GraphBackend, FinishGivesTheBatchOptimum) {
   for (std::size_t k = 0; k < tr.size(); ++k) {
     EXPECT_EQ(tr[k].step, k);
     EXPECT_DOUBLE_EQ(tr[k].t, 0.1 * k);
-    EXPECT_LT(std::hypot(tr[k].pose.x - run.truth[k].x(), tr[k].pose.y - run.truth[k].y()), 0.3);
+    EXPECT_LT(std::hypot(tr[k].pose.x - run.truth[k].x, tr[k].pose.y - run.truth[k].y), 0.3);
   }
   for (const LandmarkView& v : b.landmarks())
     EXPECT_LT((v.mean - run.landmarks[v.id]).norm(), 0.3) << v.id;
@@ -76,9 +76,9 @@ TEST(GraphBackend, LandmarkViewsTrackSightings) {
   std::map<LandmarkId, std::pair<StepIndex, StepIndex>> span;
   Pose2 x(0, 0, 0);
   for (const Step& s : run.steps) {
-    x = compose(x, Pose2(s.odometry->mean.x, s.odometry->mean.y, s.odometry->mean.phi));
+    x = compose(x, toPose2(s.odometry->mean));
     for (const RangeBearingReading& z : s.scan->readings) {
-      seen_from[z.id].push_back(x.head<2>());
+      seen_from[z.id].push_back(x.translation());
       if (!span.count(z.id)) span[z.id].first = s.index;
       span[z.id].second = s.index;
     }

@@ -53,7 +53,7 @@ TEST(EstimateFactorization, KnowsTheGraphStateItIsOf) {
   const std::map<LandmarkId, Eigen::Matrix2d> lm = f.landmarkMarginals(g);
   g.addObservation(
       last, l,
-      RangeBearingFactor::make(3.0, 0.2, Pose2::Zero(), Eigen::Vector2d(0.01, 1e-4).asDiagonal()));
+      RangeBearingFactor::make(3.0, 0.2, Pose2(), Eigen::Vector2d(0.01, 1e-4).asDiagonal()));
   EXPECT_FALSE(f.isCurrent(g));
   const Eigen::Matrix2d seen = f.landmarkMarginal(g, l);
   EXPECT_TRUE(seen.isApprox(freshMarginal(g, {VariableKey::landmark(l)}), 1e-12));

@@ -217,15 +217,14 @@ TEST(HeldFactor, FollowsEveryKindOfChange) {
   expectWithin(compare(g, held), 1e-9, 1e-9, "start");
   const Eigen::Matrix2d rb_cov = Eigen::Vector2d(0.01, 1e-4).asDiagonal();
   const auto sight = [&](StepIndex pose, LandmarkId id) {
-    const RangeBearingFactor probe = RangeBearingFactor::make(0, 0, Pose2::Zero(), rb_cov);
-    const Eigen::Vector2d z = probe.predict(g.pose(pose).x, g.landmark(id).x);
-    g.addObservation(pose, id,
-                     RangeBearingFactor::make(z.x() + 0.01, z.y(), Pose2::Zero(), rb_cov));
+    const RangeBearingFactor probe = RangeBearingFactor::make(0, 0, Pose2(), rb_cov);
+    const Eigen::Vector2d z = probe.predict(Pose2(g.pose(pose).x), g.landmark(id).x);
+    g.addObservation(pose, id, RangeBearingFactor::make(z.x() + 0.01, z.y(), Pose2(), rb_cov));
   };
   // New poses and a new landmark seen from old and new poses.
   for (StepIndex s = 40; s < 45; ++s)
     g.addPose(
-        s, s, compose(g.pose(s - 1).x, Pose2(1, 0, 0.05)),
+        s, s, compose(Pose2(g.pose(s - 1).x), Pose2(1, 0, 0.05)),
         BetweenFactor::make(Pose2(1, 0, 0.05), Eigen::Vector3d(1e-3, 1e-3, 1e-4).asDiagonal()));
   g.addLandmark(77, g.pose(42).x.head<2>() + Eigen::Vector2d(2, 1));
   for (StepIndex s : {38, 42, 44}) sight(s, 77);
@@ -262,7 +261,7 @@ TEST(HeldFactor, FollowsEveryKindOfChange) {
   const StepIndex prev = std::prev(g.poses().find(bare))->first;
   g.marginalizePose(bare);
   expectWithin(compare(g, held), 1e-9, 1e-9, "marginalized");
-  g.addObservation(prev, 77, RangeBearingFactor::make(5.0, 0.3, Pose2::Zero(), rb_cov));
+  g.addObservation(prev, 77, RangeBearingFactor::make(5.0, 0.3, Pose2(), rb_cov));
   expectWithin(compare(g, held, true), 1e-9, 1e-9, "factor across the gap");
   // Landmark priors, set and replaced; the first poses dropped.
   g.setLandmarkPrior(other,
@@ -271,8 +270,8 @@ TEST(HeldFactor, FollowsEveryKindOfChange) {
                      LandmarkPrior::make(g.landmark(other).x, Eigen::Matrix2d::Identity() * 0.01));
   expectWithin(compare(g, held, true), 1e-9, 1e-9, "priors");
   const auto second = std::next(g.poses().begin(), 3);
-  g.dropFirstPoses(
-      3, PriorFactor::make(second->second.x, Eigen::Vector3d(1e-4, 1e-4, 1e-5).asDiagonal()));
+  g.dropFirstPoses(3, PriorFactor::make(Pose2(second->second.x),
+                                        Eigen::Vector3d(1e-4, 1e-4, 1e-5).asDiagonal()));
   for (const auto& [id, l] : g.landmarks())
     if (l.obs.empty() && !l.prior)
       g.setLandmarkPrior(id, LandmarkPrior::make(l.x, Eigen::Matrix2d::Identity()));
@@ -417,7 +416,7 @@ TEST(IncrementalGraph, BoundedGraphKeepsPosesUnderTheLimitAndMemoryFlat) {
   // The window still tracks the truth: finish() reaches the optimum of the bounded graph.
   EXPECT_LT(maxDiff(b.graph(), b.graph().values(), testgraphs::denseBatchSolve(b.graph())), 1e-9);
   for (const TrajectoryPoint& p : b.trajectory())
-    EXPECT_LT(std::hypot(p.pose.x - run.truth[p.step].x(), p.pose.y - run.truth[p.step].y()), 0.5)
+    EXPECT_LT(std::hypot(p.pose.x - run.truth[p.step].x, p.pose.y - run.truth[p.step].y), 0.5)
         << "step " << p.step;
   for (const LandmarkView& v : b.landmarks())
     EXPECT_LT((v.mean - run.landmarks[v.id]).norm(), 0.75) << v.id;  // unbounded: 0.3

@@ -58,7 +58,7 @@ TEST(InformationGain, LowRankFactorIsTheSchurComplementOfTheLandmarksFactors) {
     for (const Observation& o : g.landmark(id).obs) {
       Eigen::Matrix<double, 2, 3> Jx;
       Eigen::Matrix2d Jl;
-      o.f.error(g.pose(o.pose).x, g.landmark(id).x, &Jx, &Jl);
+      o.f.error(Pose2(g.pose(o.pose).x), g.landmark(id).x, &Jx, &Jl);
       Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2, nb + 2);
       const int slot = static_cast<int>(std::find(B.begin(), B.end(), o.pose) - B.begin());
       J.block<2, 3>(0, 3 * slot) = Jx;
@@ -148,9 +148,9 @@ TEST(InformationGain, MoreSightingsMoreInformation) {
   const double full = informationGain(g, chol, {best})[0];
   FactorGraph fewer;
   // Rebuild the graph without the last half of that landmark's sightings.
-  fewer.addFirstPose(g.poses().begin()->first, 0, g.poses().begin()->second.x, g.prior());
+  fewer.addFirstPose(g.poses().begin()->first, 0, Pose2(g.poses().begin()->second.x), g.prior());
   for (auto it = std::next(g.poses().begin()); it != g.poses().end(); ++it)
-    fewer.addPose(it->first, it->second.t, it->second.x, *it->second.odo);
+    fewer.addPose(it->first, it->second.t, Pose2(it->second.x), *it->second.odo);
   for (const auto& [id, l] : g.landmarks()) {
     fewer.addLandmark(id, l.x);
     const std::size_t n = id == best ? l.obs.size() / 2 : l.obs.size();

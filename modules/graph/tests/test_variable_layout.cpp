@@ -116,10 +116,10 @@ TEST(VariableLayout, ChangesInPlaceEqualAFreshLayout) {
   const Eigen::Matrix2d rb_cov = Eigen::Vector2d(0.01, 1e-4).asDiagonal();
   LandmarkId next_id = g.landmarks().rbegin()->first + 1;
   for (StepIndex s = 30; s < 36; ++s) {
-    g.addPose(s, s, compose(g.pose(s - 1).x, Pose2(1, 0, 0.1)), odo);
+    g.addPose(s, s, compose(Pose2(g.pose(s - 1).x), Pose2(1, 0, 0.1)), odo);
     g.addLandmark(next_id, g.pose(s).x.head<2>() + Eigen::Vector2d(1, 1));
-    g.addObservation(s, next_id, RangeBearingFactor::make(1.4, 0.7, Pose2::Zero(), rb_cov));
-    g.addObservation(s - 1, next_id, RangeBearingFactor::make(2.0, 0.5, Pose2::Zero(), rb_cov));
+    g.addObservation(s, next_id, RangeBearingFactor::make(1.4, 0.7, Pose2(), rb_cov));
+    g.addObservation(s - 1, next_id, RangeBearingFactor::make(2.0, 0.5, Pose2(), rb_cov));
     ++next_id;
     // Oldest, a middle one and the newest leave in turn, the layout current before each.
     const auto& lm = g.landmarks();
@@ -131,7 +131,7 @@ TEST(VariableLayout, ChangesInPlaceEqualAFreshLayout) {
     expectFresh(g, "step " + std::to_string(s));
     // ... and comes back under its id (first, middle or last place in id order).
     g.addLandmark(gone, g.pose(s).x.head<2>() + Eigen::Vector2d(-1, 2));
-    g.addObservation(s, gone, RangeBearingFactor::make(2.2, 2.0, Pose2::Zero(), rb_cov));
+    g.addObservation(s, gone, RangeBearingFactor::make(2.2, 2.0, Pose2(), rb_cov));
     expectFresh(g, "step " + std::to_string(s) + ", back");
     g.removeLandmark(gone);
   }

@@ -12,6 +12,7 @@
 
 #include "ReducerSession.h"
 #include "budget_slam/core/IniSection.h"
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/RangeBearingModel.h"
 
 namespace budget_slam::reducers {
@@ -96,12 +97,10 @@ void LocalizationInformationReducer::fixGeometry(const StepObservation& seen) {
 void LocalizationInformationReducer::addReading(std::uint32_t slot, const StepObservation& seen,
                                                 const Sighting& r, bool active) {
   // The landmark where the reading puts it, and the reading's information at that geometry.
-  const double c = std::cos(seen.robot.phi), s = std::sin(seen.robot.phi);
-  const Eigen::Vector2d q = readingInRobotFrame(r.range, r.bearing, seen.sensor_pose);
-  const Eigen::Vector2d at(seen.robot.x + c * q.x() - s * q.y(),
-                           seen.robot.y + s * q.x() + c * q.y());
+  const Pose2 robot = toPose2(seen.robot), sensor = toPose2(seen.sensor_pose);
+  const Eigen::Vector2d at = robot.transformFrom(readingPoint(r.range, r.bearing, sensor));
   if (!(r.range > 0) || !at.allFinite()) return;
-  const auto H = predictRangeBearing(seen.robot, seen.sensor_pose, at).H_robot;
+  const auto H = predictRangeBearing(robot, sensor, at).H_robot;
   const Eigen::Matrix3d info = readingInformation(H, std_range_, std_bearing_);
   Place& p = places_[slot];
   auto it = std::lower_bound(p.entries.begin(), p.entries.end(), r.id,

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/RangeBearingModel.h"
-#include "budget_slam/core/Se2.h"
 
 namespace budget_slam::reducers {
 
@@ -83,11 +83,11 @@ MovedScreening MovedLandmarks::screen(const Backend& backend, const Step& step,
   }
 
   // The pose predicted with the step's odometry (first order): x- = x (+) u.
-  const Pose2 x(pose.mean.x, pose.mean.y, pose.mean.phi);
-  Pose2 u = Pose2::Zero();
+  const Pose2 x = toPose2(pose.mean);
+  Pose2 u;
   Eigen::Matrix3d Q = Eigen::Matrix3d::Zero();
   if (step.odometry) {
-    u = Pose2(step.odometry->mean.x, step.odometry->mean.y, step.odometry->mean.phi);
+    u = toPose2(step.odometry->mean);
     Q = step.odometry->cov;
   }
   Eigen::Matrix3d Jx, Ju;
@@ -95,9 +95,8 @@ MovedScreening MovedLandmarks::screen(const Backend& backend, const Step& step,
   P.topRows(3) = (Jx * P.topRows(3)).eval();
   P.leftCols(3) = (P.leftCols(3) * Jx.transpose()).eval();
   P.topLeftCorner<3, 3>() += Ju * Q * Ju.transpose();
-  const mrpt::math::TPose2D robot(xp.x(), xp.y(), xp.z());
-  const mrpt::math::TPose2D sensor(scan.sensor_pose_on_robot.x, scan.sensor_pose_on_robot.y,
-                                   scan.sensor_pose_on_robot.yaw);
+  const Pose2 sensor(scan.sensor_pose_on_robot.x, scan.sensor_pose_on_robot.y,
+                     scan.sensor_pose_on_robot.yaw);
   const Eigen::Matrix2d R = Eigen::Vector2d(settings_.std_range * settings_.std_range,
                                             settings_.std_bearing * settings_.std_bearing)
                                 .asDiagonal();
@@ -111,13 +110,12 @@ MovedScreening MovedLandmarks::screen(const Backend& backend, const Step& step,
     t.id = r.id;
     const auto j = static_cast<Eigen::Index>(3 + 2 * c->second);
     const Eigen::Vector2d mean = read[c->second].mean;
-    const Eigen::Vector2d sensor_at =
-        xp.head<2>() + rot2(xp.z()) * Eigen::Vector2d(sensor.x, sensor.y);
+    const Eigen::Vector2d sensor_at = xp.translation() + xp.rotation() * sensor.translation();
     if ((mean - sensor_at).norm() < 1e-9 || !(r.range > 0)) {
       tests.push_back(t);
       continue;
     }
-    const RangeBearingPrediction p = predictRangeBearing(robot, sensor, mean);
+    const RangeBearingPrediction p = predictRangeBearing(xp, sensor, mean);
     const Eigen::Vector2d nu(r.range - p.z(0), std::remainder(r.yaw - p.z(1), 2 * M_PI));
     const Eigen::Matrix2d cross = p.H_robot * P.block<3, 2>(0, j) * p.H_landmark.transpose();
     const Eigen::Matrix2d S = p.H_robot * Prr * p.H_robot.transpose() + cross + cross.transpose() +
@@ -127,15 +125,13 @@ MovedScreening MovedLandmarks::screen(const Backend& backend, const Step& step,
     t.passes = !t.tested || t.nis <= settings_.gate_chi2;
     // Where the reading puts the landmark, and the covariance of that point from the pose's
     // and the reading's (first order).
-    const Eigen::Vector2d q = readingInRobotFrame(r.range, r.yaw, sensor);
-    const Eigen::Matrix2d rot = rot2(xp.z());
-    t.point = xp.head<2>() + rot * q;
+    Eigen::Matrix2d dq;  // d(q)/d(range, bearing)
+    const Eigen::Vector2d q = readingPoint(r.range, r.yaw, sensor, nullptr, &dq);
+    const Eigen::Matrix2d rot = xp.rotation();
+    t.point = xp.translation() + rot * q;
     Eigen::Matrix<double, 2, 3> Gr;
     Gr << 1, 0, -rot(1, 0) * q.x() - rot(0, 0) * q.y(),  //
         0, 1, rot(0, 0) * q.x() - rot(1, 0) * q.y();
-    const double a = sensor.phi + r.yaw;
-    Eigen::Matrix2d dq;
-    dq << std::cos(a), -r.range * std::sin(a), std::sin(a), r.range * std::cos(a);
     const Eigen::Matrix2d Gz = rot * dq;
     t.point_cov = Gr * Prr * Gr.transpose() + Gz * R * Gz.transpose();
     tests.push_back(t);
@@ -170,10 +166,10 @@ MovedScreening MovedLandmarks::screen(const Backend& backend, const Step& step,
     out.held.insert(t.id);
     const bool new_place =
         std::all_of(evidence.begin(), evidence.end(), [&](const MovedEvidence& e) {
-          return (e.robot - xp.head<2>()).norm() >= settings_.place_distance;
+          return (e.robot - xp.translation()).norm() >= settings_.place_distance;
         });
     if (!new_place) continue;
-    evidence.push_back({step.index, xp.head<2>(), t.point, t.point_cov, t.nis});
+    evidence.push_back({step.index, xp.translation(), t.point, t.point_cov, t.nis});
     if (evidence.size() > settings_.readings) evidence.erase(evidence.begin());
     gathered.insert(t.id);
   }

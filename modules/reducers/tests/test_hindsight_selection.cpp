@@ -13,6 +13,7 @@
 
 #include "FakeBackend.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/RangeBearingModel.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/reducers/HindsightReducer.h"
@@ -34,7 +35,8 @@ Eigen::Matrix3d prior() { return Eigen::Vector3d(0.04, 0.04, 0.4).asDiagonal(); 
 
 /// The information of one noise-free reading of landmark `l` from `robot` (sensor at the origin).
 Eigen::Matrix3d info(const mrpt::math::TPose2D& robot, const Eigen::Vector2d& l) {
-  return readingInformation(predictRangeBearing(robot, {}, l).H_robot, kStdRange, kStdBearing);
+  return readingInformation(predictRangeBearing(toPose2(robot), {}, l).H_robot, kStdRange,
+                            kStdBearing);
 }
 
 /// `places` places along y = 0, each reading each of `n` landmarks (ids 1..n, in a 10 x 10 m
@@ -170,7 +172,7 @@ TEST(HindsightReducer, KeepsTheGreedySelectionOfItsPlacesAfterTheLastStepOnly) {
     o.sensor_max_range = 8;
     for (const auto& [id, l] : where)
       if ((l - Eigen::Vector2d(s, 0)).norm() < 8) {
-        const Eigen::Vector2d z = predictRangeBearing(o.robot, {}, l).z;
+        const Eigen::Vector2d z = predictRangeBearing(toPose2(o.robot), {}, l).z;
         o.observed.push_back(id);
         o.sightings.push_back({id, z(0), z(1)});
       }

@@ -9,6 +9,7 @@
 
 #include "FakeBackend.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/RangeBearingModel.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
@@ -43,7 +44,7 @@ StepObservation readings(StepIndex step, const mrpt::math::TPose2D& robot,
   o.sensor_pose = sensor;
   o.observed = ids;
   for (const LandmarkId id : ids) {
-    const Eigen::Vector2d z = predictRangeBearing(robot, sensor, where.at(id)).z;
+    const Eigen::Vector2d z = predictRangeBearing(toPose2(robot), toPose2(sensor), where.at(id)).z;
     o.sightings.push_back({id, z(0), z(1)});
   }
   return o;
@@ -58,7 +59,8 @@ Eigen::Matrix3d numericalInformation(const mrpt::math::TPose2D& robot,
     mrpt::math::TPose2D p = robot, m = robot;
     (k == 0 ? p.x : k == 1 ? p.y : p.phi) += h;
     (k == 0 ? m.x : k == 1 ? m.y : m.phi) -= h;
-    Eigen::Vector2d d = predictRangeBearing(p, sensor, l).z - predictRangeBearing(m, sensor, l).z;
+    Eigen::Vector2d d = predictRangeBearing(toPose2(p), toPose2(sensor), l).z -
+                        predictRangeBearing(toPose2(m), toPose2(sensor), l).z;
     d(1) = std::remainder(d(1), 2 * M_PI);
     J.col(k) = d / (2 * h);
   }
@@ -266,7 +268,7 @@ TEST(LocalizationInformationReducer, LearnsItsReadingsThroughTheBudgetManager) {
   step.scan->max_range = 8;
   step.scan->fov_yaw = 2 * M_PI;
   for (LandmarkId id = 1; id <= 3; ++id) {
-    const Eigen::Vector2d z = predictRangeBearing(b.pose, {0, 0, 0}, where.at(id)).z;
+    const Eigen::Vector2d z = predictRangeBearing(toPose2(b.pose), {0, 0, 0}, where.at(id)).z;
     step.scan->readings.push_back({id, z(0), z(1), 0});
     b.see(id, 0);
   }
@@ -288,7 +290,7 @@ TEST(LocalizationInformationReducer, ALandmarkThatComesBackCountsEveryPlaceItWas
     LocalizationInformationReducer r(o, kStdRange, kStdBearing);
     for (StepIndex k = 0; k < 4; ++k) {
       StepObservation seen = readings(k, {k + 0.5, 0.5, 0.7}, {}, {1}, where);
-      const Eigen::Vector2d z = predictRangeBearing(seen.robot, {}, where.at(9)).z;
+      const Eigen::Vector2d z = predictRangeBearing(toPose2(seen.robot), {}, where.at(9)).z;
       seen.withheld.push_back({9, z(0), z(1)});
       r.observe(seen);
     }

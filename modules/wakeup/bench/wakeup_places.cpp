@@ -43,6 +43,7 @@
 #include <tuple>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/dataset/RawlogReader.h"
@@ -234,7 +235,7 @@ int main(int argc, char** argv) {
       if (from.size() < 2) return std::nullopt;
       const auto m = wakeup::fitRigid(from, to, std::vector<double>(from.size(), 1.0));
       if (!m) return std::nullopt;
-      return compose(*m, Pose2(t.x, t.y, t.phi));
+      return compose(*m, toPose2(t));
     };
 
     struct Tally {
@@ -264,9 +265,9 @@ int main(int argc, char** argv) {
       const auto p0 = trueAt(s0);
       const auto on_map = r.status == wakeup::WakeUpStatus::Found ? onTheMap(t) : std::nullopt;
       const double on_map_xy =
-          on_map ? std::hypot(r.pose.mean.x - on_map->x(), r.pose.mean.y - on_map->y()) : 0;
+          on_map ? std::hypot(r.pose.mean.x - on_map->x, r.pose.mean.y - on_map->y) : 0;
       const double on_map_yaw =
-          on_map ? std::abs(wrapAngle(r.pose.mean.phi - on_map->z())) * 180 / M_PI : 0;
+          on_map ? std::abs(wrapAngle(r.pose.mean.phi - on_map->phi)) * 180 / M_PI : 0;
       const bool in_area = area.contains(p0.x, p0.y);
       for (Tally* tally : {&all, in_area ? &mapped : nullptr}) {
         if (!tally) continue;

@@ -33,8 +33,8 @@ double distanceVariance(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
 }
 
 bool samePose(const Pose2& a, const Pose2& b, const WakeUpOptions& o) {
-  return (a.head<2>() - b.head<2>()).norm() <= o.distinct_xy &&
-         std::abs(wrapAngle(a.z() - b.z())) <= o.distinct_yaw_deg * M_PI / 180;
+  return (a.translation() - b.translation()).norm() <= o.distinct_xy &&
+         std::abs(wrapAngle(a.phi - b.phi)) <= o.distinct_yaw_deg * M_PI / 180;
 }
 
 }  // namespace
@@ -157,10 +157,10 @@ namespace {
 std::unordered_map<std::size_t, std::pair<std::size_t, double>> agreement(
     const Pose2& pose, const std::vector<LocalLandmark>& local, const MapIndex& index,
     double gate_chi2) {
-  const Eigen::Matrix2d R = rot2(pose.z());
+  const Eigen::Matrix2d R = rot2(pose.phi);
   std::unordered_map<std::size_t, std::pair<std::size_t, double>> claimed;
   for (std::size_t c = 0; c < local.size(); ++c) {
-    const auto n = index.nearest(R * local[c].point + pose.head<2>(),
+    const auto n = index.nearest(R * local[c].point + pose.translation(),
                                  R * local[c].cov * R.transpose(), gate_chi2);
     if (!n) continue;
     const auto it = claimed.find(n->first);
@@ -189,12 +189,12 @@ Hypothesis scorePose(const Pose2& pose, const std::vector<LocalLandmark>& local,
     if (!(v.max_range > 0)) continue;
     const Pose2 sensor = compose(pose, v.sensor);
     const double reach = kInViewRangeShare * v.max_range;
-    index.forEachNear(sensor.head<2>(), reach, [&](std::size_t i) {
+    index.forEachNear(sensor.translation(), reach, [&](std::size_t i) {
       if (claimed.count(i) || missed.count(i)) return;
-      const Eigen::Vector2d d = index.map()[i].mean - sensor.head<2>();
+      const Eigen::Vector2d d = index.map()[i].mean - sensor.translation();
       const double r = d.norm();
       if (r > reach || r < v.min_range) return;
-      const double bearing = wrapAngle(std::atan2(d.y(), d.x()) - sensor.z());
+      const double bearing = wrapAngle(std::atan2(d.y(), d.x()) - sensor.phi);
       if (std::abs(bearing) <= v.fov / 2 - kInViewAngleMargin) missed.insert(i);
     });
   }

@@ -4,7 +4,7 @@
 #include <Eigen/LU>
 #include <cmath>
 
-#include "budget_slam/wakeup/RangeBearing.h"
+#include "budget_slam/core/RangeBearingModel.h"
 
 namespace budget_slam::wakeup {
 
@@ -67,8 +67,8 @@ Refinement refinePose(const Pose2& start, const std::vector<LocalReading>& readi
     if (it == max_iterations || out.converged) break;
     // Gauss-Newton step on z - h(X): h(X + dx) ~ h(X) + J dx.
     const Eigen::Vector3d dx = ldlt.solve(g);
-    out.pose += dx;
-    out.pose.z() = wrapAngle(out.pose.z());
+    out.pose = Pose2(out.pose.vector() + dx);
+    out.pose.phi = wrapAngle(out.pose.phi);
     // One more pass after convergence evaluates chi2 and the covariance at the solution.
     if (dx.head<2>().norm() < 1e-9 && std::abs(dx.z()) < 1e-9) out.converged = true;
   }

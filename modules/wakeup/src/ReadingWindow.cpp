@@ -2,7 +2,8 @@
 
 #include <cmath>
 
-#include "budget_slam/wakeup/RangeBearing.h"
+#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/RangeBearingModel.h"
 
 namespace budget_slam::wakeup {
 
@@ -15,7 +16,7 @@ void ReadingWindow::add(const Step& step) {
   Gathered g;
   g.index = step.index;
   if (step.odometry) {
-    g.odometry = Pose2(step.odometry->mean.x, step.odometry->mean.y, step.odometry->mean.phi);
+    g.odometry = toPose2(step.odometry->mean);
     g.odometry_cov = step.odometry->cov;
   } else {
     const double sxy = options_.no_odometry_std_xy;
@@ -40,12 +41,12 @@ std::vector<std::pair<Pose2, Eigen::Matrix3d>> ReadingWindow::chain() const {
   std::vector<std::pair<Pose2, Eigen::Matrix3d>> out(steps_.size());
   // E: the robot at step k in the latest frame; from k to k-1 through the inverse of step k's
   // odometry: X_{k-1} = X_k (+) (-)u_k.
-  Pose2 E = Pose2::Zero();
+  Pose2 E;
   Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
   for (std::size_t k = steps_.size(); k-- > 0;) {
     out[k] = {E, P};
     Eigen::Matrix3d Jinv, Ja, Jb;
-    const Pose2 inv = between(steps_[k].odometry, Pose2::Zero(), &Jinv, nullptr);
+    const Pose2 inv = steps_[k].odometry.inverse(&Jinv);
     E = compose(E, inv, &Ja, &Jb);
     const Eigen::Matrix3d Ju = Jb * Jinv;
     P = Ja * P * Ja.transpose() + Ju * steps_[k].odometry_cov * Ju.transpose();

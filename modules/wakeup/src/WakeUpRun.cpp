@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "budget_slam/core/Cancellation.h"
-#include "budget_slam/core/Se2.h"
+#include "budget_slam/core/Pose2.h"
 
 namespace budget_slam::wakeup {
 

@@ -8,7 +8,7 @@
 #include <unordered_map>
 
 #include "budget_slam/core/Cancellation.h"
-#include "budget_slam/wakeup/RangeBearing.h"
+#include "budget_slam/core/RangeBearingModel.h"
 
 namespace budget_slam::wakeup {
 namespace {
@@ -124,7 +124,7 @@ Refinement fitWindow(const Pose2& start, const std::vector<WindowStep>& steps,
   const auto cost = [&](const std::vector<Pose2>& Xc, const std::vector<Eigen::Vector2d>& Lc) {
     double c = 0;
     for (std::size_t j = 1; j < n; ++j) {
-      Eigen::Vector3d e = steps[j].odometry - between(Xc[j - 1], Xc[j]);
+      Eigen::Vector3d e = steps[j].odometry.vector() - between(Xc[j - 1], Xc[j]).vector();
       e.z() = wrapAngle(e.z());
       c += e.dot(Qinv[j] * e);
     }
@@ -150,7 +150,7 @@ Refinement fitWindow(const Pose2& start, const std::vector<WindowStep>& steps,
     for (std::size_t j = 1; j < n; ++j) {
       Eigen::Matrix3d Ja, Jb;
       const Pose2 pred = between(X[j - 1], X[j], &Ja, &Jb);
-      Eigen::Vector3d e = steps[j].odometry - pred;
+      Eigen::Vector3d e = steps[j].odometry.vector() - pred.vector();
       e.z() = wrapAngle(e.z());
       N.add<3, 3, 3>(Ja, poseAt(j - 1), Jb, poseAt(j), Qinv[j], e);
     }
@@ -200,8 +200,8 @@ Refinement fitWindow(const Pose2& start, const std::vector<WindowStep>& steps,
       for (std::size_t j = 0; j < n; ++j) {
         const Eigen::Vector3d d =
             scale * (j + 1 == n ? dl : Eigen::Vector3d(dr.segment<3>(poseAt(j))));
-        Xn[j] += d;
-        Xn[j].z() = wrapAngle(Xn[j].z());
+        Xn[j] = Pose2(Xn[j].vector() + d);
+        Xn[j].phi = wrapAngle(Xn[j].phi);
         largest = std::max(largest, d.cwiseAbs().maxCoeff());
       }
       for (std::size_t q = 0; q < free_landmarks; ++q) {

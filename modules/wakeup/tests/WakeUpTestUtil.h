@@ -6,7 +6,8 @@
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
-#include "budget_slam/core/Se2.h"
+#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/Step.h"
 
 namespace budget_slam::wakeup::test {
@@ -30,7 +31,7 @@ inline std::vector<LandmarkView> mapOf(const std::vector<WorldLandmark>& world, 
 }
 
 struct SensorSetup {
-  Pose2 on_robot = Pose2::Zero();
+  Pose2 on_robot;
   double max_range = 15, fov = 2 * M_PI;
   double std_range = 0.0, std_bearing = 0.0;  ///< noise added to the readings
   bool with_ids = true;
@@ -52,20 +53,20 @@ inline std::vector<Step> stepsAlong(const std::vector<Pose2>& path,
     if (k > 0) {
       OdometryIncrement o;
       Pose2 u = between(path[k - 1], path[k]);
-      u += Pose2(g(rng), g(rng), g(rng) * 0.1) * odo_std;
-      o.mean = mrpt::math::TPose2D(u.x(), u.y(), u.z());
+      u = Pose2(u.vector() + Eigen::Vector3d(g(rng), g(rng), g(rng) * 0.1) * odo_std);
+      o.mean = toTPose2D(u);
       const double v = std::max(odo_std * odo_std, 1e-8);
       o.cov = Eigen::Vector3d(v, v, v * 0.01).asDiagonal();
       s.odometry = o;
     }
     RangeBearingScan scan;
     scan.sensor_pose_on_robot =
-        mrpt::math::TPose3D(sensor.on_robot.x(), sensor.on_robot.y(), 0, sensor.on_robot.z(), 0, 0);
+        mrpt::math::TPose3D(sensor.on_robot.x, sensor.on_robot.y, 0, sensor.on_robot.phi, 0, 0);
     scan.max_range = sensor.max_range;
     scan.fov_yaw = sensor.fov;
     const Pose2 sp = compose(path[k], sensor.on_robot);
     for (const auto& w : world) {
-      const Eigen::Vector2d d = rot2(sp.z()).transpose() * (w.p - sp.head<2>());
+      const Eigen::Vector2d d = sp.transformTo(w.p);
       const double r = d.norm(), b = std::atan2(d.y(), d.x());
       if (r > sensor.max_range || std::abs(b) > sensor.fov / 2 || r <= 0) continue;
       RangeBearingReading rd;

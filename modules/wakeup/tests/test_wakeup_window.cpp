@@ -9,8 +9,8 @@
 #include <Eigen/LU>
 
 #include "WakeUpTestUtil.h"
+#include "budget_slam/core/RangeBearingModel.h"
 #include "budget_slam/wakeup/GlobalLocalizer.h"
-#include "budget_slam/wakeup/RangeBearing.h"
 #include "budget_slam/wakeup/WindowFit.h"
 
 using namespace budget_slam;
@@ -42,7 +42,7 @@ std::vector<Step> oneAStep(std::vector<Step> steps, const std::vector<WorldLandm
     // The readings are in landmark order over the landmarks in range: find the kept one by its
     // predicted range (ids may be absent).
     const Pose2 sp = compose(path[k], on_robot);
-    const double r = (world[which[k]].p - sp.head<2>()).norm();
+    const double r = (world[which[k]].p - sp.translation()).norm();
     std::vector<RangeBearingReading> kept;
     for (const auto& rd : rs)
       if (std::abs(rd.range - r) < 0.5) kept.push_back(rd);
@@ -55,8 +55,8 @@ std::vector<Step> oneAStep(std::vector<Step> steps, const std::vector<WorldLandm
 
 /// The truth's squared Mahalanobis distance from a found pose under its covariance.
 double mahalanobis2(const WakeUpResult& r, const Pose2& truth) {
-  Eigen::Vector3d e(r.pose.mean.x - truth.x(), r.pose.mean.y - truth.y(),
-                    wrapAngle(r.pose.mean.phi - truth.z()));
+  Eigen::Vector3d e(r.pose.mean.x - truth.x, r.pose.mean.y - truth.y,
+                    wrapAngle(r.pose.mean.phi - truth.phi));
   return e.dot(r.pose.cov.inverse() * e);
 }
 
@@ -143,11 +143,11 @@ TEST(WakeUpWindow, JointFitRecoversTheTruthAndItsCovarianceIsTheJointMarginal) {
   std::vector<Pairing> pairs;
   for (std::size_t i = 0; i < readings.size(); ++i)
     pairs.push_back({i, static_cast<std::size_t>(readings[i].id - 7)});
-  const Pose2 start = path.back() + Pose2(0.4, -0.3, 0.14);
+  const Pose2 start(path.back().vector() + Eigen::Vector3d(0.4, -0.3, 0.14));
   const auto joint =
       fitWindow(start, gathered, readings, map, pairs, kNoise, WindowLandmarks::Priors);
   ASSERT_TRUE(joint.converged);
-  EXPECT_LT((joint.pose - path.back()).norm(), 1e-7);
+  EXPECT_LT((joint.pose.vector() - path.back().vector()).norm(), 1e-7);
   for (const double c : joint.chi2) EXPECT_LT(c, 1e-10);
 
   // The reference: variables X_0 .. X_9, then l_0 .. l_2; every factor whitened by the Cholesky
@@ -168,7 +168,7 @@ TEST(WakeUpWindow, JointFitRecoversTheTruthAndItsCovarianceIsTheJointMarginal) {
       for (long i = 0; i < v.size(); ++i) out.push_back(v(i));
     };
     for (std::size_t j = 1; j < n; ++j) {
-      Eigen::Vector3d e = gathered[j].odometry - between(X(j - 1), X(j));
+      Eigen::Vector3d e = gathered[j].odometry.vector() - between(X(j - 1), X(j)).vector();
       e.z() = wrapAngle(e.z());
       push(whiten(gathered[j].odometry_cov, e));
     }
@@ -184,7 +184,7 @@ TEST(WakeUpWindow, JointFitRecoversTheTruthAndItsCovarianceIsTheJointMarginal) {
     return Eigen::Map<Eigen::VectorXd>(out.data(), static_cast<long>(out.size())).eval();
   };
   Eigen::VectorXd truth(D);
-  for (std::size_t j = 0; j < n; ++j) truth.segment<3>(3 * j) = path[j];
+  for (std::size_t j = 0; j < n; ++j) truth.segment<3>(3 * j) = path[j].vector();
   for (std::size_t q = 0; q < L; ++q) truth.segment<2>(3 * n + 2 * q) = map[q].mean;
   const Eigen::VectorXd r0 = residuals(truth);
   Eigen::MatrixXd J(r0.size(), D);
@@ -205,7 +205,7 @@ TEST(WakeUpWindow, JointFitRecoversTheTruthAndItsCovarianceIsTheJointMarginal) {
   const auto fixed =
       fitWindow(start, gathered, readings, map, pairs, kNoise, WindowLandmarks::Fixed);
   ASSERT_TRUE(fixed.converged);
-  EXPECT_LT((fixed.pose - path.back()).norm(), 1e-7);
+  EXPECT_LT((fixed.pose.vector() - path.back().vector()).norm(), 1e-7);
   const Eigen::MatrixXd H = J.transpose() * J;
   const Eigen::Matrix3d expected_fixed =
       H.topLeftCorner(3 * n, 3 * n).inverse().block<3, 3>(3 * (n - 1), 3 * (n - 1));
@@ -234,7 +234,8 @@ TEST(WakeUpWindow, ASymmetricWorldReadOneLandmarkAStepWithoutIdsIsNotFound) {
   for (const auto& p : path) {
     std::size_t best = 0;
     for (std::size_t i = 1; i < world.size(); ++i)
-      if ((world[i].p - p.head<2>()).norm() < (world[best].p - p.head<2>()).norm()) best = i;
+      if ((world[i].p - p.translation()).norm() < (world[best].p - p.translation()).norm())
+        best = i;
     which.push_back(best);
   }
   for (const auto mode : {Correspondence::Search, Correspondence::Auto}) {
@@ -267,7 +268,8 @@ TEST(WakeUpWindow, OneLandmarkAStepWithoutIdsIsFoundBySearchOnceFourAreRead) {
   for (const auto& p : path) {
     std::size_t best = 0;
     for (std::size_t i = 1; i < world.size(); ++i)
-      if ((world[i].p - p.head<2>()).norm() < (world[best].p - p.head<2>()).norm()) best = i;
+      if ((world[i].p - p.translation()).norm() < (world[best].p - p.translation()).norm())
+        best = i;
     which.push_back(best);
   }
   WakeUpOptions o;

@@ -89,7 +89,10 @@ def list_registry(args):
         print("budget-slam: unknown command '--list'", file=sys.stderr)
         return 2
     names = {"reducers": sorted(QUALITY), "backends": ["ekf", "graph"]}[args[0]]
-    print(json.dumps([{"name": n, "summary": n, "options": []} for n in names]))
+    role = {"none": "reference"} if args[0] == "reducers" else {}
+    print(json.dumps([dict({"name": n, "summary": n, "options": []},
+                           **({"role": role.get(n, "rule")} if args[0] == "reducers" else {}))
+                      for n in names]))
     return 0
 
 

@@ -12,6 +12,27 @@
 
 namespace budget_slam {
 
+/// What a registered reducer is for. The experiments take their candidates from the registry:
+/// every rule (`budget-slam --list reducers --json`, "role").
+enum class ReducerRole {
+  Rule,       ///< chooses what to drop under a cap: a candidate of the benchmark and the tables
+  Reference,  ///< `none`: no cap, the reference run
+  Bound,      ///< an instrument of the benchmark's bounds (hindsight, known-set), not a rule
+};
+
+/// "rule", "reference" or "bound": the role's name in `--list reducers --json`.
+inline const char* reducerRoleName(ReducerRole role) {
+  switch (role) {
+    case ReducerRole::Reference:
+      return "reference";
+    case ReducerRole::Bound:
+      return "bound";
+    case ReducerRole::Rule:
+      break;
+  }
+  return "rule";
+}
+
 /// One registered reducer: how it is named, documented, configured, checked and built. The one
 /// list of a reducer's facts: the command line, `--help`, `--list reducers`, the unknown-key check
 /// and the value check before a run all read it.
@@ -24,6 +45,7 @@ struct ReducerEntry {
   /// The ini sections it reads, in the order it reads them (none: no options).
   std::vector<OptionSection> sections;
   Factory factory;
+  ReducerRole role = ReducerRole::Rule;  ///< what it is for (a rule unless the entry says so)
 
   /// Checks every value it would read from `ini`, without building it: the first bad one throws
   /// its KeyError naming section, key and value.

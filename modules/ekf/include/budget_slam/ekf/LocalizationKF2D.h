@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/Step.h"
 
 namespace budget_slam::ekf {
@@ -88,9 +89,9 @@ class LocalizationKF2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   };
   /// A step whose paired readings were all rejected, as the recovery needs it.
   struct RejectedStep {
-    std::size_t step = 0;        ///< counter of processStep() calls
-    mrpt::math::TPose2D robot;   ///< the filter's pose after the step (dead reckoning)
-    mrpt::math::TPose2D sensor;  ///< the sensor on the robot
+    std::size_t step = 0;       ///< counter of processStep() calls
+    mrpt::math::TPose2D robot;  ///< the filter's pose after the step (dead reckoning)
+    Pose2 sensor;               ///< the sensor on the robot
     std::vector<PairedReading> readings;
   };
   /// After a step: updates the run of rejected steps and recovers when it is long enough.

@@ -15,9 +15,11 @@ namespace budget_slam::graph {
 
 /// A robot pose of the graph (one per kept step).
 struct PoseNode {
-  Pose2 x = Pose2::Zero();  ///< current estimate
-  double t = 0;             ///< timestamp of its step [s]
-  std::size_t n_obs = 0;    ///< range-bearing factors on this pose
+  /// Current estimate: the pose's parameters (x [m], y [m], phi [rad]), Pose2::vector(), the
+  /// solver's values as a landmark's are (Gauss-Newton steps add to them, the heading wrapped).
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  double t = 0;           ///< timestamp of its step [s]
+  std::size_t n_obs = 0;  ///< range-bearing factors on this pose
   /// Odometry from the previous pose of the graph to this one (none on the first pose).
   std::optional<BetweenFactor> odo;
   FactorId odo_id = 0;      ///< its identity (GraphFactor::id)
@@ -98,7 +100,7 @@ class FactorGraph {
   const PoseNode& pose(StepIndex s) const { return poses_.at(s); }
   const LandmarkNode& landmark(LandmarkId id) const { return landmarks_.at(id); }
   /// A writable estimate (counts as a change of values: revision() moves).
-  Pose2& poseValue(StepIndex s) {
+  Eigen::Vector3d& poseValue(StepIndex s) {
     valuesChanged();
     return poses_.at(s).x;
   }

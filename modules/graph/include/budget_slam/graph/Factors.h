@@ -1,9 +1,14 @@
 #pragma once
 #include <Eigen/Core>
 
-#include "budget_slam/graph/Se2.h"
+#include "budget_slam/core/Pose2.h"
 
 namespace budget_slam::graph {
+
+using budget_slam::between;
+using budget_slam::compose;
+using budget_slam::Pose2;
+using budget_slam::wrapAngle;
 
 /// A square root S of the information, S^T S = cov^-1 (S = L^-1 for cov = L L^T): whitening a
 /// residual e by S turns the factor's Mahalanobis cost e^T cov^-1 e into |S e|^2 (square-root
@@ -12,9 +17,9 @@ namespace budget_slam::graph {
 Eigen::Matrix3d sqrtInformation(const Eigen::Matrix3d& cov);
 Eigen::Matrix2d sqrtInformation(const Eigen::Matrix2d& cov);
 
-/// Gaussian prior on one pose: e = (x - mean) with the yaw difference wrapped.
+/// Gaussian prior on one pose: e = (x - mean) with the heading difference wrapped.
 struct PriorFactor {
-  Pose2 mean = Pose2::Zero();
+  Pose2 mean;                                               ///< [m, m, rad]
   Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();        ///< [m^2, m^2, rad^2]
   Eigen::Matrix3d sqrt_info = Eigen::Matrix3d::Identity();  ///< sqrtInformation(cov)
 
@@ -27,7 +32,7 @@ struct PriorFactor {
 /// the frame of the first pose and the covariance of its parameters (dx, dy, dyaw).
 /// e = between(xi, xj) - z, yaw wrapped (the additive-noise model of CPosePDFGaussian).
 struct BetweenFactor {
-  Pose2 z = Pose2::Zero();
+  Pose2 z;
   Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d sqrt_info = Eigen::Matrix3d::Identity();
 
@@ -36,14 +41,14 @@ struct BetweenFactor {
                         Eigen::Matrix3d* Jj = nullptr) const;
 };
 
-/// Range [m] and bearing [rad] of a landmark l (world x, y) seen by a sensor mounted at `sensor`
-/// (x, y, yaw in the robot frame) on the robot at pose x:
-///   q = l - (t + R(yaw) s_t),  range = |q|,  bearing = atan2(q_y, q_x) - (yaw + s_yaw).
+/// A range [m] and bearing [rad] reading of a landmark l (world x, y) by a sensor mounted at
+/// `sensor` (its pose on the robot) on the robot at pose x: the prediction is the one sensor model
+/// (budget_slam/core/RangeBearingModel.h, predictRangeBearing);
 /// e = (range - z_range, wrap(bearing - z_bearing)).
 struct RangeBearingFactor {
   double range = 0;                                   ///< [m]
   double bearing = 0;                                 ///< [rad], sensor frame
-  Pose2 sensor = Pose2::Zero();                       ///< sensor pose on the robot
+  Pose2 sensor;                                       ///< sensor pose on the robot
   Eigen::Matrix2d cov = Eigen::Matrix2d::Identity();  ///< [m^2, rad^2]
   Eigen::Matrix2d sqrt_info = Eigen::Matrix2d::Identity();
 

@@ -3,10 +3,10 @@
 #include <vector>
 
 #include "budget_slam/core/Ids.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/Step.h"
 #include "budget_slam/graph/EstimateFactorization.h"
 #include "budget_slam/graph/FactorGraph.h"
-#include "budget_slam/graph/Se2.h"
 
 namespace budget_slam::graph {
 

@@ -1,7 +1,8 @@
 #pragma once
-// The run layer's API (docs/ARCHITECTURE.md "Modules"): a typed specification in, a typed
-// outcome out. app/ parses the command line into a specification, prints what comes back and
-// exits with runs::exitCode; the Python module binds the same calls.
+// The run layer's API (docs/ARCHITECTURE.md "Modules"): a typed request in, a typed outcome
+// out. app/ and the Python module fill a runs::Request (Request.h); runs::run builds a run's
+// RunSpec from it and the ini and hands it to runSlam; app/ prints what comes back and exits with
+// runs::exitCode.
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/math/TPose2D.h>
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
-#include "budget_slam/core/Se2.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/wakeup/ReadingWindow.h"
 #include "budget_slam/wakeup/WakeUpOptions.h"
 
@@ -71,7 +71,7 @@ class MapIndex {
 /// One pose the search considered: the pose of the latest robot frame in the map, the local
 /// landmarks that agree with it, and the map landmarks it says were in view but no reading shows.
 struct Hypothesis {
-  Pose2 pose = Pose2::Zero();
+  Pose2 pose;
   std::size_t landmarks = 0;  ///< distinct map landmarks agreeing (one local landmark each)
   double chi2 = 0;            ///< sum of the agreeing squared Mahalanobis distances
   std::size_t missed = 0;     ///< map landmarks well in view at a gathered step, agreeing with none

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
-#include "budget_slam/core/Se2.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/wakeup/ReadingWindow.h"
 
 namespace budget_slam::wakeup {
@@ -26,7 +26,7 @@ struct Pairing {
 
 /// The robot pose refined on the range-bearing model.
 struct Refinement {
-  Pose2 pose = Pose2::Zero();                     ///< the robot at the latest step, in the map
+  Pose2 pose;                                     ///< the robot at the latest step, in the map
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();  ///< (J^T S^-1 J)^-1 at the solution
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();  ///< J^T S^-1 J
   std::vector<double> chi2;  ///< squared Mahalanobis innovation of each pairing, in order

@@ -2,7 +2,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "budget_slam/core/Se2.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/Step.h"
 #include "budget_slam/wakeup/WakeUpOptions.h"
 
@@ -14,7 +14,7 @@ struct LocalReading {
   StepIndex step = 0;
   LandmarkId id = kNoLandmarkId;                         ///< the sensor's id, kNoLandmarkId if none
   Eigen::Vector2d z = Eigen::Vector2d::Zero();           ///< range [m], bearing [rad]
-  Pose2 sensor = Pose2::Zero();                          ///< the sensor when it read, latest frame
+  Pose2 sensor;                                          ///< the sensor when it read, latest frame
   Eigen::Matrix3d sensor_cov = Eigen::Matrix3d::Zero();  ///< from the odometry in between
   Eigen::Vector2d point = Eigen::Vector2d::Zero();       ///< the landmark it puts, latest frame [m]
   Eigen::Matrix2d point_cov = Eigen::Matrix2d::Zero();   ///< reading noise and odometry [m^2]
@@ -25,7 +25,7 @@ struct LocalReading {
 /// reading explains).
 struct SensorView {
   StepIndex step = 0;
-  Pose2 sensor = Pose2::Zero();         ///< latest robot frame
+  Pose2 sensor;                         ///< latest robot frame
   double min_range = 0, max_range = 0;  ///< [m]; max_range 0: unknown
   double fov = 0;                       ///< total horizontal field of view [rad]
 };
@@ -35,10 +35,10 @@ struct WindowStep {
   StepIndex index = 0;
   /// The motion from the previous gathered step, in its frame, and its covariance (the first
   /// step's leads from outside the window and is not used).
-  Pose2 odometry = Pose2::Zero();
+  Pose2 odometry;
   Eigen::Matrix3d odometry_cov = Eigen::Matrix3d::Zero();
-  Pose2 on_robot = Pose2::Zero();  ///< the sensor's pose on the robot
-  Pose2 pose = Pose2::Zero();      ///< the robot in the latest robot frame, by the odometry
+  Pose2 on_robot;  ///< the sensor's pose on the robot
+  Pose2 pose;      ///< the robot in the latest robot frame, by the odometry
 };
 
 /// The steps gathered since the robot woke up: their readings and the odometry between them.
@@ -70,10 +70,10 @@ class ReadingWindow {
  private:
   struct Gathered {
     StepIndex index = 0;
-    Pose2 odometry = Pose2::Zero();  ///< motion from the previous step, in its frame
+    Pose2 odometry;  ///< motion from the previous step, in its frame
     Eigen::Matrix3d odometry_cov = Eigen::Matrix3d::Zero();
-    Pose2 sensor = Pose2::Zero();  ///< sensor pose on the robot (x, y, yaw)
-    bool scanned = false;          ///< the step had a bearing-range scan
+    Pose2 sensor;          ///< sensor pose on the robot (x, y, yaw)
+    bool scanned = false;  ///< the step had a bearing-range scan
     double min_range = 0, max_range = 0, fov = 0;
     std::vector<RangeBearingReading> readings;
   };

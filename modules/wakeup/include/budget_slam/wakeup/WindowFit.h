@@ -2,7 +2,7 @@
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
-#include "budget_slam/core/Se2.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/wakeup/PoseFit.h"
 #include "budget_slam/wakeup/ReadingWindow.h"
 #include "budget_slam/wakeup/WakeUpOptions.h"
