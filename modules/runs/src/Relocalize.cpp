@@ -14,11 +14,11 @@
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/WorkerThreads.h"
-#include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/report/CsvWriter.h"
 #include "budget_slam/runs/Localizer.h"
 #include "budget_slam/runs/ProcessProbes.h"
+#include "budget_slam/runs/RawlogSteps.h"
 #include "budget_slam/runs/RunConfig.h"
 
 namespace budget_slam::runs {
@@ -55,13 +55,9 @@ std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& par
         throw ConfigError("--relocalize: two traversals are named '" + t.name + "'");
     t.truth = dataset::loadGroundTruth(t.rc.rawlog, t.rc.mapping.ground_truth_file,
                                        t.rc.mapping.ground_truth_file_robot);
-    dataset::RawlogReader reader(t.rc.rawlog);
-    while (auto s = reader.next()) {
-      t.steps.push_back(std::move(*s));
-      if (Cancellation::requested()) throw Error("interrupted while reading '" + path + "'");
-    }
-    if (reader.bearingRangeSteps() == 0)
-      throw InputError("rawlog '" + t.rc.rawlog + "' holds no CObservationBearingRange");
+    auto steps = readRawlogSteps(t.rc.rawlog, 0, nullptr);
+    if (!steps) throw Error("interrupted while reading '" + path + "'");
+    t.steps = std::move(*steps);
     t.steps_in_rawlog = t.steps.size();
     if (t.rc.localization.max_steps && t.steps.size() > t.rc.localization.max_steps)
       t.steps.resize(t.rc.localization.max_steps);

@@ -67,11 +67,6 @@ struct CompareOutcome {
   int exitCode() const { return runs::exitCode(status, kind); }
 };
 
-/// The rawlog's steps, read once for every driver (at most `limit`, 0 = all); nullopt when a
-/// stop request came while reading. Throws InputError when no step has a bearing-range reading.
-std::optional<std::vector<Step>> readSteps(const std::string& rawlog, std::size_t limit,
-                                           ProgressReporter& reading);
-
 /// The reference run (reducer none) and one run a reducer of `names` (with `seeds`: one a reducer
 /// and seed, named <reducer>/seed<S>), each with its folder under `top` and its config_used.ini,
 /// appended to `runs` one by one (on an error, the runs made so far are there to say why in their

@@ -76,9 +76,4 @@ struct RunReport {
 /// (failed or interrupted), with the outputs of the steps done written.
 RunReport runSlam(const RunSpec& spec, const RunHooks& hooks);
 
-/// Writes summary.json into `outdir` for a run that ended before its run driver existed
-/// (a bad configuration): `outcome` with status, kind, error and given. Returns why it could
-/// not be written, "" when it was (or when `outdir` is "" or not a folder to write into).
-std::string writeEarlySummary(const std::string& outdir, bool force, RunOutcome outcome);
-
 }  // namespace budget_slam::runs
