@@ -3,8 +3,8 @@
 #include <nlohmann/json.hpp>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/engine/BuiltinBackends.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
-#include "budget_slam/runs/BuiltinBackends.h"
 
 namespace budget_slam::app {
 namespace {

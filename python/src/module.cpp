@@ -26,14 +26,14 @@
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/StopSignals.h"
 #include "budget_slam/core/Text.h"
+#include "budget_slam/engine/RunStatus.h"
+#include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/gaussian/GaussianStateBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/Figure.h"
 #include "budget_slam/runs/Commands.h"
 #include "budget_slam/runs/Localize.h"
 #include "budget_slam/runs/RequestChecks.h"
-#include "budget_slam/runs/RunStatus.h"
-#include "budget_slam/runs/SummaryJson.h"
 
 namespace py = pybind11;
 

@@ -10,26 +10,57 @@
 #include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/Text.h"
+#include "budget_slam/engine/BuiltinBackends.h"
+#include "budget_slam/engine/OfflineOptimum.h"
+#include "budget_slam/engine/ProcessProbes.h"
+#include "budget_slam/engine/RawlogSteps.h"
+#include "budget_slam/engine/RunLife.h"
+#include "budget_slam/engine/ShadowReducers.h"
+#include "budget_slam/engine/SummaryJson.h"
+#include "budget_slam/localization/Relocalize.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/reducers/Instruments.h"
 #include "budget_slam/report/Pictures.h"
 #include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/report/RunFiles.h"
-#include "budget_slam/runs/BuiltinBackends.h"
 #include "budget_slam/runs/Commands.h"
-#include "budget_slam/runs/OfflineOptimum.h"
-#include "budget_slam/runs/ProcessProbes.h"
-#include "budget_slam/runs/RawlogSteps.h"
-#include "budget_slam/runs/Relocalize.h"
+#include "budget_slam/runs/Comparison.h"
 #include "budget_slam/runs/RunConfig.h"
-#include "budget_slam/runs/RunLife.h"
 #include "budget_slam/runs/RunSpecs.h"
-#include "budget_slam/runs/ShadowReducers.h"
-#include "budget_slam/runs/SummaryJson.h"
 
 namespace budget_slam::runs {
 namespace {
+
+/// Reads every --relocalize rawlog with `cli`'s flags and `params` (errors name the file).
+std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& params,
+                                      const Request& cli, const std::string& config_label) {
+  std::vector<Traversal> out;
+  for (const auto& path : cli.relocalize) {
+    Traversal t;
+    Request c = cli;
+    c.rawlog = path;
+    RunConfig rc = loadRunConfig(params, c, config_label);
+    t.name = std::filesystem::path(path).stem().string();
+    for (const auto& other : out)
+      if (other.name == t.name)
+        throw ConfigError("--relocalize: two traversals are named '" + t.name + "'");
+    t.rawlog = rc.rawlog;
+    t.config_used = configUsed(rc.ini);
+    t.localization = rc.localization;
+    t.ini = std::move(rc.ini);
+    t.truth = dataset::loadGroundTruth(t.rawlog, rc.mapping.ground_truth_file,
+                                       rc.mapping.ground_truth_file_robot);
+    auto steps = readRawlogSteps(t.rawlog, 0, nullptr);
+    if (!steps) throw Error("interrupted while reading '" + path + "'");
+    t.steps = std::move(*steps);
+    t.steps_in_rawlog = t.steps.size();
+    if (t.localization.max_steps && t.steps.size() > t.localization.max_steps)
+      t.steps.resize(t.localization.max_steps);
+    out.push_back(std::move(t));
+  }
+  return out;
+}
 
 /// --relocalize: every final map of an ok run (the reference's too) localizes each traversal;
 /// fills the reloc_* columns of `rows` and adds the failed localizations to `outcome`.

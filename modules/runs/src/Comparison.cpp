@@ -8,10 +8,10 @@
 #include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Text.h"
+#include "budget_slam/engine/RunStatus.h"
+#include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/runs/RunConfig.h"
-#include "budget_slam/runs/RunStatus.h"
-#include "budget_slam/runs/SummaryJson.h"
 
 namespace budget_slam::runs {
 namespace {

@@ -4,12 +4,13 @@
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/Text.h"
-#include "budget_slam/runs/BuiltinBackends.h"
+#include "budget_slam/engine/BuiltinBackends.h"
+#include "budget_slam/engine/RunLife.h"
 #include "budget_slam/runs/Commands.h"
 #include "budget_slam/runs/RunConfig.h"
-#include "budget_slam/runs/RunLife.h"
 #include "budget_slam/runs/RunSession.h"
 #include "budget_slam/runs/RunSpecs.h"
+#include "budget_slam/runs/Runs.h"
 
 namespace budget_slam::runs {
 

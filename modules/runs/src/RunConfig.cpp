@@ -12,11 +12,11 @@
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/ekf/MrptIniKeys.h"
+#include "budget_slam/engine/BuiltinBackends.h"
+#include "budget_slam/localization/LocalizationOptions.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
-#include "budget_slam/runs/BuiltinBackends.h"
-#include "budget_slam/runs/LocalizationOptions.h"
 #include "budget_slam/wakeup/WakeUpOptions.h"
 
 namespace fs = std::filesystem;

@@ -6,11 +6,11 @@
 #include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/RawlogReader.h"
-#include "budget_slam/runs/RawlogSteps.h"
+#include "budget_slam/engine/RawlogSteps.h"
+#include "budget_slam/engine/RunLife.h"
+#include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/runs/RunConfig.h"
-#include "budget_slam/runs/RunLife.h"
 #include "budget_slam/runs/Runs.h"
-#include "budget_slam/runs/SummaryJson.h"
 #include "budget_slam/session/SessionStateFile.h"
 
 namespace budget_slam::runs {

@@ -9,9 +9,9 @@
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/runs/Commands.h"
 #include "budget_slam/runs/RequestChecks.h"
-#include "budget_slam/runs/SummaryJson.h"
 
 namespace budget_slam::runs {
 namespace {
