@@ -138,6 +138,7 @@ CompareReport endedBefore(CompareReport result, const RunLife& life, RunLife::En
                                                                  : CompareLine::Kind::Error,
                     end.line}};
   result.folder = life.path();
+  result.summary = end.outcome;
   return result;
 }
 
@@ -352,6 +353,7 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
                 {"steps", in.steps.size()},
                 {"threads", threads}});
   summary.given = given;
+  result.summary = summary;
   if (const std::string not_saved = life.writeSummaryHere(summary); !not_saved.empty()) {
     // Said with the comparison's last line (one line more only when there was none).
     if (outcome.lines.empty()) {

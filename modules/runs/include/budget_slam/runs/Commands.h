@@ -30,6 +30,9 @@ struct CompareReport {
   /// of one interrupted, "warning: ..." a failed shadow reducer; a comparison that could not
   /// start has its one line here).
   CompareOutcome outcome;
+  /// The top summary.json's outcome as it was written (or would have been, when the folder could
+  /// not take it): status, error, files not written, what the comparison was given.
+  RunOutcome summary;
   std::vector<report::ComparisonRow> rows;  ///< comparison.csv's rows, the reference first
   std::string markdown;  ///< comparison.md (and the offline optimum's table), "" if not made
   std::string folder;    ///< the output folder, "" when none was made
