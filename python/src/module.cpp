@@ -126,7 +126,6 @@ runs::Request requestOf(const std::string& command, const py::dict& d) {
   r.outdir = text("outdir").value_or("");
   r.reducer = text("reducer").value_or("");
   r.backend = text("backend").value_or("");
-  r.cap = text("cap");
   r.resume = text("resume").value_or("");
   r.quiet = true;  // nothing on stdout, no progress on stderr: the callback has it
   r.force = d.contains("force") && d["force"].cast<bool>();
@@ -146,19 +145,14 @@ runs::Request requestOf(const std::string& command, const py::dict& d) {
   try {
     // A flag given with an empty value (the command line's refuseEmptyValues, its order).
     const std::pair<const char*, std::optional<std::string>> given[] = {
-        {"config", text("config")},
-        {"input", text("rawlog")},
-        {"out", text("outdir")},
-        {"reducer", text("reducer")},
-        {"reducers", reducers},
-        {"seeds", text("seeds")},
-        {"cap", r.cap},
-        {"backend", text("backend")},
-        {"resume", text("resume")}};
+        {"config", text("config")},   {"input", text("rawlog")},    {"out", text("outdir")},
+        {"reducer", text("reducer")}, {"reducers", reducers},       {"seeds", text("seeds")},
+        {"cap", text("cap")},         {"backend", text("backend")}, {"resume", text("resume")}};
     for (const auto& [flag, value] : given) runs::refuseEmptyValue(flag, value);
     if (const auto v = text("max_steps")) r.max_steps = runs::parseMaxSteps(*v);
     if (const auto v = text("skip_steps")) r.skip_steps = runs::parseSkipSteps(*v);
     if (const auto v = text("seeds")) r.seeds = runs::parseSeeds(*v);
+    if (const auto v = text("cap")) r.cap = runs::parseCap(*v);
     runs::checkRequest(r);
   } catch (const ConfigError& e) {
     throw runs::withHelpHint(command, e);
