@@ -31,7 +31,6 @@ class RunLife {
   /// open() for a command that failed before it could open its folder: summary.json is then
   /// written there when the folder can be made. Never throws; false when there is no folder.
   bool openToSayWhy(const std::string& outdir, bool force);
-  bool opened() const { return folder_.has_value(); }
   report::OutputFolder& folder() { return *folder_; }
   /// The folder's path, "" when none was made.
   std::string path() const { return folder_ ? folder_->path() : std::string(); }
