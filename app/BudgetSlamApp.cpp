@@ -15,9 +15,9 @@
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/StopSignals.h"
 #include "budget_slam/core/Text.h"
+#include "budget_slam/engine/BuiltinBackends.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/Figure.h"
-#include "budget_slam/runs/BuiltinBackends.h"
 #include "budget_slam/runs/Commands.h"
 #include "budget_slam/runs/RequestChecks.h"
 #include "budget_slam/runs/Runs.h"
@@ -229,7 +229,6 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
   cli_.outdir = outdir.getValue();
   cli_.reducer = reducer.getValue();
   cli_.backend = backend.getValue();
-  if (cap.isSet()) cli_.cap = cap.getValue();
   cli_.sets = sets.getValue();
   if (compare) cli_.reducers = splitList(reducers.getValue()), cli_.threads = threads.getValue();
   if (compare) cli_.relocalize = splitList(relocalize.getValue());
@@ -246,6 +245,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
     if (max_steps.isSet()) cli_.max_steps = runs::parseMaxSteps(max_steps.getValue());
     if (skip_steps.isSet()) cli_.skip_steps = runs::parseSkipSteps(skip_steps.getValue());
     if (seeds.isSet()) cli_.seeds = runs::parseSeeds(seeds.getValue());
+    if (cap.isSet()) cli_.cap = runs::parseCap(cap.getValue());
     runs::checkRequest(cli_);
   } catch (const ConfigError& e) {
     throw runs::withHelpHint(cli_.command, e);

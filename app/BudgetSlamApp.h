@@ -10,6 +10,7 @@
 
 #include "budget_slam/core/Ids.h"
 #include "budget_slam/core/Progress.h"
+#include "budget_slam/engine/RegistryListing.h"
 #include "budget_slam/reducers/BudgetOptions.h"
 #include "budget_slam/report/ReportOptions.h"
 #include "budget_slam/runs/Commands.h"
@@ -18,7 +19,7 @@
 namespace budget_slam::app {
 
 /// budget-slam's version (--version, the session state's writer "budget-slam <version>").
-inline constexpr const char* kVersion = "0.1";
+inline constexpr const char* kVersion = runs::kVersion;
 
 /// The budget-slam application: a thin main() calls initialize() and run(); tests drive it with an
 /// in-memory config (`params`) and a temporary output folder, as MRPT's KFSLAMApp.

@@ -9,8 +9,8 @@
 #include "budget_slam/core/HeapRelease.h"
 #include "budget_slam/core/StopSignals.h"
 #include "budget_slam/core/Text.h"
-#include "budget_slam/runs/ProcessProbes.h"
-#include "budget_slam/runs/RunStatus.h"
+#include "budget_slam/engine/ProcessProbes.h"
+#include "budget_slam/engine/RunStatus.h"
 #ifdef BUDGET_SLAM_WITH_PYTHON
 #include "PluginHost.h"  // --plugin FILE.py (python/src/PluginHost.cpp)
 #endif

@@ -17,9 +17,9 @@
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/dataset/RawlogReader.h"
-#include "budget_slam/runs/LocalizationOptions.h"
-#include "budget_slam/runs/Localizer.h"
-#include "budget_slam/runs/MapFolder.h"
+#include "budget_slam/localization/LocalizationOptions.h"
+#include "budget_slam/localization/Localizer.h"
+#include "budget_slam/localization/MapFolder.h"
 
 namespace {
 

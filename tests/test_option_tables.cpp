@@ -6,13 +6,13 @@
 #include <algorithm>
 #include <sstream>
 
+#include "budget_slam/engine/MappingOptions.h"
+#include "budget_slam/localization/LocalizationOptions.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BudgetOptions.h"
 #include "budget_slam/reducers/CoverageOptions.h"
 #include "budget_slam/reducers/MutualInformationOptions.h"
 #include "budget_slam/reducers/PlaceCoverageReducer.h"
-#include "budget_slam/runs/LocalizationOptions.h"
-#include "budget_slam/runs/MappingOptions.h"
 
 using namespace budget_slam;
 

@@ -67,13 +67,13 @@ def reducer_names():
 def reducers():
     """Every registered reducer, as `budget-slam --list reducers --json` gives it: a list of dicts
     with name, summary and options (each a dict of section, key, default as ini text, doc)."""
-    return json.loads(_core.list_json("reducers"))
+    return _core.registry("reducers")
 
 
 def backends():
     """Every registered backend, as `budget-slam --list backends --json` gives it (see reducers();
     the default of a key MRPT's kf-slam defines is None)."""
-    return json.loads(_core.list_json("backends"))
+    return _core.registry("backends")
 
 
 # ---- reading a run's files ----
@@ -128,14 +128,17 @@ def read_tum(path):
     return out
 
 
-def read_run(folder):
+def read_run(folder, summary=None):
     """The outputs of one run folder (docs/OUTPUTS.md) as a dict: summary (dict of summary.json),
-    steps, trajectory, ground_truth (or None), landmarks, evictions (structured arrays), outdir."""
+    steps, trajectory, ground_truth (or None), landmarks, evictions (structured arrays), outdir.
+    summary: the run's summary as the run layer handed it back in memory (run(), localize()),
+    instead of its summary.json read back."""
     def opt(name, reader):
         p = os.path.join(folder, name)
         return reader(p) if os.path.isfile(p) else None
-    with open(os.path.join(folder, "summary.json")) as f:
-        summary = json.load(f)
+    if summary is None:
+        with open(os.path.join(folder, "summary.json")) as f:
+            summary = json.load(f)
     return {"summary": summary,
             "steps": opt("steps.csv", read_csv),
             "trajectory": opt("trajectory.tum", read_tum),
@@ -258,8 +261,8 @@ def _count(name, value):
 
 def _invoke(command, config, rawlog, overrides, outdir, force, request, progress=None):
     """Runs `command` (run, compare) through the run layer with the typed request the arguments
-    fill (python/src/module.cpp run_request); returns the output folder and whether it is a
-    temporary one."""
+    fill (python/src/module.cpp run_request); returns the output folder, whether it is a
+    temporary one, and the typed outcome (its summary in memory)."""
     params = None
     if isinstance(config, dict):
         params = _ini_text(config) if config else "[MappingApplication]\n"
@@ -287,7 +290,7 @@ def _invoke(command, config, rawlog, overrides, outdir, force, request, progress
             kind = ConfigError if outcome.exit_code == 2 else Error
             raise kind(outcome.message or f"exit code {outcome.exit_code}", outcome.exit_code,
                         None if temporary else folder)
-        return folder, temporary
+        return folder, temporary, outcome
     except BaseException:
         if temporary:
             shutil.rmtree(folder, ignore_errors=True)
@@ -316,9 +319,10 @@ def run(config, rawlog=None, overrides=None, outdir=None, *, reducer=None, cap=N
         request["reducer"] = str(reducer)
     if backend is not None:
         request["backend"] = str(backend)
-    folder, temporary = _invoke("run", config, rawlog, overrides, outdir, force, request, progress)
+    folder, temporary, outcome = _invoke("run", config, rawlog, overrides, outdir, force, request,
+                                         progress)
     try:
-        result = read_run(folder)
+        result = read_run(folder, outcome.summary)
     finally:
         if temporary:
             shutil.rmtree(folder, ignore_errors=True)
@@ -344,11 +348,10 @@ def compare(config, rawlog=None, reducers=None, overrides=None, outdir=None, *, 
     if seeds is not None:
         request["seeds"] = seeds if isinstance(seeds, str) else ",".join(
             str(_count("seeds", x)) for x in seeds)
-    folder, temporary = _invoke("compare", config, rawlog, overrides, outdir, force, request,
-                                progress)
+    folder, temporary, outcome = _invoke("compare", config, rawlog, overrides, outdir, force,
+                                         request, progress)
+    summary = outcome.summary  # the comparison's summary.json, as the run layer handed it back
     try:
-        with open(os.path.join(folder, "summary.json")) as f:
-            summary = json.load(f)
         table = read_csv(os.path.join(folder, "comparison.csv"))
         runs = {str(name): read_run(os.path.join(folder, str(name))) for name in table["run"]}
     finally:
@@ -462,13 +465,11 @@ def localize(config, rawlog=None, map=None, overrides=None, outdir=None, *, star
         if r["status"] == "interrupted":
             raise KeyboardInterrupt(r["line"] or "interrupted")
         if r["status"] == "not_found":
-            with open(os.path.join(folder, "summary.json")) as f:
-                summary = json.load(f)
-            raise NotFound(r["line"], r["exit_code"], kept, summary)
+            raise NotFound(r["line"], r["exit_code"], kept, r["summary"])
         if r["status"] != "ok" or r["line"]:
             kind = ConfigError if r["exit_code"] == 2 else Error
             raise kind(r["line"] or f"exit code {r['exit_code']}", r["exit_code"], kept)
-        result = read_run(folder)
+        result = read_run(folder, r["summary"])
         ref = os.path.join(folder, "reference.tum")
         result["reference"] = read_tum(ref) if os.path.isfile(ref) else None
     finally:

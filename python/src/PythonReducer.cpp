@@ -25,13 +25,13 @@
 #include "budget_slam/core/IniSection.h"
 #include "budget_slam/core/OptionTable.h"
 #include "budget_slam/core/Text.h"
+#include "budget_slam/engine/BuiltinBackends.h"
+#include "budget_slam/engine/MappingOptions.h"
+#include "budget_slam/localization/LocalizationOptions.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BudgetOptions.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/ReportOptions.h"
-#include "budget_slam/runs/BuiltinBackends.h"
-#include "budget_slam/runs/LocalizationOptions.h"
-#include "budget_slam/runs/MappingOptions.h"
 #include "budget_slam/wakeup/WakeUpOptions.h"
 
 namespace py = pybind11;

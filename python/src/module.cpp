@@ -15,8 +15,7 @@
 #include <optional>
 #include <set>
 
-#include "BudgetSlamApp.h"
-#include "ListCommand.h"
+#include "CoreModule.h"
 #include "PythonReducer.h"
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
@@ -26,14 +25,15 @@
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/StopSignals.h"
 #include "budget_slam/core/Text.h"
+#include "budget_slam/engine/RegistryListing.h"
+#include "budget_slam/engine/RunStatus.h"
+#include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/gaussian/GaussianStateBackend.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/report/Figure.h"
 #include "budget_slam/runs/Commands.h"
 #include "budget_slam/runs/Localize.h"
 #include "budget_slam/runs/RequestChecks.h"
-#include "budget_slam/runs/RunStatus.h"
-#include "budget_slam/runs/SummaryJson.h"
 
 namespace py = pybind11;
 
@@ -48,6 +48,9 @@ struct CommandOutcome {
   std::string status, kind;
   std::string message;
   std::vector<std::string> warnings;
+  /// The outcome summary.json was written from (runs::summaryJson), in memory: what the run
+  /// reported, not a file read back.
+  nlohmann::json summary;
 };
 
 /// A progress report as the dict Python's progress= callback receives (docs/PYTHON.md).
@@ -123,7 +126,6 @@ runs::Request requestOf(const std::string& command, const py::dict& d) {
   r.outdir = text("outdir").value_or("");
   r.reducer = text("reducer").value_or("");
   r.backend = text("backend").value_or("");
-  r.cap = text("cap");
   r.resume = text("resume").value_or("");
   r.quiet = true;  // nothing on stdout, no progress on stderr: the callback has it
   r.force = d.contains("force") && d["force"].cast<bool>();
@@ -143,19 +145,14 @@ runs::Request requestOf(const std::string& command, const py::dict& d) {
   try {
     // A flag given with an empty value (the command line's refuseEmptyValues, its order).
     const std::pair<const char*, std::optional<std::string>> given[] = {
-        {"config", text("config")},
-        {"input", text("rawlog")},
-        {"out", text("outdir")},
-        {"reducer", text("reducer")},
-        {"reducers", reducers},
-        {"seeds", text("seeds")},
-        {"cap", r.cap},
-        {"backend", text("backend")},
-        {"resume", text("resume")}};
+        {"config", text("config")},   {"input", text("rawlog")},    {"out", text("outdir")},
+        {"reducer", text("reducer")}, {"reducers", reducers},       {"seeds", text("seeds")},
+        {"cap", text("cap")},         {"backend", text("backend")}, {"resume", text("resume")}};
     for (const auto& [flag, value] : given) runs::refuseEmptyValue(flag, value);
     if (const auto v = text("max_steps")) r.max_steps = runs::parseMaxSteps(*v);
     if (const auto v = text("skip_steps")) r.skip_steps = runs::parseSkipSteps(*v);
     if (const auto v = text("seeds")) r.seeds = runs::parseSeeds(*v);
+    if (const auto v = text("cap")) r.cap = runs::parseCap(*v);
     runs::checkRequest(r);
   } catch (const ConfigError& e) {
     throw runs::withHelpHint(command, e);
@@ -181,7 +178,7 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
     context.config_text =
         readIniFile(context.config_label, "config file '" + context.config_label + "'");
   }
-  context.writer = std::string("budget-slam ") + app::kVersion;
+  context.writer = std::string("budget-slam ") + runs::kVersion;
 
   CommandOutcome r;
   runs::RunHooks hooks;
@@ -192,10 +189,12 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
     if (command == "run") {
       const runs::RunReport report = runs::run(request, std::move(context), hooks);
       status = report.outcome.status, kind = report.outcome.kind;
+      r.summary = runs::summaryJson(report.outcome);
       r.message = printable(report.line);
     } else {
       const runs::CompareReport report = runs::compare(request, std::move(context), hooks);
       status = report.outcome.status, kind = report.outcome.kind;
+      r.summary = runs::summaryJson(report.summary);
       // The comparison's last error or interruption says it; its warnings are warnings.
       for (const auto& line : report.outcome.lines) {
         if (line.kind == runs::CompareLine::Kind::Warning)
@@ -209,6 +208,12 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
     r.kind = runs::errorKindName(kind);
   });
   return r;
+}
+
+/// A JSON document as Python objects (through Python's json module: numbers, null, nesting as
+/// json.load gives them).
+py::object toPython(const nlohmann::json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
 }
 
 /// runs::localize for Python (budget_slam.localize): the typed specification filled from the
@@ -270,6 +275,7 @@ py::dict localizeRun(const std::optional<std::string>& config,
   d["line"] = result.line;
   d["warnings"] = result.warnings;
   d["folder"] = result.folder;
+  d["summary"] = toPython(runs::summaryJson(result.outcome));  // in memory, not read back
   return d;
 }
 
@@ -416,12 +422,6 @@ py::dict reducerScores(const std::string& name, const py::array_t<double>& mean_
   return d;
 }
 
-/// A JSON document as Python objects (through Python's json module: numbers, null, nesting as
-/// json.load gives them).
-py::object toPython(const nlohmann::json& j) {
-  return py::module_::import("json").attr("loads")(j.dump());
-}
-
 /// runs::readSummary for Python: the document, and the outcome's typed fields.
 py::dict readSummary(const std::string& path) {
   const runs::SummaryFile f = runs::readSummary(path);
@@ -448,15 +448,9 @@ int exitCodeOf(const std::string& status, const std::string& kind) {
 }  // namespace
 }  // namespace budget_slam::python
 
-#ifdef BUDGET_SLAM_EMBEDDED_CORE
-// Compiled into the budget-slam executable for --plugin (PluginHost.cpp): the same module, built
-// in.
-#include <pybind11/embed.h>
-PYBIND11_EMBEDDED_MODULE(_core, m) {
-#else
-PYBIND11_MODULE(_core, m) {
-#endif
-  using namespace budget_slam::python;
+namespace budget_slam::python {
+
+void defineCoreModule(py::module_& m) {
   m.doc() = "C++ core of budget_slam: the run layer in-process and the reducer registry";
   static py::exception<budget_slam::ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
   static py::exception<budget_slam::Error> error(m, "Error", PyExc_RuntimeError);
@@ -471,6 +465,7 @@ PYBIND11_MODULE(_core, m) {
   });
 
   py::class_<CommandOutcome>(m, "CommandOutcome")
+      .def_property_readonly("summary", [](const CommandOutcome& o) { return toPython(o.summary); })
       .def_readonly("exit_code", &CommandOutcome::exit_code)
       .def_readonly("status", &CommandOutcome::status)
       .def_readonly("kind", &CommandOutcome::kind)
@@ -506,8 +501,13 @@ PYBIND11_MODULE(_core, m) {
         py::arg("ids"), py::arg("n_obs") = py::none(), py::arg("obs_mean") = py::none(),
         py::arg("first_step") = py::none(), py::arg("last_step") = py::none(), py::arg("step") = 0,
         py::arg("seed") = 1, py::arg("config") = "", py::arg("candidates") = py::none());
-  m.def("list_json", [](const std::string& kind) {  // budget-slam --list <kind> --json
-    return budget_slam::app::listCommand({"budget-slam", "--list", kind, "--json"});
-  });
+  m.def(
+      "registry", [](const std::string& kind) { return toPython(runs::registryEntries(kind)); },
+      py::arg("kind"),
+      "The registered reducers or backends (kind: reducers, backends), each a dict: name, "
+      "summary, options (section, key, default, doc); what budget-slam --list <kind> --json "
+      "prints.");
   definePluginApi(m);  // register_reducer, Drop, Seen (PythonReducer.cpp)
 }
+
+}  // namespace budget_slam::python

@@ -8,11 +8,10 @@
 #include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Text.h"
-#include "budget_slam/dataset/RawlogReader.h"
+#include "budget_slam/engine/RunStatus.h"
+#include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/runs/RunConfig.h"
-#include "budget_slam/runs/RunStatus.h"
-#include "budget_slam/runs/SummaryJson.h"
 
 namespace budget_slam::runs {
 namespace {
@@ -67,33 +66,6 @@ std::vector<report::Series> errorSeries(const CompareRuns& runs, const dataset::
 }
 
 }  // namespace
-
-/// The rawlog's steps, read once for every driver (at most `limit`, 0 = all); nullopt when a
-/// stop request came while reading. Throws InputError when no step has a bearing-range reading.
-std::optional<std::vector<Step>> readSteps(const std::string& rawlog, std::size_t limit,
-                                           ProgressReporter& reading) {
-  std::vector<Step> steps;
-  dataset::RawlogReader reader(rawlog);
-  reader.setStopCheck([] { return Cancellation::requested(); });
-  while (limit == 0 || steps.size() < limit) {
-    auto s = reader.next();
-    if (s) {
-      steps.push_back(std::move(*s));
-      reading.update(limit ? double(steps.size()) / double(limit) : reader.progress(), steps.size(),
-                     limit, "");
-    } else if (!reader.stopped()) {
-      break;
-    }
-    if (Cancellation::requested()) {
-      reading.finish(false);
-      return std::nullopt;
-    }
-  }
-  reading.finish(true);
-  if (reader.bearingRangeSteps() == 0)
-    throw InputError("rawlog '" + rawlog + "' holds no CObservationBearingRange");
-  return steps;
-}
 
 /// The reference run (reducer none) and one run a reducer of `names` (with `seeds`: one a reducer
 /// and seed, named <reducer>/seed<S>), each with its folder under `top` and its config_used.ini,

@@ -9,14 +9,15 @@
 #include "budget_slam/core/InputLimits.h"
 #include "budget_slam/core/Progress.h"
 #include "budget_slam/core/Text.h"
-#include "budget_slam/dataset/RawlogReader.h"
+#include "budget_slam/engine/RawlogSteps.h"
+#include "budget_slam/engine/RunLife.h"
+#include "budget_slam/engine/SummaryJson.h"
+#include "budget_slam/localization/Localizer.h"
+#include "budget_slam/localization/MapFolder.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/report/RunFileReaders.h"
 #include "budget_slam/runs/Localize.h"
-#include "budget_slam/runs/Localizer.h"
-#include "budget_slam/runs/MapFolder.h"
 #include "budget_slam/runs/RunConfig.h"
-#include "budget_slam/runs/SummaryJson.h"
 #include "budget_slam/wakeup/WakeUpRun.h"
 
 namespace budget_slam::runs {
@@ -68,190 +69,192 @@ void checkLocalizeRequest(const Request& request) {
     throw ConfigError("--wake-up: not with --start-pose (a start pose is not looked for)");
 }
 
+namespace {
+
+/// What a localization reads before its filter starts.
+struct LocalizeInputs {
+  RunConfig rc;
+  metrics::MetricsOptions metric_options;
+  MapFolder map;
+  std::vector<TrajectoryPoint> reference;  ///< --reference-trajectory
+  dataset::GroundTruth truth;
+  std::vector<Step> steps;  ///< the traversal, at most [Localization] max_steps
+  std::size_t in_rawlog = 0;
+  ProgressSettings progress;  ///< with the merged ini's interval
+};
+
+/// The map folder, the reference trajectory, the ground truth and the traversal, read whole first
+/// (the ground-truth row of a step depends on the count). False when a stop request came while
+/// reading the rawlog.
+bool readInputs(const Request& cli, std::ostream& progress_out, LocalizeInputs& in) {
+  const RunConfig& rc = in.rc;
+  in.metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);
+  in.map = loadMapFolder(cli.map_dir, rc.localization.max_map_landmarks);
+  if (!cli.reference_trajectory.empty())
+    in.reference = report::readTrajectoryTum(cli.reference_trajectory, kMaxReferencePoses);
+  in.truth = dataset::loadGroundTruth(rc.rawlog, rc.mapping.ground_truth_file,
+                                      rc.mapping.ground_truth_file_robot);
+  ProgressReporter reading(progress_out, "reading the rawlog", in.progress);
+  auto steps = readRawlogSteps(rc.rawlog, 0, &reading);
+  if (!steps) return false;
+  in.steps = std::move(*steps);
+  in.in_rawlog = in.steps.size();
+  if (rc.localization.max_steps && in.steps.size() > rc.localization.max_steps)
+    in.steps.resize(rc.localization.max_steps);
+  return true;
+}
+
+/// The start pose from the wake-up (the robot looked for on the map over the first steps), when
+/// it is asked for or nothing else gives one; `wake` gets its block. Found or not, the wake-up's
+/// run; nullopt when it was not needed.
+std::optional<wakeup::WakeUpRun> wakeUpIfNeeded(const Request& cli, const RunHooks& hooks,
+                                                const std::optional<mrpt::math::TPose2D>& given,
+                                                const LocalizeInputs& in,
+                                                std::optional<LocalizationWakeUp>& wake) {
+  // No start pose anywhere (no --start-pose, no ground truth in the map's frame, no reference):
+  // wake up on the map rather than fail (docs/OUTPUTS.md "localize --wake-up").
+  const bool start_known =
+      given || (!in.truth.path.empty() && in.map.alignment) || !in.reference.empty();
+  if (!cli.wake_up && start_known) return std::nullopt;
+  if (!cli.wake_up && hooks.note)
+    hooks.note(
+        "no start pose (no --start-pose, no ground truth in the map's frame, no "
+        "--reference-trajectory): waking up on the map");
+  wakeup::WakeUpOptions wake_options;
+  wake_options.loadFromConfigFile(in.rc.ini, wakeup::WakeUpOptions::kSection);
+  std::size_t next = 0;
+  auto woke = wakeup::wakeUpOver(
+      in.map.landmarks,
+      [&]() -> const Step* { return next < in.steps.size() ? &in.steps[next++] : nullptr; },
+      wake_options, wakeup::readingNoiseOf(in.rc.ini));
+  wake = wakeUpBlock(woke, wake_options, cli.wake_up);
+  return woke;
+}
+
+/// A robot the wake-up did not find: summary.json says not_found, and why; no pose is guessed.
+LocalizeReport notFound(LocalizeReport report, const std::string& why, RunLife& life,
+                        const std::optional<LocalizationWakeUp>& wake) {
+  RunOutcome& o = report.outcome;
+  o.fail(RunStatus::NotFound, ErrorKind::None, why);
+  o.wake_up = wake;
+  o.given = life.given();
+  o.given["started"] = false;
+  const std::string not_saved = life.writeSummaryHere(o);
+  if (!not_saved.empty()) o.fail(RunStatus::Failed, ErrorKind::Output, why);
+  report.line = "wake-up: " + withAlso(why, not_saved);
+  return report;
+}
+
+/// The steps that woke the robot up are not localized: the filter starts at the pose found, at
+/// the last of them, with its covariance; the wake-up's error against the truth there.
+void startAtWakeUp(const wakeup::WakeUpRun& woke, const LocalizationOptions& options,
+                   LocalizationInputs& inputs, std::vector<Step>& steps, LocalizationWakeUp& wake) {
+  const std::size_t used = woke.steps_read;
+  const auto& at = inputs.truth.poses[used - 1];
+  if (at) {
+    const auto e = wakeup::wakeUpError(woke.result.pose, *at);
+    wake.error = LocalizationWakeUp::Error{
+        inputs.truth.kind, e.xy_m, e.yaw_deg,
+        e.xy_m <= options.success_xy && e.yaw_deg <= options.success_yaw_deg};
+  }
+  inputs.start = woke.result.pose;
+  inputs.start_source = "wake-up";
+  steps.erase(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(used));
+  inputs.truth.poses.erase(inputs.truth.poses.begin(),
+                           inputs.truth.poses.begin() + static_cast<std::ptrdiff_t>(used));
+}
+
+/// The filter over the steps; returns the stop line ("" when every step was localized).
+std::string localizeSteps(Localizer& localizer, const std::vector<Step>& steps,
+                          std::ostream& progress_out, const RunHooks& hooks,
+                          const ProgressSettings& settings) {
+  ProgressReporter progress(progress_out, "localize", settings);
+  for (const auto& s : steps) {
+    localizer.process(s);
+    progress.update(static_cast<double>(localizer.stepsDone()) / steps.size(),
+                    localizer.stepsDone(), steps.size(), "");
+    if (hooks.on_step) hooks.on_step(s.index);
+    if (Cancellation::requested()) {
+      progress.finish(false);
+      return " after step " + std::to_string(s.index);
+    }
+  }
+  progress.finish(true);
+  return "";
+}
+
+}  // namespace
+
 LocalizeReport localize(const Request& request, RequestContext context, const RunHooks& hooks) {
   const Request& cli = request;
   LocalizeReport report;
-  std::optional<report::OutputFolder> folder;
+  RunLife life(nlohmann::json{{"command", "localize"}});
+  LocalizeInputs in;
   std::unique_ptr<Localizer> localizer;
   std::optional<LocalizationWakeUp> wake;  ///< summary.json's wake_up block, once looked for
   std::ostringstream no_progress;
   std::ostream& progress_out = hooks.progress_out ? *hooks.progress_out : no_progress;
-
-  // Ends the localization as `status`: summary.json (through the localizer when there is one)
-  // and the one line, which also says why summary.json could not be written when it could not.
-  const auto fail = [&](const std::string& why, RunStatus status, ErrorKind kind) {
-    const std::string msg = printable(why);
-    std::string not_saved;
-    try {
-      // Before the first step nothing is worth keeping: the next command replaces it.
-      const bool started = localizer && localizer->stepsDone() > 0;
-      if (localizer) {
-        report.outcome = localizer->finish(status, kind, msg,
-                                           {{"map", cli.map_dir}, {"started", started}}, wake);
-        not_saved = localizer->summaryError();
-      } else if (folder) {
-        report.outcome.fail(status, kind, msg);
-        report.outcome.given = {{"command", "localize"}, {"started", false}};
-        writeSummary(folder->file("summary.json"), report.outcome);
-      }
-    } catch (const std::exception& e) {
-      not_saved = failureLine(e);
-    }
-    // The outcome is the one asked for, whatever the localizer made of it.
-    report.outcome.status = status, report.outcome.kind = kind, report.outcome.error = msg;
-    report.line = withAlso(msg, not_saved);
-    return report;
-  };
-  const auto interrupted = [&](const std::string& why) {
-    return fail(why, RunStatus::Interrupted, ErrorKind::Stopped);
-  };
-  const auto failed = [&](const std::exception& e, const std::string& why) {
-    return fail(why, RunStatus::Failed, errorKindOf(e));
+  const auto ended = [&](RunLife::End end) {
+    report.outcome = std::move(end.outcome);
+    report.line = std::move(end.line);
+    return std::move(report);
   };
   const auto warn = [&](const std::string& line) {
     report.warnings.push_back(line);
     if (hooks.warning) hooks.warning(line);
   };
 
-  RunConfig rc;
   try {
-    rc = loadRunConfig(request, context);
-    for (const auto& w : rc.warnings) warn(w);
-    folder.emplace(rc.outdir, cli.force);
+    in.rc = loadRunConfig(request, context);
+    for (const auto& w : in.rc.warnings) warn(w);
+    life.open(in.rc.outdir, cli.force);
   } catch (const Error& e) {
-    if (!cli.outdir.empty() && !folder) try {
-        folder.emplace(cli.outdir, cli.force);
-      } catch (const Error&) {
-      }
-    if (folder) report.folder = folder->path();
-    return failed(e, e.what());
+    life.openToSayWhy(cli.outdir, cli.force);
+    report.folder = life.path();
+    return ended(life.end(e.what(), RunStatus::Failed, errorKindOf(e)));
   } catch (const std::exception& e) {
-    // Not one of budget-slam's errors (MRPT's own): one line, nothing written.
-    report.outcome.fail(RunStatus::Failed, ErrorKind::Internal, failureLine(e));
-    report.line = report.outcome.error;
-    return report;
+    return ended(life.endOn(e));  // not one of budget-slam's errors (MRPT's own): nothing written
   }
-  report.folder = folder->path();
-  ProgressSettings progress_settings = hooks.progress;
-  progress_settings.line_every_s = rc.report.progress_every_s;  // the merged ini's [Report]
+  report.folder = life.path();
+  const RunConfig& rc = in.rc;
+  in.progress = hooks.progress;
+  in.progress.line_every_s = rc.report.progress_every_s;  // the merged ini's [Report]
 
   try {
     Cancellation::check();  // a stop request that came while the program started
-    writeFileAtomically(folder->file("config_used.ini"), configUsed(rc.ini));
-    metrics::MetricsOptions metric_options;
-    metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);
-    const MapFolder map = loadMapFolder(cli.map_dir, rc.localization.max_map_landmarks);
-    report.map_landmarks = map.landmarks.size();
-    std::vector<TrajectoryPoint> reference;
-    if (!cli.reference_trajectory.empty())
-      reference = report::readTrajectoryTum(cli.reference_trajectory, kMaxReferencePoses);
-    const auto truth = dataset::loadGroundTruth(rc.rawlog, rc.mapping.ground_truth_file,
-                                                rc.mapping.ground_truth_file_robot);
-
-    // The traversal is read whole first: the ground-truth row of a step depends on the count.
-    std::vector<Step> steps;
-    dataset::RawlogReader reader(rc.rawlog);
-    // A signal ends the reading within one read of the file, even inside a large object.
-    reader.setStopCheck([] { return Cancellation::requested(); });
-    ProgressReporter reading(progress_out, "reading the rawlog", progress_settings);
-    for (;;) {
-      auto s = reader.next();
-      if (s) {
-        steps.push_back(std::move(*s));
-        reading.update(reader.progress(), steps.size(), 0, "");
-      }
-      if (Cancellation::requested()) {
-        reading.finish(false);
-        return interrupted(std::string("interrupted by ") + Cancellation::signalName() +
-                           " while reading the rawlog");
-      }
-      if (!s) break;
-    }
-    reading.finish(true);
-    if (reader.bearingRangeSteps() == 0)
-      throw InputError("rawlog '" + rc.rawlog + "' holds no CObservationBearingRange");
-    const std::size_t in_rawlog = steps.size();
-    if (rc.localization.max_steps && steps.size() > rc.localization.max_steps)
-      steps.resize(rc.localization.max_steps);
+    writeFileAtomically(life.folder().file("config_used.ini"), configUsed(rc.ini));
+    if (!readInputs(cli, progress_out, in))
+      return ended(life.endInterrupted(" while reading the rawlog"));
+    report.map_landmarks = in.map.landmarks.size();
 
     std::optional<mrpt::math::TPose2D> given;
     if (cli.start_pose) given = parseStartPose(*cli.start_pose);
-    // No start pose anywhere (no --start-pose, no ground truth in the map's frame, no reference):
-    // wake up on the map rather than fail (docs/OUTPUTS.md "localize --wake-up").
-    const bool start_known = given || (!truth.path.empty() && map.alignment) || !reference.empty();
-    std::optional<wakeup::WakeUpRun> woke;
-    if (cli.wake_up || !start_known) {
-      if (!cli.wake_up && hooks.note)
-        hooks.note(
-            "no start pose (no --start-pose, no ground truth in the map's frame, no "
-            "--reference-trajectory): waking up on the map");
-      wakeup::WakeUpOptions wake_options;
-      wake_options.loadFromConfigFile(rc.ini, wakeup::WakeUpOptions::kSection);
-      std::size_t next = 0;
-      woke = wakeup::wakeUpOver(
-          map.landmarks,
-          [&]() -> const Step* { return next < steps.size() ? &steps[next++] : nullptr; },
-          wake_options, wakeup::readingNoiseOf(rc.ini));
-      wake = wakeUpBlock(*woke, wake_options, cli.wake_up);
-      if (!woke->found()) {
-        const std::string why = woke->whyNotFound(wake_options) + "; no pose is guessed";
-        RunOutcome& o = report.outcome;
-        o.fail(RunStatus::NotFound, ErrorKind::None, why);
-        o.wake_up = wake;
-        o.given = {{"command", "localize"},
-                   {"rawlog", rc.rawlog},
-                   {"map", cli.map_dir},
-                   {"started", false}};
-        std::string not_saved;
-        try {
-          writeSummary(folder->file("summary.json"), o);
-        } catch (const std::exception& e) {
-          not_saved = failureLine(e);
-          o.fail(RunStatus::Failed, ErrorKind::Output, why);
-        }
-        report.line = "wake-up: " + withAlso(why, not_saved);
-        return report;
-      }
-      given = woke->result.pose.mean;
+    const auto woke = wakeUpIfNeeded(cli, hooks, given, in, wake);
+    if (woke && !woke->found()) {
+      life.given().update({{"rawlog", rc.rawlog}, {"map", cli.map_dir}});
+      return notFound(std::move(report), wake->why_not_found + "; no pose is guessed", life, wake);
     }
-    auto inputs = resolveLocalization(steps, in_rawlog, truth, map.alignment, given,
-                                      cli.reference_trajectory.empty() ? nullptr : &reference,
+    if (woke) given = woke->result.pose.mean;
+    auto inputs = resolveLocalization(in.steps, in.in_rawlog, in.truth, in.map.alignment, given,
+                                      cli.reference_trajectory.empty() ? nullptr : &in.reference,
                                       cli.reference_trajectory, rc.localization);
-    if (woke) {
-      // The steps that woke the robot up are not localized: the filter starts at the pose found,
-      // at the last of them, with its covariance.
-      const std::size_t used = woke->steps_read;
-      const auto& at = inputs.truth.poses[used - 1];
-      if (at) {
-        const auto e = wakeup::wakeUpError(woke->result.pose, *at);
-        wake->error = LocalizationWakeUp::Error{
-            inputs.truth.kind, e.xy_m, e.yaw_deg,
-            e.xy_m <= rc.localization.success_xy && e.yaw_deg <= rc.localization.success_yaw_deg};
-      }
-      inputs.start = woke->result.pose;
-      inputs.start_source = "wake-up";
-      steps.erase(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(used));
-      inputs.truth.poses.erase(inputs.truth.poses.begin(),
-                               inputs.truth.poses.begin() + static_cast<std::ptrdiff_t>(used));
-    }
+    if (woke) startAtWakeUp(*woke, rc.localization, inputs, in.steps, *wake);
     // A path of one pose is a run without history (keep_history = false): no area to score in.
-    if (map.path.size() >= 2) inputs.mapping_path = map.path;
+    if (in.map.path.size() >= 2) inputs.mapping_path = in.map.path;
     localizer =
-        std::make_unique<Localizer>(rc.ini, rc.localization, metric_options.reloc_min_landmarks,
-                                    *folder, map.landmarks, inputs);
-    ProgressReporter progress(progress_out, "localize", progress_settings);
-    for (const auto& s : steps) {
-      localizer->process(s);
-      progress.update(static_cast<double>(localizer->stepsDone()) / steps.size(),
-                      localizer->stepsDone(), steps.size(), "");
-      if (hooks.on_step) hooks.on_step(s.index);
-      if (Cancellation::requested()) {
-        progress.finish(false);
-        return interrupted(std::string("interrupted by ") + Cancellation::signalName() +
-                           " after step " + std::to_string(s.index));
-      }
-    }
-    progress.finish(true);
+        std::make_unique<Localizer>(rc.ini, rc.localization, in.metric_options.reloc_min_landmarks,
+                                    life.folder(), in.map.landmarks, inputs);
+    life.setFinisher([&](RunOutcome& o) {
+      // Before the first step nothing is worth keeping: the next command replaces it.
+      const bool started = localizer->stepsDone() > 0;
+      o = localizer->finish(o.status, o.kind, o.error, {{"map", cli.map_dir}, {"started", started}},
+                            wake);
+      return localizer->summaryError();
+    });
+    if (const std::string stop =
+            localizeSteps(*localizer, in.steps, progress_out, hooks, in.progress);
+        !stop.empty())
+      return ended(life.endInterrupted(stop));
     // A map of another place (whose sensor IDs may happen to repeat): readings pair with its
     // landmarks but do not agree with where it has them. Every step is then dead reckoning. (No
     // step left after the wake-up: nothing to say.)
@@ -263,18 +266,17 @@ LocalizeReport localize(const Request& request, RequestContext context, const Ru
            " agree with it (innovation within the 99.9% bound): the map and "
            "the traversal share no place");
     const nlohmann::json summary_given = {
-        {"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", context.config_label},
-        {"map", cli.map_dir},  {"map_status", map.status},  {"started", true}};
+        {"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar},   {"config", context.config_label},
+        {"map", cli.map_dir},  {"map_status", in.map.status}, {"started", true}};
     report.outcome = localizer->finish(RunStatus::Ok, ErrorKind::None, "", summary_given, wake);
     // An output that could not be written (a full disk): summary.json says which, if it could.
     if (!localizer->writeError().empty())
       report.line = withAlso(localizer->writeError(), localizer->summaryError());
     return report;
   } catch (const Interrupted&) {
-    return interrupted(std::string("interrupted by ") + Cancellation::signalName() +
-                       " before the first step");
+    return ended(life.endInterrupted(" before the first step"));
   } catch (const std::exception& e) {
-    return failed(e, failureLine(e));
+    return ended(life.endOn(e));
   }
 }
 

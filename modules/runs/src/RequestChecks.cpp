@@ -20,17 +20,6 @@ bool parseCount(const std::string& text, unsigned long long& value) {
   return errno != ERANGE && end == text.c_str() + text.size();
 }
 
-/// --cap: a number of landmarks >= 1, or none (no cap).
-void checkCapFlag(const std::string& v) {
-  if (v == "none") return;
-  char* end = nullptr;
-  errno = 0;
-  const long long n = std::strtoll(v.c_str(), &end, 10);
-  if (v.empty() || end != v.c_str() + v.size() || errno == ERANGE)
-    throw UsageError("--cap '" + v + "': not a number of landmarks, nor none");
-  if (n < 1) throw UsageError("--cap " + v + ": must be at least 1 (or none for no cap)");
-}
-
 /// --reducer and --reducers name registered reducers; compare's list holds each once and never
 /// `none` (its reference run is always there).
 void checkReducerFlags(const std::string& reducer, const std::vector<std::string>& compared) {
@@ -51,6 +40,17 @@ void checkReducerFlags(const std::string& reducer, const std::vector<std::string
 }
 
 }  // namespace
+
+Cap parseCap(const std::string& v) {
+  if (v == "none") return Cap{};
+  char* end = nullptr;
+  errno = 0;
+  const long long n = std::strtoll(v.c_str(), &end, 10);
+  if (v.empty() || end != v.c_str() + v.size() || errno == ERANGE)
+    throw UsageError("--cap '" + v + "': not a number of landmarks, nor none");
+  if (n < 1) throw UsageError("--cap " + v + ": must be at least 1 (or none for no cap)");
+  return Cap{static_cast<std::size_t>(n)};
+}
 
 std::vector<std::uint64_t> parseSeeds(const std::string& text) {
   const auto bad = [&](const std::string& why) {
@@ -104,7 +104,6 @@ std::size_t parseSkipSteps(const std::string& text) {
 }
 
 void checkRequest(const Request& request) {
-  if (request.cap) checkCapFlag(*request.cap);
   if (!request.backend.empty()) checkBackendFlag(request.backend);
   checkReducerFlags(request.reducer, request.reducers);
   for (const auto& set : request.sets) checkSet(set);

@@ -4,11 +4,13 @@
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/Text.h"
-#include "budget_slam/runs/BuiltinBackends.h"
+#include "budget_slam/engine/BuiltinBackends.h"
+#include "budget_slam/engine/RunLife.h"
 #include "budget_slam/runs/Commands.h"
 #include "budget_slam/runs/RunConfig.h"
 #include "budget_slam/runs/RunSession.h"
 #include "budget_slam/runs/RunSpecs.h"
+#include "budget_slam/runs/Runs.h"
 
 namespace budget_slam::runs {
 
@@ -34,13 +36,12 @@ RunReport run(const Request& request, RequestContext context, const RunHooks& ho
     // Error: a bad value, key or file; anything else (MRPT's own exceptions) in one line.
     const std::string why = printable(
         dynamic_cast<const Error*>(&e) ? std::string(e.what()) : label + ": " + failureLine(e));
-    RunOutcome early;
-    early.fail(RunStatus::Failed, errorKindOf(e), why);
-    early.given = given;
-    early.given["started"] = false;
-    const std::string not_saved = writeEarlySummary(request.outdir, request.force, early);
-    RunReport r = ended(early.status, early.kind, withAlso(why, not_saved));
-    r.outcome = std::move(early);
+    RunLife life(given);
+    life.openToSayWhy(request.outdir, request.force);
+    RunLife::End end = life.end(why, RunStatus::Failed, errorKindOf(e));
+    RunReport r;
+    r.outcome = std::move(end.outcome);
+    r.line = std::move(end.line);
     return r;
   }
 

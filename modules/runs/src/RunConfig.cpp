@@ -12,11 +12,11 @@
 #include "budget_slam/core/IniText.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/ekf/MrptIniKeys.h"
+#include "budget_slam/engine/BuiltinBackends.h"
+#include "budget_slam/localization/LocalizationOptions.h"
 #include "budget_slam/metrics/MetricsOptions.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
-#include "budget_slam/runs/BuiltinBackends.h"
-#include "budget_slam/runs/LocalizationOptions.h"
 #include "budget_slam/wakeup/WakeUpOptions.h"
 
 namespace fs = std::filesystem;
@@ -179,9 +179,9 @@ void checkCapFor(const RunConfig& rc, const Request& cli, const std::string& red
   // A number given with --cap is a request for a capped run; reducer none keeps every landmark,
   // so the run would be unreduced while the user believes it capped (issue 35). compare's none is
   // its unreduced reference, which no cap concerns.
-  if (cli.command != "compare" && reducer == "none" && cli.cap && *cli.cap != "none")
+  if (cli.command != "compare" && reducer == "none" && cli.cap && cli.cap->landmarks)
     throw ConfigError(
-        "--cap " + *cli.cap +
+        "--cap " + cli.cap->text() +
             ": reducer none keeps every landmark, so a cap would do nothing; give --reducer NAME "
             "(budget-slam --help lists them), or leave --cap out for the unreduced run",
         ConfigErrorKind::Invalid, "--cap");
@@ -239,8 +239,8 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Req
       origins.note(reducers::BudgetOptions::kSection, "reducer", "--reducer " + cli.reducer);
     }
     if (cli.cap) {
-      rc.ini.write(reducers::BudgetOptions::kSection, "max_landmarks", *cli.cap);
-      origins.note(reducers::BudgetOptions::kSection, "max_landmarks", "--cap " + *cli.cap);
+      rc.ini.write(reducers::BudgetOptions::kSection, "max_landmarks", cli.cap->text());
+      origins.note(reducers::BudgetOptions::kSection, "max_landmarks", "--cap " + cli.cap->text());
     }
     if (!cli.backend.empty()) {
       checkBackendFlag(cli.backend);

@@ -9,9 +9,9 @@
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
+#include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/runs/Commands.h"
 #include "budget_slam/runs/RequestChecks.h"
-#include "budget_slam/runs/SummaryJson.h"
 
 namespace budget_slam::runs {
 namespace {
@@ -34,7 +34,7 @@ Request request(const std::string& command, const std::string& out) {
   r.command = command;
   r.rawlog = kDemo;
   r.outdir = out;
-  r.cap = "10";
+  r.cap = parseCap("10");
   r.max_steps = 60;
   r.quiet = true;
   return r;
@@ -217,7 +217,7 @@ TEST(RunCommand, AMismatchedResumeIsOneLineAndNoFolder) {
   Request r = request("run", second);
   r.reducer = "oldest";
   r.resume = first;
-  r.cap = "12";
+  r.cap = parseCap("12");
   const RunReport report = run(r, context(), {});
   EXPECT_EQ(report.outcome.status, RunStatus::Failed);
   EXPECT_EQ(report.outcome.kind, ErrorKind::Config);
@@ -235,13 +235,20 @@ TEST(RequestChecks, TheCommandLinesMessagesWhoeverFilledTheRequest) {
     }
     return std::string("accepted");
   };
+  const auto cap = [](const std::string& text) {
+    try {
+      return parseCap(text).text();
+    } catch (const UsageError& e) {
+      return std::string(e.what());
+    }
+  };
   Request r;
   EXPECT_EQ(refused(r), "accepted");
-  r.cap = "0";
-  EXPECT_EQ(refused(r), "--cap 0: must be at least 1 (or none for no cap)");
-  r.cap = "ten";
-  EXPECT_EQ(refused(r), "--cap 'ten': not a number of landmarks, nor none");
-  r.cap = "none";
+  EXPECT_EQ(cap("0"), "--cap 0: must be at least 1 (or none for no cap)");
+  EXPECT_EQ(cap("ten"), "--cap 'ten': not a number of landmarks, nor none");
+  EXPECT_EQ(cap("none"), "none");
+  EXPECT_EQ(cap("12"), "12");
+  r.cap = parseCap("none");
   r.backend = "kalman";
   EXPECT_EQ(refused(r).rfind("--backend kalman: must be one of ", 0), 0u);
   r.backend = "graph";

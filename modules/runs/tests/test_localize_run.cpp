@@ -9,12 +9,12 @@
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/IniText.h"
-#include "budget_slam/runs/BuiltinBackends.h"
+#include "budget_slam/engine/BuiltinBackends.h"
+#include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/runs/Localize.h"
 #include "budget_slam/runs/RunConfig.h"
 #include "budget_slam/runs/RunSpecs.h"
 #include "budget_slam/runs/Runs.h"
-#include "budget_slam/runs/SummaryJson.h"
 
 namespace budget_slam::runs {
 namespace {

@@ -13,10 +13,10 @@
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/ekf/EkfBackend.h"
+#include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/graph/GraphBackend.h"
 #include "budget_slam/metrics/NeesAccumulator.h"
 #include "budget_slam/runs/Runs.h"
-#include "budget_slam/runs/SummaryJson.h"
 
 namespace budget_slam::runs {
 namespace {

@@ -3,16 +3,14 @@
 // command line and the Python module both call. A request is checked by runs::checkRequest
 // first (RequestChecks.h); these calls never throw, and every failure is in the report they
 // return, with the lines to show and the files of the work already done written.
-#include <mrpt/config/CConfigFileMemory.h>
-
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "budget_slam/report/ComparisonTable.h"
-#include "budget_slam/runs/Comparison.h"
+#include "budget_slam/runs/CompareOutcome.h"
 #include "budget_slam/runs/Request.h"
-#include "budget_slam/runs/Runs.h"
+#include "budget_slam/runs/RunHooks.h"
+#include "budget_slam/runs/RunReport.h"
 
 namespace budget_slam::runs {
 
@@ -32,6 +30,9 @@ struct CompareReport {
   /// of one interrupted, "warning: ..." a failed shadow reducer; a comparison that could not
   /// start has its one line here).
   CompareOutcome outcome;
+  /// The top summary.json's outcome as it was written (or would have been, when the folder could
+  /// not take it): status, error, files not written, what the comparison was given.
+  RunOutcome summary;
   std::vector<report::ComparisonRow> rows;  ///< comparison.csv's rows, the reference first
   std::string markdown;  ///< comparison.md (and the offline optimum's table), "" if not made
   std::string folder;    ///< the output folder, "" when none was made

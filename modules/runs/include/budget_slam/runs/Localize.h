@@ -3,18 +3,14 @@
 // request in, a typed report out, as runs::run and runs::compare (Commands.h). app/Localize.cpp
 // parses the command line into the Request and prints the report; the Python module
 // (budget_slam.localize) fills the same Request from its arguments.
-#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/math/TPose2D.h>
 
-#include <functional>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "budget_slam/runs/Commands.h"
+#include "budget_slam/engine/RunOutcome.h"
 #include "budget_slam/runs/Request.h"
-#include "budget_slam/runs/RunOutcome.h"
-#include "budget_slam/runs/Runs.h"
+#include "budget_slam/runs/RunHooks.h"
 
 namespace budget_slam::runs {
 

@@ -8,6 +8,14 @@
 
 namespace budget_slam::runs {
 
+/// --cap, typed: a number of landmarks >= 1, or none (no cap). The flag's text is parsed once, by
+/// parseCap (RequestChecks.h), whoever filled the request; the merged ini gets text().
+struct Cap {
+  std::optional<std::size_t> landmarks;  ///< none: no cap
+  /// "none" or the number, as config_used.ini records it.
+  std::string text() const { return landmarks ? std::to_string(*landmarks) : "none"; }
+};
+
 /// What a caller asked for, typed (docs/ARCHITECTURE.md "Command line"): the command line parses
 /// into it, the Python module fills it from its arguments. With the ini it is all a run, a
 /// comparison or a localization is given (loadRunConfig merges the two).
@@ -15,7 +23,7 @@ struct Request {
   std::string command;  ///< run | compare | localize
   std::string config;   ///< -c; "" = keep params as set by the caller, or ./config.ini
   std::string rawlog, outdir, reducer, backend;
-  std::optional<std::string> cap;        ///< --cap as given: a number >= 1, or none
+  std::optional<Cap> cap;                ///< --cap, when given
   std::vector<std::string> sets;         ///< --set Section.key=value
   std::vector<std::string> reducers;     ///< compare: --reducers a,b,c
   unsigned threads = 0;                  ///< compare: --threads, 0 = one a core

@@ -24,7 +24,10 @@ std::size_t parseMaxSteps(const std::string& text);
 /// --skip-steps N: a count of steps (0 skips none).
 std::size_t parseSkipSteps(const std::string& text);
 
-/// The values of run's and compare's flags: --cap (a number >= 1 or none), --backend and
+/// --cap: a number of landmarks >= 1, or none. Throws UsageError naming the flag.
+Cap parseCap(const std::string& text);
+
+/// The values of run's and compare's flags: --backend and
 /// --reducer (registered names), --reducers (registered, each once, never none), every --set
 /// (Section.key=value). Throws UsageError naming the flag; a malformed --set is a ConfigError
 /// (the command line adds "; see budget-slam <command> --help" to either).

@@ -4,10 +4,10 @@
 #include <string>
 #include <vector>
 
+#include "budget_slam/engine/MappingOptions.h"
+#include "budget_slam/localization/LocalizationOptions.h"
 #include "budget_slam/reducers/BudgetOptions.h"
 #include "budget_slam/report/ReportOptions.h"
-#include "budget_slam/runs/LocalizationOptions.h"
-#include "budget_slam/runs/MappingOptions.h"
 #include "budget_slam/runs/Request.h"
 
 namespace budget_slam::runs {

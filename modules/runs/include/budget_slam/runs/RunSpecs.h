@@ -1,6 +1,6 @@
 #pragma once
+#include "budget_slam/engine/RunDriver.h"
 #include "budget_slam/runs/RunConfig.h"
-#include "budget_slam/runs/RunDriver.h"
 
 namespace budget_slam::runs {
 
