@@ -435,11 +435,10 @@ void GraphBackend::restoreSession(const session::SessionState& state) {
     if (continues) {
       // The file's robot is the chain's last pose, written from it: another one is a file edited
       // or mixed up, not a robot placed elsewhere (that is the run's to say).
-      const Pose2& last = saved.poses().rbegin()->second.x;
+      const Pose2 last(saved.poses().rbegin()->second.x);
       const mrpt::math::TPose2D& robot = state.robot->pose.mean;
-      if (std::abs(last.x() - robot.x) > kSameRobotM ||
-          std::abs(last.y() - robot.y) > kSameRobotM ||
-          std::abs(wrapAngle(last.z() - robot.phi)) > kSameRobotRad)
+      if (std::abs(last.x - robot.x) > kSameRobotM || std::abs(last.y - robot.y) > kSameRobotM ||
+          std::abs(wrapAngle(last.phi - robot.phi)) > kSameRobotRad)
         s.fail("pose_values",
                "the last pose is not the robot of section 'robot' (the robot goes "
                "on where the session stopped)");

@@ -465,7 +465,7 @@ TEST(LocalizationInformationReducer, SecondLandmarkAdmissionThroughTheManagerUnd
       step.scan->max_range = 20;
       step.scan->fov_yaw = 2 * M_PI;
       for (const LandmarkId id : ids) {
-        const Eigen::Vector2d z = predictRangeBearing(b.pose, {0, 0, 0}, where.at(id)).z;
+        const Eigen::Vector2d z = predictRangeBearing(toPose2(b.pose), {0, 0, 0}, where.at(id)).z;
         step.scan->readings.push_back({id, z(0), z(1), 0});
         b.see(id, k);
       }
