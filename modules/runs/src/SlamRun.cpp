@@ -137,7 +137,8 @@ RunReport runSlam(const RunSpec& spec, const RunHooks& hooks) {
   if (const std::string note = life.earlierRunNote(); !note.empty() && hooks.note) hooks.note(note);
 
   // A stop request that came while the program started.
-  if (Cancellation::requested()) return ended(std::move(result), life.endInterrupted(""));
+  if (Cancellation::requested())
+    return ended(std::move(result), life.endInterrupted(" before the first step"));
   bool end_phase = false;
   std::ostringstream no_progress;
   std::ostream& progress_out = hooks.progress_out ? *hooks.progress_out : no_progress;
