@@ -6,6 +6,7 @@
 #include <Eigen/LU>
 #include <functional>
 
+#include "NumericJacobian.h"
 #include "WakeUpTestUtil.h"
 #include "budget_slam/core/RangeBearingModel.h"
 #include "budget_slam/wakeup/PoseFit.h"
@@ -14,29 +15,7 @@
 using namespace budget_slam;
 using namespace budget_slam::wakeup;
 using namespace budget_slam::wakeup::test;
-
-namespace {
-
-/// Central differences of f (R^n -> R^m) at x; the bearing row wrapped.
-template <int N>
-Eigen::MatrixXd numericJacobian(
-    const std::function<Eigen::VectorXd(const Eigen::Matrix<double, N, 1>&)>& f,
-    const Eigen::Matrix<double, N, 1>& x, bool wrap_second = false) {
-  const double h = 1e-6;
-  const Eigen::VectorXd f0 = f(x);
-  Eigen::MatrixXd J(f0.size(), N);
-  for (int i = 0; i < N; ++i) {
-    Eigen::Matrix<double, N, 1> a = x, b = x;
-    a(i) += h;
-    b(i) -= h;
-    Eigen::VectorXd d = f(a) - f(b);
-    if (wrap_second) d(1) = wrapAngle(d(1));
-    J.col(i) = d / (2 * h);
-  }
-  return J;
-}
-
-}  // namespace
+using budget_slam::test::numericJacobian;
 
 TEST(WakeUpMath, OdometryChainCovarianceMatchesNumericalPropagation) {
   // Four steps; a landmark read at the first one. Its sensor pose in the last step's frame is a
@@ -76,7 +55,7 @@ TEST(WakeUpMath, OdometryChainCovarianceMatchesNumericalPropagation) {
   x << u[0].vector(), u[1].vector(), u[2].vector();
   const Eigen::Vector3d expected = sensorOf(x);
   EXPECT_LT((r[0].sensor.vector() - expected).norm(), 1e-12);
-  const auto J = numericJacobian<9>(sensorOf, x, false);
+  const auto J = numericJacobian<9>(sensorOf, x);
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(9, 9);
   for (int k = 0; k < 3; ++k) S.block<3, 3>(3 * k, 3 * k) = cov[k];
   const Eigen::MatrixXd expected_cov = J * S * J.transpose();
@@ -131,12 +110,12 @@ TEST(WakeUpMath, RefinementConvergesAndItsCovarianceIsTheInverseInformation) {
     const auto f = [&](const Eigen::Vector3d& x) -> Eigen::VectorXd {
       return predictRangeBearing(Pose2(x), readings[p.reading].sensor, map[p.landmark].mean).z;
     };
-    const Eigen::MatrixXd J = numericJacobian<3>(f, truth.vector(), true);
+    const Eigen::MatrixXd J = numericJacobian<3>(f, truth.vector(), {1});
     const auto Jl = numericJacobian<2>(
         [&](const Eigen::Vector2d& l) -> Eigen::VectorXd {
           return predictRangeBearing(truth, readings[p.reading].sensor, l).z;
         },
-        map[p.landmark].mean, true);
+        map[p.landmark].mean, {1});
     const Eigen::Matrix2d S = Eigen::Vector2d(0.01, 0.0001).asDiagonal().toDenseMatrix() +
                               Jl * map[p.landmark].cov * Jl.transpose();
     info += J.transpose() * S.inverse() * J;
