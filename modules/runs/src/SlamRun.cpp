@@ -138,7 +138,7 @@ RunReport runSlam(const RunSpec& spec, const RunHooks& hooks) {
 
   // A stop request that came while the program started.
   if (Cancellation::requested())
-    return ended(std::move(result), life.endInterrupted(" before the first step"));
+    return ended(std::move(result), life.endInterrupted(StepLoop::afterLastStep(driver.get())));
   bool end_phase = false;
   std::ostringstream no_progress;
   std::ostream& progress_out = hooks.progress_out ? *hooks.progress_out : no_progress;
