@@ -261,7 +261,7 @@ def _count(name, value):
 
 def _invoke(command, config, rawlog, overrides, outdir, force, request, progress=None):
     """Runs `command` (run, compare) through the run layer with the typed request the arguments
-    fill (python/src/module.cpp run_request); returns the output folder, whether it is a
+    fill (python/src/RunBindings.cpp run_request); returns the output folder, whether it is a
     temporary one, and the typed outcome (its summary in memory)."""
     params = None
     if isinstance(config, dict):
