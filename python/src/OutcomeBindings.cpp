@@ -1,7 +1,10 @@
 // read_summary, summary_keys and exit_code: the run layer's typed outcome in summary.json's words
-// (engine/SummaryJson.h, engine/RunStatus.h), and the JSON-to-Python conversion the module shares.
+// (engine/SummaryJson.h, engine/RunStatus.h), and the conversions the module shares: a JSON
+// document and comparison.csv's typed table as Python objects.
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "Bindings.h"
@@ -15,6 +18,34 @@ namespace budget_slam::python {
 
 py::object toPython(const nlohmann::json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
+}
+
+py::list comparisonTable(const std::vector<report::ComparisonRow>& rows) {
+  py::list table;
+  for (const auto& column : report::comparisonColumns()) {
+    std::vector<report::ComparisonCell> cells;
+    for (const auto& row : rows) cells.push_back(column.value(row));
+    const report::ComparisonCell kind = column.value(report::ComparisonRow{});
+    const bool text = kind.is_text;
+    const bool integer = kind.is_integer && std::all_of(cells.begin(), cells.end(), [](auto& c) {
+                           return std::isfinite(c.number);
+                         });
+    py::list values;
+    for (const auto& c : cells) {
+      if (text)
+        values.append(c.text);
+      else if (integer)
+        values.append(static_cast<long long>(c.number));
+      else
+        values.append(c.number);
+    }
+    table.append(py::make_tuple(column.name,
+                                text      ? "text"
+                                : integer ? "integer"
+                                          : "number",
+                                values));
+  }
+  return table;
 }
 
 namespace {

@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Bindings.h"
@@ -35,6 +36,10 @@ struct CommandOutcome {
   /// The outcome summary.json was written from (runs::summaryJson), in memory: what the run
   /// reported, not a file read back.
   nlohmann::json summary;
+  /// compare: comparison.csv's rows (CompareReport::rows), and each run's name and the outcome
+  /// its summary.json was written from (null when it could not be finished), in the rows' order.
+  std::vector<report::ComparisonRow> rows;
+  std::vector<std::pair<std::string, nlohmann::json>> runs;
 };
 
 /// `budget-slam run` or `compare` (command) in this process, through runs::run and
@@ -72,6 +77,9 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
       const runs::CompareReport report = runs::compare(request, std::move(context), hooks);
       status = report.outcome.status, kind = report.outcome.kind;
       r.summary = runs::summaryJson(report.summary);
+      r.rows = report.rows;
+      for (const auto& run : report.runs)
+        r.runs.emplace_back(run.name, run.summary ? runs::summaryJson(*run.summary) : nullptr);
       // The comparison's last error or interruption says it; its warnings are warnings.
       for (const auto& line : report.outcome.lines) {
         if (line.kind == runs::CompareLine::Kind::Warning)
@@ -134,22 +142,32 @@ void defineRunBindings(py::module_& m) {
       .def_readonly("status", &CommandOutcome::status)
       .def_readonly("kind", &CommandOutcome::kind)
       .def_readonly("message", &CommandOutcome::message)
-      .def_readonly("warnings", &CommandOutcome::warnings);
+      .def_readonly("warnings", &CommandOutcome::warnings)
+      .def_property_readonly("comparison",
+                             [](const CommandOutcome& o) { return comparisonTable(o.rows); })
+      .def_property_readonly("runs", [](const CommandOutcome& o) {
+        py::list runs;
+        for (const auto& [name, summary] : o.runs)
+          runs.append(py::make_tuple(name, toPython(summary)));
+        return runs;
+      });
   m.def("run_request", &runRequest, py::arg("command"), py::arg("request"),
         py::arg("params") = py::none(), py::arg("progress") = py::none(),
         "Runs `run` or `compare` in this process through the run layer (runs::run, "
         "runs::compare) from a request dict (config, rawlog, outdir, force, reducer, reducers, "
         "backend, cap, sets, seeds, max_steps, skip_steps, threads, resume, wake_up); params: "
         "in-memory ini text; progress: called with a dict of how far it has come. Returns "
-        "exit_code, status, kind, message, warnings; raises ConfigError when the request is "
-        "refused, and what the progress callback raised.");
+        "exit_code, status, kind, message, warnings, summary, and for compare comparison "
+        "(comparison.csv's columns: name, kind, values) and runs ((name, summary) a run); raises "
+        "ConfigError when the request is refused, and what the progress callback raised.");
   m.def("localize", &localizeRun, py::arg("config"), py::arg("params"), py::arg("rawlog"),
         py::arg("map"), py::arg("outdir"), py::arg("sets"), py::arg("start_pose"),
         py::arg("wake_up"), py::arg("reference_trajectory"), py::arg("max_steps"), py::arg("force"),
         py::arg("progress") = py::none(),
         "runs::localize with a typed specification (budget_slam.localize builds the arguments). "
-        "Returns a dict: status, kind, exit_code, line, warnings, folder; raises ConfigError for "
-        "what the command line refuses before running, and what the progress callback raised.");
+        "Returns a dict: status, kind, exit_code, line, warnings, folder, summary; raises "
+        "ConfigError for what the command line refuses before running, and what the progress "
+        "callback raised.");
 }
 
 }  // namespace budget_slam::python
