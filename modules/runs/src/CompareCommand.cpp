@@ -234,7 +234,7 @@ std::size_t runAll(const Request& request, const RunHooks& hooks, std::ostream& 
   return threads;
 }
 
-/// Every run measured against the reference and ended (its files), into `result`'s rows and
+/// Every run measured against the reference and ended (its files), into `result`'s rows, runs and
 /// outcome.
 void measureRuns(const CompareInputs& in, const std::string& label, CompareRuns& compared,
                  CompareReport& result) {
@@ -254,6 +254,7 @@ void measureRuns(const CompareInputs& in, const std::string& label, CompareRuns&
                                   {"config", label},
                                   {"run", r->name}};
     const auto m = finishRun(*r, ref, in.steps.size(), in.metric_options.eig_max_rows, extra);
+    result.runs.push_back({r->name, r->result});
     // The reference's failure fails every comparison, but the others' errors are their own.
     if (!r->ok())
       result.outcome.add(r->status, r->kind, "run '" + r->name + "': " + r->error, false);
