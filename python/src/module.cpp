@@ -14,6 +14,7 @@
 #include <csignal>
 #include <optional>
 #include <set>
+#include <type_traits>
 
 #include "CoreModule.h"
 #include "PythonReducer.h"
@@ -110,38 +111,43 @@ void runGuarded(const std::optional<py::function>& progress, runs::RunHooks& hoo
   }
 }
 
-/// The typed request of run() and compare() from their arguments (python/budget_slam/__init__.py
-/// _invoke): the same checks, in the same order and with the same messages, as the command
-/// line's (BudgetSlamApp::initialize). A refused value raises ConfigError.
-runs::Request requestOf(const std::string& command, const py::dict& d) {
+/// The typed request of run() (runs::RunRequest) or compare() (runs::CompareRequest) from their
+/// arguments (python/budget_slam/__init__.py _invoke): the same checks, in the same order and
+/// with the same messages, as the command line's (BudgetSlamApp::initialize). A refused value
+/// raises ConfigError.
+template <class Request>
+Request requestOf(const std::string& command, const py::dict& d) {
+  constexpr bool kRun = std::is_same_v<Request, runs::RunRequest>;
   const auto text = [&](const char* key) {
     return d.contains(key) && !d[key].is_none()
                ? std::optional<std::string>(py::str(d[key]).cast<std::string>())
                : std::nullopt;
   };
-  runs::Request r;
-  r.command = command;
-  r.config = text("config").value_or("");
-  r.rawlog = text("rawlog").value_or("");
-  r.outdir = text("outdir").value_or("");
-  r.reducer = text("reducer").value_or("");
+  Request r;
+  r.common.config = text("config").value_or("");
+  r.common.rawlog = text("rawlog").value_or("");
+  r.common.outdir = text("outdir").value_or("");
+  r.common.quiet = true;  // nothing on stdout, no progress on stderr: the callback has it
+  r.common.force = d.contains("force") && d["force"].cast<bool>();
+  if (d.contains("sets")) r.common.sets = d["sets"].cast<std::vector<std::string>>();
   r.backend = text("backend").value_or("");
-  r.resume = text("resume").value_or("");
-  r.quiet = true;  // nothing on stdout, no progress on stderr: the callback has it
-  r.force = d.contains("force") && d["force"].cast<bool>();
-  r.wake_up = d.contains("wake_up") && d["wake_up"].cast<bool>();
-  if (d.contains("sets")) r.sets = d["sets"].cast<std::vector<std::string>>();
   std::optional<std::string> reducers;
-  if (d.contains("reducers") && !d["reducers"].is_none()) {
-    std::string joined;
-    for (const auto& n : d["reducers"].cast<std::vector<std::string>>()) {
-      joined += (joined.empty() ? "" : ",") + n;
-      if (!n.empty()) r.reducers.push_back(n);
+  if constexpr (kRun) {
+    r.reducer = text("reducer").value_or("");
+    r.resume = text("resume").value_or("");
+    r.wake_up = d.contains("wake_up") && d["wake_up"].cast<bool>();
+    runs::checkWakeUp(r);
+  } else {
+    if (d.contains("reducers") && !d["reducers"].is_none()) {
+      std::string joined;
+      for (const auto& n : d["reducers"].cast<std::vector<std::string>>()) {
+        joined += (joined.empty() ? "" : ",") + n;
+        if (!n.empty()) r.reducers.push_back(n);
+      }
+      reducers = joined;
     }
-    reducers = joined;
+    if (d.contains("threads")) r.threads = static_cast<unsigned>(d["threads"].cast<long long>());
   }
-  if (d.contains("threads")) r.threads = static_cast<unsigned>(d["threads"].cast<long long>());
-  runs::checkWakeUp(r);
   try {
     // A flag given with an empty value (the command line's refuseEmptyValues, its order).
     const std::pair<const char*, std::optional<std::string>> given[] = {
@@ -149,9 +155,12 @@ runs::Request requestOf(const std::string& command, const py::dict& d) {
         {"reducer", text("reducer")}, {"reducers", reducers},       {"seeds", text("seeds")},
         {"cap", text("cap")},         {"backend", text("backend")}, {"resume", text("resume")}};
     for (const auto& [flag, value] : given) runs::refuseEmptyValue(flag, value);
-    if (const auto v = text("max_steps")) r.max_steps = runs::parseMaxSteps(*v);
-    if (const auto v = text("skip_steps")) r.skip_steps = runs::parseSkipSteps(*v);
-    if (const auto v = text("seeds")) r.seeds = runs::parseSeeds(*v);
+    if (const auto v = text("max_steps")) r.common.max_steps = runs::parseMaxSteps(*v);
+    if constexpr (kRun) {
+      if (const auto v = text("skip_steps")) r.skip_steps = runs::parseSkipSteps(*v);
+    } else {
+      if (const auto v = text("seeds")) r.seeds = runs::parseSeeds(*v);
+    }
     if (const auto v = text("cap")) r.cap = runs::parseCap(*v);
     runs::checkRequest(r);
   } catch (const ConfigError& e) {
@@ -172,9 +181,16 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
   // The same text checks as a -c file (core/IniText.h): a bad value is a ConfigError, never an
   // abort inside MRPT's variable expansion.
   if (params) loadIniText(context.params, *params, "config");
-  const runs::Request request = requestOf(command, request_args);
+  const bool run = command == "run";
+  std::optional<runs::RunRequest> run_request;
+  std::optional<runs::CompareRequest> compare_request;
+  if (run)
+    run_request = requestOf<runs::RunRequest>(command, request_args);
+  else
+    compare_request = requestOf<runs::CompareRequest>(command, request_args);
+  const std::string& config = run ? run_request->common.config : compare_request->common.config;
   if (!params) {
-    context.config_label = request.config.empty() ? "config.ini" : request.config;
+    context.config_label = config.empty() ? "config.ini" : config;
     context.config_text =
         readIniFile(context.config_label, "config file '" + context.config_label + "'");
   }
@@ -186,13 +202,13 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
   runGuarded(progress, hooks, [&] {
     runs::RunStatus status;
     runs::ErrorKind kind;
-    if (command == "run") {
-      const runs::RunReport report = runs::run(request, std::move(context), hooks);
+    if (run) {
+      const runs::RunReport report = runs::run(*run_request, std::move(context), hooks);
       status = report.outcome.status, kind = report.outcome.kind;
       r.summary = runs::summaryJson(report.outcome);
       r.message = printable(report.line);
     } else {
-      const runs::CompareReport report = runs::compare(request, std::move(context), hooks);
+      const runs::CompareReport report = runs::compare(*compare_request, std::move(context), hooks);
       status = report.outcome.status, kind = report.outcome.kind;
       r.summary = runs::summaryJson(report.summary);
       // The comparison's last error or interruption says it; its warnings are warnings.
@@ -230,21 +246,20 @@ py::dict localizeRun(const std::optional<std::string>& config,
                      const std::optional<std::string>& reference_trajectory,
                      const std::optional<std::string>& max_steps, bool force,
                      const std::optional<py::function>& progress) {
-  runs::Request r;
+  runs::LocalizeRequest r;
   runs::RequestContext context;
-  r.command = "localize";
-  r.config = config.value_or("");
+  r.common.config = config.value_or("");
   r.map_dir = map;
-  r.rawlog = rawlog.value_or("");
-  r.outdir = outdir;
-  r.sets = sets;
+  r.common.rawlog = rawlog.value_or("");
+  r.common.outdir = outdir;
+  r.common.sets = sets;
   r.start_pose = start_pose;
   r.wake_up = wake_up;
   r.reference_trajectory = reference_trajectory.value_or("");
-  r.force = force;
-  r.quiet = true;
+  r.common.force = force;
+  r.common.quiet = true;
   try {
-    runs::checkLocalizeRequest(r);
+    runs::checkRequest(r);
     // A value given empty is refused, as the command line refuses `--map ''`.
     for (const auto& [flag, value] :
          {std::pair<const char*, std::optional<std::string>>{"config", config},
@@ -253,7 +268,7 @@ py::dict localizeRun(const std::optional<std::string>& config,
           {"out", outdir},
           {"reference-trajectory", reference_trajectory}})
       runs::refuseEmptyValue(flag, value);
-    if (max_steps) r.max_steps = runs::parseMaxSteps(*max_steps);
+    if (max_steps) r.common.max_steps = runs::parseMaxSteps(*max_steps);
   } catch (const ConfigError& e) {
     throw runs::withHelpHint("localize", e);
   }

@@ -63,12 +63,6 @@ mrpt::math::TPose2D parseStartPose(const std::string& text) {
   return {v[0], v[1], v[2] * kDeg};
 }
 
-void checkLocalizeRequest(const Request& request) {
-  if (request.start_pose) parseStartPose(*request.start_pose);
-  if (request.start_pose && request.wake_up)
-    throw ConfigError("--wake-up: not with --start-pose (a start pose is not looked for)");
-}
-
 namespace {
 
 /// What a localization reads before its filter starts.
@@ -86,7 +80,7 @@ struct LocalizeInputs {
 /// The map folder, the reference trajectory, the ground truth and the traversal, read whole first
 /// (the ground-truth row of a step depends on the count). False when a stop request came while
 /// reading the rawlog.
-bool readInputs(const Request& cli, std::ostream& progress_out, LocalizeInputs& in) {
+bool readInputs(const LocalizeRequest& cli, std::ostream& progress_out, LocalizeInputs& in) {
   const RunConfig& rc = in.rc;
   in.metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);
   in.map = loadMapFolder(cli.map_dir, rc.localization.max_map_landmarks);
@@ -107,7 +101,7 @@ bool readInputs(const Request& cli, std::ostream& progress_out, LocalizeInputs& 
 /// The start pose from the wake-up (the robot looked for on the map over the first steps), when
 /// it is asked for or nothing else gives one; `wake` gets its block. Found or not, the wake-up's
 /// run; nullopt when it was not needed.
-std::optional<wakeup::WakeUpRun> wakeUpIfNeeded(const Request& cli, const RunHooks& hooks,
+std::optional<wakeup::WakeUpRun> wakeUpIfNeeded(const LocalizeRequest& cli, const RunHooks& hooks,
                                                 const std::optional<mrpt::math::TPose2D>& given,
                                                 const LocalizeInputs& in,
                                                 std::optional<LocalizationWakeUp>& wake) {
@@ -185,8 +179,9 @@ std::string localizeSteps(Localizer& localizer, const std::vector<Step>& steps,
 
 }  // namespace
 
-LocalizeReport localize(const Request& request, RequestContext context, const RunHooks& hooks) {
-  const Request& cli = request;
+LocalizeReport localize(const LocalizeRequest& request, RequestContext context,
+                        const RunHooks& hooks) {
+  const LocalizeRequest& cli = request;
   LocalizeReport report;
   RunLife life(nlohmann::json{{"command", "localize"}});
   LocalizeInputs in;
@@ -207,9 +202,9 @@ LocalizeReport localize(const Request& request, RequestContext context, const Ru
   try {
     in.rc = loadRunConfig(request, context);
     for (const auto& w : in.rc.warnings) warn(w);
-    life.open(in.rc.outdir, cli.force);
+    life.open(in.rc.outdir, cli.common.force);
   } catch (const Error& e) {
-    life.openToSayWhy(cli.outdir, cli.force);
+    life.openToSayWhy(cli.common.outdir, cli.common.force);
     report.folder = life.path();
     return ended(life.end(e.what(), RunStatus::Failed, errorKindOf(e)));
   } catch (const std::exception& e) {

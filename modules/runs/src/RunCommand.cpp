@@ -14,10 +14,10 @@
 
 namespace budget_slam::runs {
 
-RunReport run(const Request& request, RequestContext context, const RunHooks& hooks) {
+RunReport run(const RunRequest& request, RequestContext context, const RunHooks& hooks) {
   const std::string& label = context.config_label;
   nlohmann::json given = {{"config", label}};  // what the run was given, in summary.json
-  if (!request.rawlog.empty()) given["rawlog"] = request.rawlog;
+  if (!request.common.rawlog.empty()) given["rawlog"] = request.common.rawlog;
   // A run that ended before runSlam: its one line.
   const auto ended = [](RunStatus status, ErrorKind kind, const std::string& line) {
     RunReport r;
@@ -37,7 +37,7 @@ RunReport run(const Request& request, RequestContext context, const RunHooks& ho
     const std::string why = printable(
         dynamic_cast<const Error*>(&e) ? std::string(e.what()) : label + ": " + failureLine(e));
     RunLife life(given);
-    life.openToSayWhy(request.outdir, request.force);
+    life.openToSayWhy(request.common.outdir, request.common.force);
     RunLife::End end = life.end(why, RunStatus::Failed, errorKindOf(e));
     RunReport r;
     r.outcome = std::move(end.outcome);
@@ -86,7 +86,7 @@ RunReport run(const Request& request, RequestContext context, const RunHooks& ho
   spec.ground_truth_file = rc.mapping.ground_truth_file;
   spec.ground_truth_file_robot = rc.mapping.ground_truth_file_robot;
   spec.outdir = rc.outdir;
-  spec.force = request.force;
+  spec.force = request.common.force;
   spec.max_steps = rc.mapping.max_steps;
   spec.skip_steps = request.skip_steps;
   spec.writer = context.writer;
