@@ -108,6 +108,13 @@ std::string writeOfflineOptimumFiles(const report::OutputFolder& top, const RunC
                              *rc.budget.max_landmarks);
 }
 
+/// What a run that did not start was given: that it did not.
+RunGiven notStarted() {
+  RunGiven g;
+  g.started = false;
+  return g;
+}
+
 /// "seed 1", "seeds 1 to 5" or "3 seeds" (comparison.md's title).
 std::string seedText(const RunConfig& rc, const std::vector<std::uint64_t>& seeds) {
   if (seeds.empty()) return "seed " + std::to_string(rc.budget.seed);
@@ -177,7 +184,7 @@ std::optional<RunLife::End> setUp(const CompareRequest& request, RequestContext&
     for (const auto& r : compared) {
       try {
         r->driver->finish(o.status, o.kind, "the comparison did not start: " + o.error, 0,
-                          {{"started", false}});
+                          notStarted());
       } catch (const std::exception&) {
         // its line is this failure's line; the top summary says it
       }
@@ -249,11 +256,10 @@ void measureRuns(const CompareInputs& in, const std::string& label, CompareRuns&
         r->driver->setFinalRelocCoverage(relocCoverageThroughReference(
             *ref.driver, *r->driver, in.metric_options.reloc_match_chi2));
   for (const auto& r : compared) {
-    const nlohmann::json extra = {{"rawlog", in.rc.rawlog},
-                                  {"sidecar_ini", in.rc.sidecar},
-                                  {"config", label},
-                                  {"run", r->name}};
-    const auto m = finishRun(*r, ref, in.steps.size(), in.metric_options.eig_max_rows, extra);
+    RunGiven given;
+    given.rawlog = in.rc.rawlog, given.sidecar_ini = in.rc.sidecar, given.config = label;
+    given.run = r->name;
+    const auto m = finishRun(*r, ref, in.steps.size(), in.metric_options.eig_max_rows, given);
     // The reference's failure fails every comparison, but the others' errors are their own.
     if (!r->ok())
       result.outcome.add(r->status, r->kind, "run '" + r->name + "': " + r->error, false);
@@ -345,15 +351,10 @@ CompareReport compare(const CompareRequest& request, RequestContext context,
   summary.status = outcome.status, summary.kind = outcome.kind;
   summary.error = outcome.first_error;
   const RunConfig& rc = in.rc;
-  nlohmann::json& given = life.given();
-  given.update({{"started", true},
-                {"rawlog", rc.rawlog},
-                {"sidecar_ini", rc.sidecar},
-                {"config", context.config_label},
-                {"runs", compared.size()},
-                {"seeds", request.seeds},
-                {"steps", in.steps.size()},
-                {"threads", threads}});
+  RunGiven& given = life.given();
+  given.started = true, given.rawlog = rc.rawlog, given.sidecar_ini = rc.sidecar;
+  given.config = context.config_label, given.runs = compared.size(), given.seeds = request.seeds;
+  given.steps = in.steps.size(), given.threads = threads;
   summary.given = given;
   result.summary = summary;
   if (const std::string not_saved = life.writeSummaryHere(summary); !not_saved.empty()) {

@@ -77,6 +77,22 @@ struct LocalizeInputs {
   ProgressSettings progress;  ///< with the merged ini's interval
 };
 
+/// What every localization is given first (summary.json's command).
+RunGiven localizeGiven() {
+  RunGiven g;
+  g.command = "localize";
+  return g;
+}
+
+/// What a localization that localized its steps was given (summary.json).
+RunGiven localizedGiven(const LocalizeInputs& in, const std::string& config_label,
+                        const std::string& map_dir) {
+  RunGiven g;
+  g.rawlog = in.rc.rawlog, g.sidecar_ini = in.rc.sidecar, g.config = config_label;
+  g.map = map_dir, g.map_status = in.map.status, g.started = true;
+  return g;
+}
+
 /// The map folder, the reference trajectory, the ground truth and the traversal, read whole first
 /// (the ground-truth row of a step depends on the count). False when a stop request came while
 /// reading the rawlog.
@@ -132,7 +148,7 @@ LocalizeReport notFound(LocalizeReport report, const std::string& why, RunLife& 
   o.fail(RunStatus::NotFound, ErrorKind::None, why);
   o.wake_up = wake;
   o.given = life.given();
-  o.given["started"] = false;
+  o.given.started = false;
   const std::string not_saved = life.writeSummaryHere(o);
   if (!not_saved.empty()) o.fail(RunStatus::Failed, ErrorKind::Output, why);
   report.line = "wake-up: " + withAlso(why, not_saved);
@@ -183,7 +199,7 @@ LocalizeReport localize(const LocalizeRequest& request, RequestContext context,
                         const RunHooks& hooks) {
   const LocalizeRequest& cli = request;
   LocalizeReport report;
-  RunLife life(nlohmann::json{{"command", "localize"}});
+  RunLife life(localizeGiven());
   LocalizeInputs in;
   std::unique_ptr<Localizer> localizer;
   std::optional<LocalizationWakeUp> wake;  ///< summary.json's wake_up block, once looked for
@@ -226,7 +242,7 @@ LocalizeReport localize(const LocalizeRequest& request, RequestContext context,
     if (cli.start_pose) given = parseStartPose(*cli.start_pose);
     const auto woke = wakeUpIfNeeded(cli, hooks, given, in, wake);
     if (woke && !woke->found()) {
-      life.given().update({{"rawlog", rc.rawlog}, {"map", cli.map_dir}});
+      life.given().rawlog = rc.rawlog, life.given().map = cli.map_dir;
       return notFound(std::move(report), wake->why_not_found + "; no pose is guessed", life, wake);
     }
     if (woke) given = woke->result.pose.mean;
@@ -242,8 +258,9 @@ LocalizeReport localize(const LocalizeRequest& request, RequestContext context,
     life.setFinisher([&](RunOutcome& o) {
       // Before the first step nothing is worth keeping: the next command replaces it.
       const bool started = localizer->stepsDone() > 0;
-      o = localizer->finish(o.status, o.kind, o.error, {{"map", cli.map_dir}, {"started", started}},
-                            wake);
+      RunGiven given;
+      given.map = cli.map_dir, given.started = started;
+      o = localizer->finish(o.status, o.kind, o.error, given, wake);
       return localizer->summaryError();
     });
     if (const std::string stop =
@@ -260,10 +277,8 @@ LocalizeReport localize(const LocalizeRequest& request, RequestContext context,
            rc.rawlog + " that pair with a landmark of the map in " + cli.map_dir +
            " agree with it (innovation within the 99.9% bound): the map and "
            "the traversal share no place");
-    const nlohmann::json summary_given = {
-        {"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar},   {"config", context.config_label},
-        {"map", cli.map_dir},  {"map_status", in.map.status}, {"started", true}};
-    report.outcome = localizer->finish(RunStatus::Ok, ErrorKind::None, "", summary_given, wake);
+    report.outcome = localizer->finish(RunStatus::Ok, ErrorKind::None, "",
+                                       localizedGiven(in, context.config_label, cli.map_dir), wake);
     // An output that could not be written (a full disk): summary.json says which, if it could.
     if (!localizer->writeError().empty())
       report.line = withAlso(localizer->writeError(), localizer->summaryError());

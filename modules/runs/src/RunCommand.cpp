@@ -16,8 +16,9 @@ namespace budget_slam::runs {
 
 RunReport run(const RunRequest& request, RequestContext context, const RunHooks& hooks) {
   const std::string& label = context.config_label;
-  nlohmann::json given = {{"config", label}};  // what the run was given, in summary.json
-  if (!request.common.rawlog.empty()) given["rawlog"] = request.common.rawlog;
+  RunGiven given;  // what the run was given, in summary.json
+  given.config = label;
+  if (!request.common.rawlog.empty()) given.rawlog = request.common.rawlog;
   // A run that ended before runSlam: its one line.
   const auto ended = [](RunStatus status, ErrorKind kind, const std::string& line) {
     RunReport r;
@@ -47,7 +48,7 @@ RunReport run(const RunRequest& request, RequestContext context, const RunHooks&
 
   for (const auto& w : rc.warnings) warn(w);
   RunSpec spec;
-  spec.given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", label}};
+  spec.given.rawlog = rc.rawlog, spec.given.sidecar_ini = rc.sidecar, spec.given.config = label;
   // A session to continue is read and checked before the output folder is touched: a bad state
   // file or a mismatched option is one line, exit 1, and nothing is written (docs/OUTPUTS.md).
   spec.resume_options = resumeOptions(rc.ini);
@@ -61,12 +62,12 @@ RunReport run(const RunRequest& request, RequestContext context, const RunHooks&
     } catch (const std::exception& e) {
       return ended(RunStatus::Failed, errorKindOf(e), printable(e.what()));
     }
-    spec.given["resumed_from"] = request.resume;
+    spec.given.resumed_from = request.resume;
     if (request.wake_up) {
       // Before any output: a robot not found is one line, exit 1, nothing written.
       try {
         const WakeUpOutcome w = wakeUpOnMap(rc, *spec.resumed, request.skip_steps);
-        spec.given["wake_up"] = w.json;
+        spec.given.wake_up = w.block;
         if (!w.found) return ended(RunStatus::Failed, ErrorKind::Input, "--wake-up: " + w.why);
         spec.wake_up_steps = w.steps;
       } catch (const Interrupted&) {
