@@ -116,6 +116,20 @@ def read_csv(path):
     return out
 
 
+def _table(columns):
+    """A table the run layer handed back typed (a list of (name, kind, values), kind text, integer
+    or number) as a numpy structured array: integer columns int64, numbers float64 (NaN where the
+    file's field is empty), text str — a column's type is the table's, not guessed from its
+    values."""
+    dtypes = {"text": str, "integer": np.int64, "number": np.float64}
+    arrays = [(name, np.array(values, dtype=dtypes[kind])) for name, kind, values in columns]
+    n = len(arrays[0][1]) if arrays else 0
+    out = np.empty(n, dtype=[(name, a.dtype) for name, a in arrays])
+    for name, a in arrays:
+        out[name] = a
+    return out
+
+
 def read_tum(path):
     """trajectory.tum / ground_truth.tum as a structured array of t [s], x, y [m], yaw [rad]."""
     data = np.loadtxt(path, comments="#", ndmin=2)
@@ -261,7 +275,7 @@ def _count(name, value):
 
 def _invoke(command, config, rawlog, overrides, outdir, force, request, progress=None):
     """Runs `command` (run, compare) through the run layer with the typed request the arguments
-    fill (python/src/module.cpp run_request); returns the output folder, whether it is a
+    fill (python/src/RunBindings.cpp run_request); returns the output folder, whether it is a
     temporary one, and the typed outcome (its summary in memory)."""
     params = None
     if isinstance(config, dict):
@@ -337,7 +351,8 @@ def compare(config, rawlog=None, reducers=None, overrides=None, outdir=None, *, 
     all registered) on one rawlog. Same arguments as run(); seeds: --seeds, "A:B" or a list of
     ints (a run a reducer and seed, named "<reducer>/seed<S>"). Returns a dict: summary (the
     comparison's summary.json), comparison (comparison.csv as a structured array), runs
-    ({"reference": ..., reducer: ...}, each as run() returns it), outdir."""
+    ({"reference": ..., reducer: ...}, each as run() returns it), outdir. The summaries and the
+    table are what the run layer handed back in memory (runs::CompareReport), not its files."""
     request = {"cap": _cap(cap), "max_steps": _count("max_steps", max_steps)}
     if reducers is not None:
         request["reducers"] = [reducers] if isinstance(reducers, str) else [str(r) for r in reducers]
@@ -350,10 +365,13 @@ def compare(config, rawlog=None, reducers=None, overrides=None, outdir=None, *, 
             str(_count("seeds", x)) for x in seeds)
     folder, temporary, outcome = _invoke("compare", config, rawlog, overrides, outdir, force,
                                          request, progress)
-    summary = outcome.summary  # the comparison's summary.json, as the run layer handed it back
+    # The comparison's summary.json, comparison.csv and each run's summary.json as the run layer
+    # handed them back in memory; each run's per-step files are read as run() reads them.
+    summary = outcome.summary
+    table = _table(outcome.comparison)
     try:
-        table = read_csv(os.path.join(folder, "comparison.csv"))
-        runs = {str(name): read_run(os.path.join(folder, str(name))) for name in table["run"]}
+        runs = {name: read_run(os.path.join(folder, name), run_summary)
+                for name, run_summary in outcome.runs}
     finally:
         if temporary:
             shutil.rmtree(folder, ignore_errors=True)

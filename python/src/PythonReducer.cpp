@@ -2,7 +2,7 @@
 // registered by name (budget_slam.register_reducer); its registry entry is an ordinary
 // ReducerEntry: its ini section is checked in C++ before a run (no Python needed), and each run
 // builds an instance and asks its choose() at every drop, the GIL taken back for the call (the
-// runs release it: module.cpp runGuarded, PluginHost.cpp). What the plugin does wrong (raises,
+// runs release it: RunGuard.h runGuarded, PluginHost.cpp). What the plugin does wrong (raises,
 // returns what is not a candidate, a NaN score) ends the run `failed` with one line naming the
 // plugin, the step and the Python error's last line; a stop request (Ctrl-C) interrupts Python
 // code that does not return (StopWatch).

@@ -18,6 +18,7 @@ import sys
 import tempfile
 import time
 import unittest
+import unittest.mock
 import warnings
 
 import numpy as np
@@ -202,16 +203,37 @@ class CompareMatchesTheCommandLine(unittest.TestCase):
             p = cli("compare", "-c", CONFIG, "-i", DEMO, "-o", os.path.join(tmp, "cli"), "--reducers",
                     "mi,coverage", "--cap", "20", "--quiet")
             self.assertEqual(p.returncode, 0, p.stderr)
-            c = budget_slam.compare(CONFIG, DEMO, reducers=["mi", "coverage"], cap=20,
-                                    outdir=os.path.join(tmp, "py"))
+            # The table and the summaries come from the run layer in memory: no summary.json
+            # is read back (json.load) and no CSV but each run's per-step files.
+            read = []
+            real_read_csv = budget_slam.read_csv
+            with unittest.mock.patch.object(budget_slam.json, "load",
+                                            side_effect=AssertionError("a summary.json read back")), \
+                 unittest.mock.patch.object(budget_slam, "read_csv",
+                                            side_effect=lambda p: read.append(p) or real_read_csv(p)):
+                c = budget_slam.compare(CONFIG, DEMO, reducers=["mi", "coverage"], cap=20,
+                                        outdir=os.path.join(tmp, "py"))
+            self.assertEqual(sorted(os.path.relpath(p, os.path.join(tmp, "py")) for p in read),
+                             sorted(os.path.join(run, f) for run in ["reference", "mi", "coverage"]
+                                    for f in ["steps.csv", "landmarks.csv", "evictions.csv"]
+                                    if os.path.isfile(os.path.join(tmp, "py", run, f))))
             rows = csv_rows(os.path.join(tmp, "cli", "comparison.csv"))
             assertColumnsEqual(self, c["comparison"], rows, skip=TIMING_COLUMNS)
             self.assertEqual(list(c["comparison"]["run"]), ["reference", "mi", "coverage"])
             self.assertEqual(list(c["comparison"]["landmarks"]), [70, 20, 20])
+            # A column's type is the table's: the counts int64, a measure float64.
+            self.assertEqual(c["comparison"]["landmarks"].dtype, np.int64)
+            self.assertEqual(c["comparison"]["ref_ate_m"].dtype, np.float64)
+            self.assertEqual(c["comparison"]["status"].dtype.kind, "U")
             self.assertEqual(set(c["runs"]), {"reference", "mi", "coverage"})
             for name in c["runs"]:
                 assertColumnsEqual(self, c["runs"][name]["landmarks"],
                                    csv_rows(os.path.join(tmp, "cli", name, "landmarks.csv")))
+                with open(os.path.join(tmp, "cli", name, "summary.json")) as f:
+                    want = json.load(f)
+                self.assertEqual(without_timings(c["runs"][name]["summary"]),
+                                 without_timings(want), name)
+                self.assertEqual(c["runs"][name]["outdir"], os.path.join(tmp, "py", name))
             self.assertEqual(c["summary"]["status"], "ok")
             self.assertEqual(c["summary"]["runs"], 3)
 

@@ -241,7 +241,7 @@ std::size_t runAll(const CompareRequest& request, const RunHooks& hooks, std::os
   return threads;
 }
 
-/// Every run measured against the reference and ended (its files), into `result`'s rows and
+/// Every run measured against the reference and ended (its files), into `result`'s rows, runs and
 /// outcome.
 void measureRuns(const CompareInputs& in, const std::string& label, CompareRuns& compared,
                  CompareReport& result) {
@@ -260,6 +260,7 @@ void measureRuns(const CompareInputs& in, const std::string& label, CompareRuns&
     given.rawlog = in.rc.rawlog, given.sidecar_ini = in.rc.sidecar, given.config = label;
     given.run = r->name;
     const auto m = finishRun(*r, ref, in.steps.size(), in.metric_options.eig_max_rows, given);
+    result.runs.push_back({r->name, r->result});
     // The reference's failure fails every comparison, but the others' errors are their own.
     if (!r->ok())
       result.outcome.add(r->status, r->kind, "run '" + r->name + "': " + r->error, false);

@@ -94,11 +94,18 @@ TEST(CompareCommand, TwoReducersOkAsItsFilesSay) {
   ASSERT_EQ(c.rows.size(), 3u);
   EXPECT_EQ(firstColumn(out + "/comparison.csv"),
             (std::vector<std::string>{"reference", "random", "oldest"}));
-  for (const auto& row : c.rows) {
+  // Each run's outcome is in the report, as its summary.json says it.
+  ASSERT_EQ(c.runs.size(), c.rows.size());
+  for (std::size_t i = 0; i < c.rows.size(); ++i) {
+    const auto& row = c.rows[i];
     SCOPED_TRACE(row.run);
     EXPECT_EQ(row.status, "ok");
     EXPECT_EQ(row.backend, "ekf");
-    EXPECT_EQ(readSummary(out + "/" + row.run + "/summary.json").outcome.status, RunStatus::Ok);
+    const SummaryFile file = readSummary(out + "/" + row.run + "/summary.json");
+    EXPECT_EQ(file.outcome.status, RunStatus::Ok);
+    EXPECT_EQ(c.runs[i].name, row.run);
+    ASSERT_TRUE(c.runs[i].summary);
+    EXPECT_EQ(summaryJson(*c.runs[i].summary), file.json);
   }
   EXPECT_EQ(c.rows[0].reducer, "none");
   EXPECT_EQ(c.rows[1].cap, 10);
@@ -113,6 +120,7 @@ TEST(CompareCommand, TwoReducersOkAsItsFilesSay) {
   // The top summary.json is the outcome.
   const SummaryFile top = readSummary(out + "/summary.json");
   EXPECT_EQ(top.outcome.status, RunStatus::Ok);
+  EXPECT_EQ(summaryJson(c.summary), top.json);
   EXPECT_EQ(top.json.at("runs"), 3);
   EXPECT_EQ(top.json.at("steps"), 60);
   EXPECT_EQ(top.json.at("config"), "test.ini");

@@ -3,6 +3,7 @@
 // command line and the Python module both call. A request is checked by runs::checkRequest
 // first (RequestChecks.h); these calls never throw, and every failure is in the report they
 // return, with the lines to show and the files of the work already done written.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,14 @@ namespace budget_slam::runs {
 /// report's `line` is the one line of a run that did not end ok.
 RunReport run(const RunRequest& request, RequestContext context, const RunHooks& hooks);
 
+/// One run of a comparison as it ended.
+struct ComparedRun {
+  std::string name;  ///< comparison.csv's `run`: its folder under the comparison's
+  /// The outcome its summary.json was written from (RunDriver::finish); none when the run could
+  /// not be finished.
+  std::optional<RunOutcome> summary;
+};
+
 /// What `compare` hands back.
 struct CompareReport {
   /// Status, error kind and first error (the top summary.json's), and the lines to show once
@@ -34,6 +43,7 @@ struct CompareReport {
   /// not take it): status, error, files not written, what the comparison was given.
   RunOutcome summary;
   std::vector<report::ComparisonRow> rows;  ///< comparison.csv's rows, the reference first
+  std::vector<ComparedRun> runs;            ///< every run, in the rows' order
   std::string markdown;  ///< comparison.md (and the offline optimum's table), "" if not made
   std::string folder;    ///< the output folder, "" when none was made
   bool started = false;  ///< the runs started: the comparison reached its outputs
