@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 #include <sstream>
+#include <type_traits>
 
 #include "CommandLineFlags.h"
 #include "ListCommand.h"
@@ -74,7 +75,7 @@ void BudgetSlamApp::initialize(int argc, const char* const* argv) {
 }
 
 void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
-  cli_ = runs::Request();
+  request_ = std::monostate();
   help_.clear();
   const std::string command = args.size() >= 2 ? args[1] : "";
   if (command == "--help" || command == "-h") {
@@ -92,8 +93,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
                                       : "unknown command '" + command +
                                             "' (expected run, compare or localize)") +
                      "; see budget-slam --help");
-  cli_.command = command;
-  const bool compare = cli_.command == "compare";
+  const bool compare = command == "compare";
 
   CapturedUsage usage(  // outlives cmd, which only borrows it
       compare
@@ -214,7 +214,7 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
       throw UsageError(
           "--reducers: run takes one --reducer NAME (budget-slam compare runs several); see "
           "budget-slam run --help");
-    throw UsageError(describe(e) + "; see budget-slam " + cli_.command + " --help");
+    throw UsageError(describe(e) + "; see budget-slam " + command + " --help");
   } catch (const TCLAP::ExitException&) {
     help_ = usage.text;  // --help or --version
     return;
@@ -224,31 +224,46 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
     throw UsageError(
         "--plugin: this budget-slam was built without Python (needs python3-dev and "
         "pybind11-dev); see docs/PYTHON.md");
-  cli_.config = config.getValue();
-  cli_.rawlog = rawlog.getValue();
-  cli_.outdir = outdir.getValue();
-  cli_.reducer = reducer.getValue();
-  cli_.backend = backend.getValue();
-  cli_.sets = sets.getValue();
-  if (compare) cli_.reducers = splitList(reducers.getValue()), cli_.threads = threads.getValue();
-  if (compare) cli_.relocalize = splitList(relocalize.getValue());
-  if (compare) cli_.reference_trajectory = reference_trajectory.getValue();
-  if (compare) cli_.offline_optimum = offline_optimum.getValue();
-  if (!compare) cli_.resume = resume.getValue(), cli_.wake_up = wake_up.getValue();
-  runs::checkWakeUp(cli_);
-  cli_.quiet = quiet.getValue();
-  cli_.force = force.getValue();
+  runs::RequestCommon common;
+  common.config = config.getValue();
+  common.rawlog = rawlog.getValue();
+  common.outdir = outdir.getValue();
+  common.sets = sets.getValue();
+  common.quiet = quiet.getValue();
+  common.force = force.getValue();
+  runs::RunRequest run;
+  runs::CompareRequest cmp;
+  if (compare) {
+    cmp.backend = backend.getValue();
+    cmp.reducers = splitList(reducers.getValue()), cmp.threads = threads.getValue();
+    cmp.relocalize = splitList(relocalize.getValue());
+    cmp.reference_trajectory = reference_trajectory.getValue();
+    cmp.offline_optimum = offline_optimum.getValue();
+  } else {
+    run.reducer = reducer.getValue(), run.backend = backend.getValue();
+    run.resume = resume.getValue(), run.wake_up = wake_up.getValue();
+    runs::checkWakeUp(run);
+  }
   // Flag values are part of the command line: a bad one exits 2 before anything is written.
   try {
     refuseEmptyValues({&config, &rawlog, &outdir, &reducer, &reducers, &seeds, &max_steps, &cap,
                        &backend, &relocalize, &reference_trajectory, &resume, &skip_steps});
-    if (max_steps.isSet()) cli_.max_steps = runs::parseMaxSteps(max_steps.getValue());
-    if (skip_steps.isSet()) cli_.skip_steps = runs::parseSkipSteps(skip_steps.getValue());
-    if (seeds.isSet()) cli_.seeds = runs::parseSeeds(seeds.getValue());
-    if (cap.isSet()) cli_.cap = runs::parseCap(cap.getValue());
-    runs::checkRequest(cli_);
+    if (max_steps.isSet()) common.max_steps = runs::parseMaxSteps(max_steps.getValue());
+    if (skip_steps.isSet()) run.skip_steps = runs::parseSkipSteps(skip_steps.getValue());
+    if (seeds.isSet()) cmp.seeds = runs::parseSeeds(seeds.getValue());
+    std::optional<runs::Cap> cap_given;
+    if (cap.isSet()) cap_given = runs::parseCap(cap.getValue());
+    if (compare) {
+      cmp.common = std::move(common), cmp.cap = cap_given;
+      runs::checkRequest(cmp);
+      request_ = std::move(cmp);
+    } else {
+      run.common = std::move(common), run.cap = cap_given;
+      runs::checkRequest(run);
+      request_ = std::move(run);
+    }
   } catch (const ConfigError& e) {
-    throw runs::withHelpHint(cli_.command, e);
+    throw runs::withHelpHint(command, e);
   }
   loadConfigFile();
 }
@@ -256,9 +271,10 @@ void BudgetSlamApp::initialize(const std::vector<std::string>& args) {
 void BudgetSlamApp::loadConfigFile() {
   config_text_.reset();
   config_defaulted_ = false;
-  if (!cli_.config.empty() || params.getContent().empty()) {
-    config_defaulted_ = cli_.config.empty();
-    const std::string path = cli_.config.empty() ? "config.ini" : cli_.config;
+  const std::string& given = common().config;
+  if (!given.empty() || params.getContent().empty()) {
+    config_defaulted_ = given.empty();
+    const std::string path = given.empty() ? "config.ini" : given;
     // Missing, a folder or over 1 MiB: the file cannot be read, a command-line error (exit 2).
     config_text_ = readIniFile(path, "config file '" + path + "'");
     config_label_ = path;
@@ -274,7 +290,7 @@ void BudgetSlamApp::loadConfig() {
 
 ProgressSettings BudgetSlamApp::progressSettings(const report::ReportOptions& report) const {
   ProgressSettings s;
-  if (!cli_.quiet)
+  if (!common().quiet)
     s.style = err == &std::cerr && stderrIsTerminal() ? ProgressSettings::Style::Bar
                                                       : ProgressSettings::Style::Lines;
   s.line_every_s = report.progress_every_s;
@@ -290,7 +306,7 @@ int BudgetSlamApp::run() {
     return runs::exitCode(stdoutWritten("") ? runs::RunStatus::Ok : runs::RunStatus::Failed);
   }
   // Without -c the settings come from the current folder's config.ini: never silently.
-  if (config_defaulted_ && !cli_.quiet)
+  if (config_defaulted_ && !common().quiet)
     *err << "budget-slam: note: no -c given: using ./config.ini" << std::endl;
   // Under main(), its guard has been there since start-up and a signal that came meanwhile still
   // counts; in a library (tests, Python), a stop request left by an earlier run does not.
@@ -299,13 +315,26 @@ int BudgetSlamApp::run() {
   if (first_guard) Cancellation::clear();
   report::loadFigureFonts();  // while descriptors are to be had (report/Figure.h)
   try {
-    if (cli_.command == "localize") return runLocalize();
-    return cli_.command == "compare" ? runCompare() : runRun();
+    if (const auto* r = std::get_if<runs::LocalizeRequest>(&request_)) return runLocalize(*r);
+    if (const auto* r = std::get_if<runs::CompareRequest>(&request_)) return runCompare(*r);
+    return runRun(std::get<runs::RunRequest>(request_));
   } catch (const std::exception& e) {
     // What the commands could not catch themselves (out of memory while reporting a failure).
     *err << "budget-slam: error: " << failureLine(e) << std::endl;
     return runs::exitCode(runs::RunStatus::Failed, runs::ErrorKind::Internal);
   }
+}
+
+const runs::RequestCommon& BudgetSlamApp::common() const {
+  static const runs::RequestCommon none;
+  return std::visit(
+      [](const auto& r) -> const runs::RequestCommon& {
+        if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
+          return none;
+        else
+          return r.common;
+      },
+      request_);
 }
 
 bool BudgetSlamApp::stdoutWritten(const std::string& outdir) {
@@ -331,7 +360,7 @@ runs::RunHooks BudgetSlamApp::requestHooks() const {
   hooks.on_end_phase = on_end_phase;
   // Notes go to stderr unless --quiet (an error stays one line).
   hooks.note = [this](const std::string& line) {
-    if (!cli_.quiet) *err << "budget-slam: note: " << line << std::endl;
+    if (!common().quiet) *err << "budget-slam: note: " << line << std::endl;
   };
   hooks.warning = [this](const std::string& line) {
     *err << "budget-slam: warning: " << line << std::endl;
@@ -339,8 +368,8 @@ runs::RunHooks BudgetSlamApp::requestHooks() const {
   return hooks;
 }
 
-int BudgetSlamApp::runRun() {
-  const runs::RunReport report = runs::run(cli_, requestContext(), requestHooks());
+int BudgetSlamApp::runRun(const runs::RunRequest& request) {
+  const runs::RunReport report = runs::run(request, requestContext(), requestHooks());
   const runs::RunOutcome& o = report.outcome;
   if (!o.ok()) {
     // The one error line of a run that did not end ok (nothing else on stderr says it).
@@ -348,7 +377,7 @@ int BudgetSlamApp::runRun() {
          << report.line << std::endl;
     return runs::exitCode(o);
   }
-  if (!cli_.quiet) {
+  if (!request.common.quiet) {
     const auto& pose = *report.final_pose;
     const auto& run = *o.run;
     *out << "budget-slam run: " << report.steps << " steps, backend " << run.backend << ", reducer "

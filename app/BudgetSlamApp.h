@@ -6,6 +6,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "budget_slam/core/Ids.h"
@@ -50,12 +51,11 @@ class BudgetSlamApp {
   /// Progress of run, compare and localize (Python's progress=), whatever stderr shows; called
   /// from the calling thread, at most 5 times a second and once at the end; must not throw.
   ProgressCallback on_progress;
-  const runs::Request& commandLine() const { return cli_; }
 
  private:
-  int runRun();
-  int runCompare();
-  /// What run and compare run with besides cli_: params, or the -c text still to parse (handed
+  int runRun(const runs::RunRequest& request);
+  int runCompare(const runs::CompareRequest& request);
+  /// What a command runs with besides its request: params, or the -c text still to parse (handed
   /// over: the command parses it), its label and the writer.
   runs::RequestContext requestContext();
   /// Progress on `err`, on_step, on_end_phase, notes (unless --quiet) and warnings on `err`.
@@ -66,7 +66,7 @@ class BudgetSlamApp {
   /// Checks and parses the -c text read by initialize() into `params` (core/IniText.h): a
   /// binary file, prose, a duplicated key or a failed ${...} is a ConfigError naming the line.
   void loadConfig();
-  int runLocalize();
+  int runLocalize(const runs::LocalizeRequest& request);
   /// localize's command line (Localize.cpp).
   void initializeLocalize(const std::vector<std::string>& args);
   /// Reads -c (or ./config.ini when params is empty) for loadConfig(): missing, a folder or over
@@ -77,7 +77,11 @@ class BudgetSlamApp {
   /// nothing with --quiet; and on_progress.
   ProgressSettings progressSettings(const report::ReportOptions& report) const;
 
-  runs::Request cli_;
+  /// The command's flags (no command parsed yet: --help, --version, --list).
+  std::variant<std::monostate, runs::RunRequest, runs::CompareRequest, runs::LocalizeRequest>
+      request_;
+  /// What every command's request holds (an empty one before a command is parsed).
+  const runs::RequestCommon& common() const;
   std::string config_label_ = "config";
   std::optional<std::string> config_text_;  ///< the -c file, until loadConfig()
   bool config_defaulted_ = false;           ///< no -c: ./config.ini was read

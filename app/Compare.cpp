@@ -8,10 +8,10 @@
 
 namespace budget_slam::app {
 
-int BudgetSlamApp::runCompare() {
-  const runs::CompareReport r = runs::compare(cli_, requestContext(), requestHooks());
+int BudgetSlamApp::runCompare(const runs::CompareRequest& request) {
+  const runs::CompareReport r = runs::compare(request, requestContext(), requestHooks());
   const runs::CompareOutcome& outcome = r.outcome;
-  if (r.started && !cli_.quiet && !r.markdown.empty())
+  if (r.started && !request.common.quiet && !r.markdown.empty())
     *out << r.markdown << "outputs in " << r.folder << "/\n";
   for (const auto& line : outcome.lines)
     *err << "budget-slam: " << printable(line.shown()) << std::endl;

@@ -10,6 +10,7 @@
 #include "budget_slam/core/CommandLine.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/runs/Localize.h"
+#include "budget_slam/runs/RequestChecks.h"
 
 namespace budget_slam::app {
 namespace {
@@ -55,9 +56,8 @@ void printLocalization(std::ostream& out, const runs::LocalizeReport& report) {
 }  // namespace
 
 void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
-  cli_ = runs::Request();
+  request_ = std::monostate();
   help_.clear();
-  cli_.command = "localize";
   CapturedUsage usage(  // outlives cmd, which only borrows it
       "   budget-slam run -c config.ini -i rawlogs/rooms.rawlog -o ROOMS\n"
       "   budget-slam localize -c config.ini --map ROOMS -i rawlogs/rooms_revisit.rawlog -o LOC\n"
@@ -114,29 +114,31 @@ void BudgetSlamApp::initializeLocalize(const std::vector<std::string>& args) {
     help_ = usage.text;  // --help or --version
     return;
   }
-  cli_.config = config.getValue();
-  cli_.map_dir = map.getValue();
-  cli_.rawlog = rawlog.getValue();
-  cli_.outdir = outdir.getValue();
+  runs::LocalizeRequest r;
+  r.common.config = config.getValue();
+  r.map_dir = map.getValue();
+  r.common.rawlog = rawlog.getValue();
+  r.common.outdir = outdir.getValue();
   // Given empty, it is still given: refused below, never taken as "derive it".
-  if (start.isSet()) cli_.start_pose = start.getValue();
-  cli_.reference_trajectory = reference.getValue();
-  cli_.wake_up = wake_up.getValue();
-  cli_.sets = sets.getValue();
-  cli_.quiet = quiet.getValue();
-  cli_.force = force.getValue();
+  if (start.isSet()) r.start_pose = start.getValue();
+  r.reference_trajectory = reference.getValue();
+  r.wake_up = wake_up.getValue();
+  r.common.sets = sets.getValue();
+  r.common.quiet = quiet.getValue();
+  r.common.force = force.getValue();
   // a bad start pose is part of the command line: exit 2 before anything is written
   try {
-    runs::checkLocalizeRequest(cli_);
+    runs::checkRequest(r);
     refuseEmptyValues({&config, &map, &rawlog, &outdir, &reference, &max_steps});
-    if (max_steps.isSet()) cli_.max_steps = runs::parseMaxSteps(max_steps.getValue());
+    if (max_steps.isSet()) r.common.max_steps = runs::parseMaxSteps(max_steps.getValue());
   } catch (const ConfigError& e) {
     throw runs::withHelpHint("localize", e);
   }
+  request_ = std::move(r);
   loadConfigFile();
 }
 
-int BudgetSlamApp::runLocalize() {
+int BudgetSlamApp::runLocalize(const runs::LocalizeRequest& request) {
   runs::RequestContext context;
   context.params = params;
   context.config_text = std::move(config_text_);  // checked and parsed by runs::localize
@@ -148,19 +150,19 @@ int BudgetSlamApp::runLocalize() {
   hooks.progress = progressSettings(report::ReportOptions());
   hooks.on_step = on_step;
   hooks.note = [&](const std::string& line) {
-    if (!cli_.quiet) *err << "budget-slam: " << line << std::endl;
+    if (!request.common.quiet) *err << "budget-slam: " << line << std::endl;
   };
   hooks.warning = [&](const std::string& line) {
     *err << "budget-slam: warning: " << line << std::endl;
   };
-  const runs::LocalizeReport report = runs::localize(cli_, std::move(context), hooks);
+  const runs::LocalizeReport report = runs::localize(request, std::move(context), hooks);
   const runs::RunOutcome& o = report.outcome;
   if (!report.line.empty()) {
     *err << "budget-slam: " << (o.status == runs::RunStatus::Interrupted ? "" : "error: ")
          << report.line << std::endl;
     return runs::exitCode(o);
   }
-  if (!cli_.quiet) printLocalization(*out, report);
+  if (!request.common.quiet) printLocalization(*out, report);
   return runs::exitCode(stdoutWritten(report.folder) ? runs::RunStatus::Ok
                                                      : runs::RunStatus::Failed);
 }

@@ -15,21 +15,21 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::string text(reinterpret_cast<const char*>(data), size);
-  budget_slam::runs::Request cli;
-  cli.command = "run";
-  cli.rawlog = "/nonexistent/fuzz.rawlog";  // no sidecar ini, no file read
-  cli.outdir = "/nonexistent/fuzz_out";     // never created: runs::loadRunConfig only names it
+  budget_slam::runs::RunRequest cli;
+  cli.common.rawlog = "/nonexistent/fuzz.rawlog";  // no sidecar ini, no file read
+  cli.common.outdir = "/nonexistent/fuzz_out";  // never created: runs::loadRunConfig only names it
   const std::string kSet = "--set ";
   while (text.compare(0, kSet.size(), kSet) == 0) {
     const auto eol = text.find('\n');
-    cli.sets.push_back(
+    cli.common.sets.push_back(
         text.substr(kSet.size(), eol == std::string::npos ? eol : eol - kSet.size()));
     text.erase(0, eol == std::string::npos ? text.size() : eol + 1);
   }
   try {
     mrpt::config::CConfigFileMemory params;
     budget_slam::loadIniText(params, text, "fuzz.ini");  // as BudgetSlamApp reads -c
-    budget_slam::runs::loadRunConfig(params, cli, "fuzz.ini");
+    budget_slam::runs::loadRunConfig(params, cli.common, budget_slam::runs::configFlags(cli),
+                                     "fuzz.ini");
   } catch (const budget_slam::Error& e) {
     for (const char* p = e.what(); *p; ++p)
       if (*p == '\n') __builtin_trap();

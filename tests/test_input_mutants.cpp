@@ -262,11 +262,11 @@ std::string checkConverted(const fs::path& rawlog) {
     }
     mrpt::config::CConfigFileMemory params;
     loadIniText(params, slurp(kMrptIni), kMrptIni);
-    runs::Request cli;
-    cli.command = "run";
-    cli.rawlog = rawlog.string();
-    cli.outdir = (rawlog.parent_path() / "never_made").string();
-    runs::loadRunConfig(params, cli, kMrptIni);  // the sidecar and its values checked
+    runs::RunRequest cli;
+    cli.common.rawlog = rawlog.string();
+    cli.common.outdir = (rawlog.parent_path() / "never_made").string();
+    // the sidecar and its values checked
+    runs::loadRunConfig(params, cli.common, runs::configFlags(cli), kMrptIni);
   } catch (const std::exception& e) {
     return e.what();
   }

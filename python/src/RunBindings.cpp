@@ -54,9 +54,16 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
   // The same text checks as a -c file (core/IniText.h): a bad value is a ConfigError, never an
   // abort inside MRPT's variable expansion.
   if (params) loadIniText(context.params, *params, "config");
-  const runs::Request request = requestOf(command, request_args);
+  const bool run = command == "run";
+  std::optional<runs::RunRequest> run_request;
+  std::optional<runs::CompareRequest> compare_request;
+  if (run)
+    run_request = runRequestOf(request_args);
+  else
+    compare_request = compareRequestOf(request_args);
+  const std::string& config = run ? run_request->common.config : compare_request->common.config;
   if (!params) {
-    context.config_label = request.config.empty() ? "config.ini" : request.config;
+    context.config_label = config.empty() ? "config.ini" : config;
     context.config_text =
         readIniFile(context.config_label, "config file '" + context.config_label + "'");
   }
@@ -68,13 +75,13 @@ CommandOutcome runRequest(const std::string& command, const py::dict& request_ar
   runGuarded(progress, hooks, [&] {
     runs::RunStatus status;
     runs::ErrorKind kind;
-    if (command == "run") {
-      const runs::RunReport report = runs::run(request, std::move(context), hooks);
+    if (run) {
+      const runs::RunReport report = runs::run(*run_request, std::move(context), hooks);
       status = report.outcome.status, kind = report.outcome.kind;
       r.summary = runs::summaryJson(report.outcome);
       r.message = printable(report.line);
     } else {
-      const runs::CompareReport report = runs::compare(request, std::move(context), hooks);
+      const runs::CompareReport report = runs::compare(*compare_request, std::move(context), hooks);
       status = report.outcome.status, kind = report.outcome.kind;
       r.summary = runs::summaryJson(report.summary);
       r.rows = report.rows;
@@ -108,8 +115,8 @@ py::dict localizeRun(const std::optional<std::string>& config,
                      const std::optional<std::string>& reference_trajectory,
                      const std::optional<std::string>& max_steps, bool force,
                      const std::optional<py::function>& progress) {
-  runs::Request r = localizeRequestOf(config, rawlog, map, outdir, sets, start_pose, wake_up,
-                                      reference_trajectory, max_steps, force);
+  runs::LocalizeRequest r = localizeRequestOf(config, rawlog, map, outdir, sets, start_pose,
+                                              wake_up, reference_trajectory, max_steps, force);
   runs::RequestContext context;
   if (config) {
     // As the command line reads -c: missing, a folder or over 1 MiB is a ConfigError here.

@@ -220,7 +220,7 @@ void RunDriver::complete() {
 }
 
 RunOutcome RunDriver::finish(RunStatus status, ErrorKind kind, const std::string& error,
-                             std::size_t steps_in_rawlog, const nlohmann::json& given) {
+                             std::size_t steps_in_rawlog, const RunGiven& given) {
   if (status == RunStatus::Ok) {
     complete();
     Cancellation::check();  // a stop request before the outputs: the run ends as interrupted
@@ -297,7 +297,7 @@ RunOutcome RunDriver::finish(RunStatus status, ErrorKind kind, const std::string
     alignment_ = metrics::mapAlignment(landmarks, trajectory, *truth_, steps_in_rawlog);
     gt.alignment = alignment_;
   }
-  o.given = given.is_object() ? given : nlohmann::json::object();
+  o.given = given;
   try {
     writeSummary(outputs_.folder().file("summary.json"), o);
   } catch (const std::exception& e) {

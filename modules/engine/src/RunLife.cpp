@@ -7,11 +7,11 @@
 
 namespace budget_slam::runs {
 
-RunLife::RunLife(nlohmann::json given) : given_(std::move(given)) {}
+RunLife::RunLife(RunGiven given) : given_(std::move(given)) {}
 
 report::OutputFolder& RunLife::open(const std::string& outdir, bool force) {
   folder_.emplace(outdir, force);
-  if (!folder_->earlierRun().empty()) given_["earlier_run_moved_to"] = folder_->earlierRun();
+  if (!folder_->earlierRun().empty()) given_.earlier_run_moved_to = folder_->earlierRun();
   return *folder_;
 }
 
@@ -52,7 +52,7 @@ RunLife::End RunLife::end(const std::string& why, RunStatus status, ErrorKind ki
     end.outcome.given = given_;
     // A command that ended before its first step made nothing to keep: the next one into the
     // folder replaces its files (report/OutputFolder.h). The finisher says when it did.
-    end.outcome.given["started"] = false;
+    end.outcome.given.started = false;
     not_saved = finisher_ ? finisher_(end.outcome) : writeSummaryHere(end.outcome);
   } catch (const std::exception& e) {
     not_saved = failureLine(e);

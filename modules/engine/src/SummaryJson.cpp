@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "GivenJson.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/InputLimits.h"
 #include "budget_slam/core/Text.h"
@@ -291,7 +292,7 @@ nlohmann::json summaryJson(const RunOutcome& o) {
                                    o.run->relocalization.details);
   if (o.localization) addLocalizationJson(j, *o.localization);
   if (o.wake_up) j["wake_up"] = wakeUpJson(*o.wake_up);
-  for (const auto& [k, v] : o.given.items()) j[k] = v;
+  addGivenJson(j, o.given);
   return j;
 }
 
@@ -332,9 +333,7 @@ SummaryFile summaryFromJson(nlohmann::json j, const std::string& label) {
   if (j.contains("files_not_written") && j["files_not_written"].is_array())
     for (const auto& n : j["files_not_written"])
       if (n.is_string()) o.files_not_written.push_back(n.get<std::string>());
-  const auto& known = summaryKeys();
-  for (const auto& [k, v] : j.items())
-    if (std::find(known.begin(), known.end(), k) == known.end()) o.given[k] = v;
+  o.given = readGiven(j);
   f.json = std::move(j);
   return f;
 }

@@ -21,19 +21,23 @@ fs::path scratch(const std::string& name) {
 }
 
 TEST(RunLife, WithoutAFolderItIsTheOneLineAndNothingIsWritten) {
-  RunLife life(nlohmann::json{{"config", "c.ini"}});
+  RunGiven given;
+  given.config = "c.ini";
+  RunLife life(given);
   const auto end = life.end("bad\nvalue", RunStatus::Failed, ErrorKind::Config);
   EXPECT_EQ(end.line, "bad\\x0avalue");  // one printable line
   EXPECT_EQ(end.outcome.status, RunStatus::Failed);
   EXPECT_EQ(end.outcome.kind, ErrorKind::Config);
-  EXPECT_EQ(end.outcome.given.at("config"), "c.ini");
-  EXPECT_EQ(end.outcome.given.at("started"), false);
+  EXPECT_EQ(end.outcome.given.config, std::optional<std::string>("c.ini"));
+  EXPECT_EQ(end.outcome.given.started, std::optional<bool>(false));
   EXPECT_EQ(life.path(), "");
 }
 
 TEST(RunLife, AFolderOpenedToSayWhyHoldsTheSummaryWithTheGivenBlock) {
   const auto dir = scratch("say_why");
-  RunLife life(nlohmann::json{{"rawlog", "x.rawlog"}});
+  RunGiven given;
+  given.rawlog = "x.rawlog";
+  RunLife life(given);
   ASSERT_TRUE(life.openToSayWhy(dir.string(), false));
   const auto end = life.end("no rawlog", RunStatus::Failed, ErrorKind::Input);
   EXPECT_EQ(end.line, "no rawlog");
@@ -88,15 +92,15 @@ TEST(RunLife, AnEarlierRunMovedAsideIsInTheGivenBlockAndTheNote) {
     RunLife first;
     first.open(dir.string(), false);
     first.setFinisher([&](RunOutcome& o) {  // a run that made steps: a result worth keeping
-      o.given["started"] = true;
+      o.given.started = true;
       return first.writeSummaryHere(o);
     });
     first.end("first", RunStatus::Failed, ErrorKind::Input);
   }
   RunLife second;
   second.open(dir.string(), true);
-  ASSERT_TRUE(second.given().contains("earlier_run_moved_to"));
-  const std::string moved = second.given().at("earlier_run_moved_to");
+  ASSERT_TRUE(second.given().earlier_run_moved_to);
+  const std::string moved = *second.given().earlier_run_moved_to;
   EXPECT_EQ(second.earlierRunNote(),
             second.path() + " held an earlier run; its files were moved to " + moved + "/");
   second.end("second", RunStatus::Failed, ErrorKind::Input);

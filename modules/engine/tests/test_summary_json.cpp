@@ -51,7 +51,8 @@ RunOutcome fullOutcome() {
   gt.errors.landmark_rmse = 0.3;  // landmark_rmse_aligned stays NaN: written as null
   gt.nees = {2.9, 100};
   gt.alignment = metrics::MapAlignment::fromPose(1.5, -2.0, 0.25, "landmarks", 20);
-  o.given = {{"rawlog", "a.rawlog"}, {"config", "c.ini"}, {"started", true}};
+  o.given.rawlog = "a.rawlog", o.given.config = "c.ini", o.given.started = true;
+  o.given.session_state = SessionStateWritten{false, "disk full"};
   return o;
 }
 
@@ -76,7 +77,13 @@ TEST(SummaryJson, WriterThenReaderGivesTheSameSummary) {
   ASSERT_TRUE(read.outcome.ground_truth->alignment);
   EXPECT_NEAR(read.outcome.ground_truth->alignment->yaw(), 0.25, 1e-12);
   EXPECT_EQ(read.outcome.ground_truth->alignment->source, "landmarks");
-  EXPECT_EQ(read.outcome.given, o.given);
+  EXPECT_EQ(read.outcome.given.rawlog, o.given.rawlog);
+  EXPECT_EQ(read.outcome.given.config, o.given.config);
+  EXPECT_EQ(read.outcome.given.started, o.given.started);
+  ASSERT_TRUE(read.outcome.given.session_state);
+  EXPECT_FALSE(read.outcome.given.session_state->written);
+  EXPECT_EQ(read.outcome.given.session_state->why, "disk full");
+  EXPECT_FALSE(read.outcome.given.map);
   // The outcome read back writes the same text (the alignment's yaw to the last bit aside).
   nlohmann::json again = summaryJson(read.outcome), first = summaryJson(o);
   EXPECT_NEAR(again["ground_truth"]["map_alignment"]["yaw"].get<double>(), 0.25, 1e-12);
@@ -87,7 +94,7 @@ TEST(SummaryJson, WriterThenReaderGivesTheSameSummary) {
 TEST(SummaryJson, ASummaryWithoutARunHasNoRunBlocks) {
   RunOutcome o;
   o.fail(RunStatus::Interrupted, ErrorKind::Stopped, "interrupted by SIGINT before the first step");
-  o.given = {{"started", false}};
+  o.given.started = false;
   const nlohmann::json j = summaryJson(o);
   EXPECT_EQ(j, nlohmann::json({{"status", "interrupted"},
                                {"error", "interrupted by SIGINT before the first step"},
@@ -108,11 +115,55 @@ TEST(SummaryJson, AStatusThatIsNoneOfTheWordsIsNotOk) {
             "done");
 }
 
-TEST(SummaryJson, GivenKeysWinOverTheOutcomes) {
+TEST(SummaryJson, EachGivenFieldIsOneKeyWrittenWhenSet) {
   RunOutcome o;
-  o.fail(RunStatus::Failed, ErrorKind::Input, "the comparison did not start: x");
-  o.given = {{"status", "failed"}, {"error", "x"}};
-  EXPECT_EQ(summaryJson(o)["error"], "x");
+  EXPECT_EQ(summaryJson(o), nlohmann::json({{"status", "ok"}, {"error", ""}}));
+  RunGiven& g = o.given;
+  g.command = "localize", g.rawlog = "r.rawlog", g.sidecar_ini = "", g.config = "c.ini";
+  g.started = true, g.earlier_run_moved_to = "out.1", g.resumed_from = "RUN";
+  ResumeWakeUp w;
+  w.status = "found", w.by_ids = true, w.steps = 3, w.landmarks = 4, w.inliers = 9;
+  w.time_ms = 1.5, w.pose = {{1.0, -2.0, 90.0}};
+  g.wake_up = w;
+  g.session_state = SessionStateWritten{true, ""};
+  g.run = "mi/seed2";
+  metrics::ReferenceMetrics m;
+  m.poses = 10, m.landmarks = 5, m.ate = 0.25, m.eig_rows = 0;  // the rest NaN: null
+  g.reference_metrics = m;
+  g.runs = 3, g.seeds = std::vector<std::uint64_t>{1, 2}, g.steps = 60, g.threads = 2;
+  g.map = "MAP", g.map_status = "ok";
+  const nlohmann::json null;
+  EXPECT_EQ(summaryJson(o),
+            nlohmann::json::parse(R"({"status": "ok", "error": "", "command": "localize",
+              "rawlog": "r.rawlog", "sidecar_ini": "", "config": "c.ini", "started": true,
+              "earlier_run_moved_to": "out.1", "resumed_from": "RUN",
+              "wake_up": {"status": "found", "reason": "", "by_ids": true, "steps": 3,
+                          "landmarks": 4, "inliers": 9, "time_ms": 1.5,
+                          "pose": [1.0, -2.0, 90.0]},
+              "session_state": {"written": true}, "run": "mi/seed2",
+              "reference_metrics": {"poses": 10, "landmarks": 5, "ate_m": 0.25, "ale_m": null,
+                                    "are_deg": null, "ud_pct": null, "ud_std_factor": null,
+                                    "eig_min": null, "eig_max": null, "eig_rows": 0},
+              "runs": 3, "seeds": [1, 2], "steps": 60, "threads": 2, "map": "MAP",
+              "map_status": "ok"})"));
+  // Read back: the scalar keys and the session state; the nested wake_up and reference_metrics
+  // stay in the document.
+  const RunGiven read = summaryFromJson(summaryJson(o), "summary.json").outcome.given;
+  EXPECT_EQ(read.command, g.command);
+  EXPECT_EQ(read.sidecar_ini, g.sidecar_ini);
+  EXPECT_EQ(read.earlier_run_moved_to, g.earlier_run_moved_to);
+  EXPECT_EQ(read.seeds, g.seeds);
+  EXPECT_EQ(read.threads, g.threads);
+  EXPECT_EQ(read.map_status, g.map_status);
+  EXPECT_FALSE(read.wake_up);
+  EXPECT_FALSE(read.reference_metrics);
+  // A later given replaces only what it sets.
+  RunGiven later;
+  later.started = false, later.map = "OTHER";
+  g.update(later);
+  EXPECT_EQ(g.started, std::optional<bool>(false));
+  EXPECT_EQ(g.map, std::optional<std::string>("OTHER"));
+  EXPECT_EQ(g.rawlog, std::optional<std::string>("r.rawlog"));
 }
 
 void expectRefused(const std::string& text, const std::string& line) {
@@ -144,8 +195,11 @@ TEST(SummaryJson, KeysListTheWritersTopLevel) {
   const auto& keys = summaryKeys();
   const RunOutcome o = fullOutcome();
   const nlohmann::json j = summaryJson(o);
+  RunOutcome given_only;
+  given_only.given = o.given;
+  const nlohmann::json given = summaryJson(given_only);
   for (auto it = j.begin(); it != j.end(); ++it) {
-    if (o.given.contains(it.key())) continue;
+    if (given.contains(it.key()) && it.key() != "status" && it.key() != "error") continue;
     EXPECT_NE(std::find(keys.begin(), keys.end(), it.key()), keys.end()) << it.key();
   }
 }

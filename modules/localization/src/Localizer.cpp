@@ -266,7 +266,7 @@ LocalizationOutcome Localizer::outcome() const {
 }
 
 runs::RunOutcome Localizer::finish(runs::RunStatus status, runs::ErrorKind kind,
-                                   const std::string& error, const nlohmann::json& given,
+                                   const std::string& error, const runs::RunGiven& given,
                                    const std::optional<LocalizationWakeUp>& wake_up) {
   // Every output is attempted (a full disk fails some); summary.json, last, says which were not.
   std::vector<std::string> not_written;
@@ -318,8 +318,8 @@ runs::RunOutcome Localizer::finish(runs::RunStatus status, runs::ErrorKind kind,
   o.files_not_written = not_written;
   o.localization = outcome();
   o.wake_up = wake_up;
-  o.given["command"] = "localize";
-  for (const auto& [key, v] : given.items()) o.given[key] = v;
+  o.given.command = "localize";
+  o.given.update(given);
   try {
     runs::writeSummary(folder_.file("summary.json"), o);
   } catch (const std::exception& e) {

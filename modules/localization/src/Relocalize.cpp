@@ -31,6 +31,13 @@ double meanOfFinite(const std::vector<double>& v) {
 }
 
 /// a / b, with 0 / 0 = 1 (both maps perfect) and x / 0 undefined.
+/// What traversal `t` localized in map `m` was given (its summary.json).
+runs::RunGiven mapGiven(const Traversal& t, const MapOfRun& m) {
+  runs::RunGiven g;
+  g.rawlog = t.rawlog, g.map = m.folder;
+  return g;
+}
+
 double ratio(double a, double b) {
   if (!std::isfinite(a) || !std::isfinite(b)) return std::numeric_limits<double>::quiet_NaN();
   if (b == 0) return a == 0 ? 1.0 : std::numeric_limits<double>::quiet_NaN();
@@ -89,14 +96,15 @@ std::vector<RelocalizationResult> relocalizeAll(const std::vector<MapOfRun>& map
           loc->process(s);
           ++steps_done;
         }
-        loc->finish(r.status, r.kind, r.error,
-                    {{"rawlog", t.rawlog}, {"map", m.folder}, {"run", m.run}});
+        runs::RunGiven given = mapGiven(t, m);
+        given.run = m.run;
+        loc->finish(r.status, r.kind, r.error, given);
         r.score = loc->score();
       } catch (const std::exception& e) {
         r.status = runs::RunStatus::Failed, r.kind = runs::errorKindOf(e);
         r.error = e.what();
         if (loc) try {
-            loc->finish(r.status, r.kind, r.error, {{"rawlog", t.rawlog}, {"map", m.folder}});
+            loc->finish(r.status, r.kind, r.error, mapGiven(t, m));
           } catch (const std::exception&) {
           }
       }

@@ -34,13 +34,13 @@ namespace {
 
 /// Reads every --relocalize rawlog with `cli`'s flags and `params` (errors name the file).
 std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& params,
-                                      const Request& cli, const std::string& config_label) {
+                                      const CompareRequest& cli, const std::string& config_label) {
   std::vector<Traversal> out;
   for (const auto& path : cli.relocalize) {
     Traversal t;
-    Request c = cli;
-    c.rawlog = path;
-    RunConfig rc = loadRunConfig(params, c, config_label);
+    RequestCommon common = cli.common;
+    common.rawlog = path;
+    RunConfig rc = loadRunConfig(params, common, configFlags(cli), config_label);
     t.name = std::filesystem::path(path).stem().string();
     for (const auto& other : out)
       if (other.name == t.name)
@@ -66,7 +66,7 @@ std::vector<Traversal> loadTraversals(const mrpt::config::CConfigFileMemory& par
 /// fills the reloc_* columns of `rows` and adds the failed localizations to `outcome`.
 std::vector<RelocalizationResult> relocalizeMaps(
     const CompareRuns& compared, const std::vector<Traversal>& traversals,
-    const std::vector<TrajectoryPoint>* reference, const Request& request,
+    const std::vector<TrajectoryPoint>* reference, const CompareRequest& request,
     std::vector<report::ComparisonRow>& rows, CompareOutcome& outcome, ProgressReporter& progress) {
   // One mapped area for every map (the reference run's path, when it ended ok), so that every
   // map is scored on the same steps.
@@ -84,7 +84,7 @@ std::vector<RelocalizationResult> relocalizeMaps(
                       r->driver->mapAlignment(), reference_path.empty() ? own : reference_path});
     }
   auto relocalized = relocalizeAll(maps, traversals, reference, request.reference_trajectory,
-                                   request.threads, request.force, &progress);
+                                   request.threads, request.common.force, &progress);
   addRelocalizationColumns(rows, relocalized, kReferenceRun);
   for (const auto& r : relocalized)
     if (r.status != RunStatus::Ok)
@@ -106,6 +106,13 @@ std::string writeOfflineOptimumFiles(const report::OutputFolder& top, const RunC
   return writeOfflineOptimum(top.file("offline_optimum.csv"), rc.ini, steps,
                              compared.front()->driver->onlinePoses(), maps,
                              *rc.budget.max_landmarks);
+}
+
+/// What a run that did not start was given: that it did not.
+RunGiven notStarted() {
+  RunGiven g;
+  g.started = false;
+  return g;
 }
 
 /// "seed 1", "seeds 1 to 5" or "3 seeds" (comparison.md's title).
@@ -144,7 +151,7 @@ CompareReport endedBefore(CompareReport result, const RunLife& life, RunLife::En
 
 /// The configuration, the output folder, the traversals, config_used.ini, the ground truth, the
 /// rawlog read once and the runs made; the end of a comparison that could not start, or nullopt.
-std::optional<RunLife::End> setUp(const Request& request, RequestContext& context,
+std::optional<RunLife::End> setUp(const CompareRequest& request, RequestContext& context,
                                   const RunHooks& hooks, std::ostream& progress_out, RunLife& life,
                                   CompareRuns& compared, CompareInputs& in) {
   const std::string& label = context.config_label;
@@ -155,9 +162,9 @@ std::optional<RunLife::End> setUp(const Request& request, RequestContext& contex
     if (in.names.empty())
       for (const auto& n : reducers::builtinReducers().names())
         if (n != "none" && !reducers::isInstrument(n)) in.names.push_back(n);
-    for (const auto& n : in.names) checkCapFor(in.rc, request, n, label);
+    for (const auto& n : in.names) checkCapFor(in.rc, request.cap, n, label);
   } catch (const Error& e) {
-    life.openToSayWhy(request.outdir, request.force);
+    life.openToSayWhy(request.common.outdir, request.common.force);
     return life.end(e.what(), RunStatus::Failed, errorKindOf(e));
   }
   const RunConfig& rc = in.rc;
@@ -167,7 +174,7 @@ std::optional<RunLife::End> setUp(const Request& request, RequestContext& contex
   in.progress.line_every_s = rc.report.progress_every_s;
   try {
     in.metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);
-    life.open(rc.outdir, request.force);
+    life.open(rc.outdir, request.common.force);
   } catch (const Error& e) {
     return life.end(e.what(), RunStatus::Failed, errorKindOf(e));
   }
@@ -177,7 +184,7 @@ std::optional<RunLife::End> setUp(const Request& request, RequestContext& contex
     for (const auto& r : compared) {
       try {
         r->driver->finish(o.status, o.kind, "the comparison did not start: " + o.error, 0,
-                          {{"started", false}});
+                          notStarted());
       } catch (const std::exception&) {
         // its line is this failure's line; the top summary says it
       }
@@ -198,7 +205,7 @@ std::optional<RunLife::End> setUp(const Request& request, RequestContext& contex
     if (!read) return life.endInterrupted(" while reading the rawlog");
     in.steps = std::move(*read);
     makeRuns(rc.ini, builtinBackends(), driverSpec(rc), in.names, request.seeds, life.folder(),
-             request.force, in.truth, compared);
+             request.common.force, in.truth, compared);
   } catch (const Interrupted&) {
     return life.endInterrupted(" before the first step");
   } catch (const Error& e) {
@@ -211,7 +218,7 @@ std::optional<RunLife::End> setUp(const Request& request, RequestContext& contex
 
 /// Every run in threads, one a core (at most request.threads), each taking whole runs; returns
 /// the threads used.
-std::size_t runAll(const Request& request, const RunHooks& hooks, std::ostream& progress_out,
+std::size_t runAll(const CompareRequest& request, const RunHooks& hooks, std::ostream& progress_out,
                    const CompareInputs& in, CompareRuns& compared) {
   const std::size_t wanted = request.threads ? request.threads : availableCpus();
   const std::size_t threads =
@@ -249,11 +256,10 @@ void measureRuns(const CompareInputs& in, const std::string& label, CompareRuns&
         r->driver->setFinalRelocCoverage(relocCoverageThroughReference(
             *ref.driver, *r->driver, in.metric_options.reloc_match_chi2));
   for (const auto& r : compared) {
-    const nlohmann::json extra = {{"rawlog", in.rc.rawlog},
-                                  {"sidecar_ini", in.rc.sidecar},
-                                  {"config", label},
-                                  {"run", r->name}};
-    const auto m = finishRun(*r, ref, in.steps.size(), in.metric_options.eig_max_rows, extra);
+    RunGiven given;
+    given.rawlog = in.rc.rawlog, given.sidecar_ini = in.rc.sidecar, given.config = label;
+    given.run = r->name;
+    const auto m = finishRun(*r, ref, in.steps.size(), in.metric_options.eig_max_rows, given);
     result.runs.push_back({r->name, r->result});
     // The reference's failure fails every comparison, but the others' errors are their own.
     if (!r->ok())
@@ -268,7 +274,8 @@ void measureRuns(const CompareInputs& in, const std::string& label, CompareRuns&
 /// comparison.csv, relocalization.csv, comparison.md, offline_optimum.csv and the figure, each
 /// attempted: the first that cannot be written (a full disk) fails the comparison in one line.
 /// Returns the files not written.
-std::vector<std::string> writeComparisonFiles(const Request& request, const CompareInputs& in,
+std::vector<std::string> writeComparisonFiles(const CompareRequest& request,
+                                              const CompareInputs& in,
                                               const report::OutputFolder& top,
                                               const CompareRuns& compared,
                                               const std::vector<RelocalizationResult>& relocalized,
@@ -315,7 +322,8 @@ std::vector<std::string> writeComparisonFiles(const Request& request, const Comp
 
 }  // namespace
 
-CompareReport compare(const Request& request, RequestContext context, const RunHooks& hooks) {
+CompareReport compare(const CompareRequest& request, RequestContext context,
+                      const RunHooks& hooks) {
   CompareReport result;
   RunLife life;
   CompareRuns compared;
@@ -344,15 +352,10 @@ CompareReport compare(const Request& request, RequestContext context, const RunH
   summary.status = outcome.status, summary.kind = outcome.kind;
   summary.error = outcome.first_error;
   const RunConfig& rc = in.rc;
-  nlohmann::json& given = life.given();
-  given.update({{"started", true},
-                {"rawlog", rc.rawlog},
-                {"sidecar_ini", rc.sidecar},
-                {"config", context.config_label},
-                {"runs", compared.size()},
-                {"seeds", request.seeds},
-                {"steps", in.steps.size()},
-                {"threads", threads}});
+  RunGiven& given = life.given();
+  given.started = true, given.rawlog = rc.rawlog, given.sidecar_ini = rc.sidecar;
+  given.config = context.config_label, given.runs = compared.size(), given.seeds = request.seeds;
+  given.steps = in.steps.size(), given.threads = threads;
   summary.given = given;
   result.summary = summary;
   if (const std::string not_saved = life.writeSummaryHere(summary); !not_saved.empty()) {

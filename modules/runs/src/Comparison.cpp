@@ -16,20 +16,6 @@
 namespace budget_slam::runs {
 namespace {
 
-nlohmann::json toJson(const metrics::ReferenceMetrics& m) {
-  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
-  return {{"poses", m.poses},
-          {"landmarks", m.landmarks},
-          {"ate_m", num(m.ate)},
-          {"ale_m", num(m.ale)},
-          {"are_deg", num(m.are_deg)},
-          {"ud_pct", num(m.ud_percent)},
-          {"ud_std_factor", num(m.ud_std_factor)},
-          {"eig_min", num(m.eig_min)},
-          {"eig_max", num(m.eig_max)},
-          {"eig_rows", m.eig_rows}};
-}
-
 /// What summary.json holds of a number: a non-finite value is null there, missing in the table.
 double finiteOrNaN(double v) {
   return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN();
@@ -113,7 +99,7 @@ void makeRuns(const mrpt::config::CConfigFileMemory& merged, const BackendRegist
       if (folder) try {
           RunOutcome o;
           o.fail(RunStatus::Failed, errorKindOf(e), printable(exceptionLine(e)));
-          o.given = {{"started", false}, {"run", name}};
+          o.given.started = false, o.given.run = name;
           writeSummary(folder->file("summary.json"), o);
         } catch (const std::exception& s) {
           not_saved = "its summary.json not written either: " + exceptionLine(s);
@@ -126,10 +112,10 @@ void makeRuns(const mrpt::config::CConfigFileMemory& merged, const BackendRegist
 }
 
 /// Ends run `r`: its metrics against the reference (when both are ok) and its outputs
-/// (RunDriver::finish, with `extra` in summary.json). A run whose outputs could not be written,
-/// or whose estimate is not finite, becomes failed.
+/// (RunDriver::finish, with `given` and the metrics in summary.json). A run whose outputs could not
+/// be written, or whose estimate is not finite, becomes failed.
 metrics::ReferenceMetrics finishRun(CompareRun& r, const CompareRun& ref, std::size_t steps,
-                                    std::size_t eig_max_rows, nlohmann::json extra) {
+                                    std::size_t eig_max_rows, RunGiven given) {
   metrics::ReferenceMetrics m;
   // A stop request after a run's end phase, or while its metrics were computed (EIG: seconds on
   // long graph runs): its outputs are still written (quickly), marked.
@@ -142,11 +128,11 @@ metrics::ReferenceMetrics finishRun(CompareRun& r, const CompareRun& ref, std::s
   mark_stopped();
   if (ref.ok() && r.ok()) {
     m = metrics::compareWithReference(ref.driver->backend(), r.driver->backend(), eig_max_rows);
-    extra["reference_metrics"] = toJson(m);
+    given.reference_metrics = m;
     mark_stopped();
   }
   try {
-    r.result = r.driver->finish(r.status, r.kind, r.error, steps, extra);
+    r.result = r.driver->finish(r.status, r.kind, r.error, steps, given);
     if (r.ok() && !r.result->ok()) {
       // An output of the run could not be written (a full disk), or its estimate diverged.
       r.status = RunStatus::Failed, r.kind = r.result->kind;

@@ -63,12 +63,6 @@ mrpt::math::TPose2D parseStartPose(const std::string& text) {
   return {v[0], v[1], v[2] * kDeg};
 }
 
-void checkLocalizeRequest(const Request& request) {
-  if (request.start_pose) parseStartPose(*request.start_pose);
-  if (request.start_pose && request.wake_up)
-    throw ConfigError("--wake-up: not with --start-pose (a start pose is not looked for)");
-}
-
 namespace {
 
 /// What a localization reads before its filter starts.
@@ -83,10 +77,26 @@ struct LocalizeInputs {
   ProgressSettings progress;  ///< with the merged ini's interval
 };
 
+/// What every localization is given first (summary.json's command).
+RunGiven localizeGiven() {
+  RunGiven g;
+  g.command = "localize";
+  return g;
+}
+
+/// What a localization that localized its steps was given (summary.json).
+RunGiven localizedGiven(const LocalizeInputs& in, const std::string& config_label,
+                        const std::string& map_dir) {
+  RunGiven g;
+  g.rawlog = in.rc.rawlog, g.sidecar_ini = in.rc.sidecar, g.config = config_label;
+  g.map = map_dir, g.map_status = in.map.status, g.started = true;
+  return g;
+}
+
 /// The map folder, the reference trajectory, the ground truth and the traversal, read whole first
 /// (the ground-truth row of a step depends on the count). False when a stop request came while
 /// reading the rawlog.
-bool readInputs(const Request& cli, std::ostream& progress_out, LocalizeInputs& in) {
+bool readInputs(const LocalizeRequest& cli, std::ostream& progress_out, LocalizeInputs& in) {
   const RunConfig& rc = in.rc;
   in.metric_options.loadFromConfigFile(rc.ini, metrics::MetricsOptions::kSection);
   in.map = loadMapFolder(cli.map_dir, rc.localization.max_map_landmarks);
@@ -107,7 +117,7 @@ bool readInputs(const Request& cli, std::ostream& progress_out, LocalizeInputs& 
 /// The start pose from the wake-up (the robot looked for on the map over the first steps), when
 /// it is asked for or nothing else gives one; `wake` gets its block. Found or not, the wake-up's
 /// run; nullopt when it was not needed.
-std::optional<wakeup::WakeUpRun> wakeUpIfNeeded(const Request& cli, const RunHooks& hooks,
+std::optional<wakeup::WakeUpRun> wakeUpIfNeeded(const LocalizeRequest& cli, const RunHooks& hooks,
                                                 const std::optional<mrpt::math::TPose2D>& given,
                                                 const LocalizeInputs& in,
                                                 std::optional<LocalizationWakeUp>& wake) {
@@ -138,7 +148,7 @@ LocalizeReport notFound(LocalizeReport report, const std::string& why, RunLife& 
   o.fail(RunStatus::NotFound, ErrorKind::None, why);
   o.wake_up = wake;
   o.given = life.given();
-  o.given["started"] = false;
+  o.given.started = false;
   const std::string not_saved = life.writeSummaryHere(o);
   if (!not_saved.empty()) o.fail(RunStatus::Failed, ErrorKind::Output, why);
   report.line = "wake-up: " + withAlso(why, not_saved);
@@ -185,10 +195,11 @@ std::string localizeSteps(Localizer& localizer, const std::vector<Step>& steps,
 
 }  // namespace
 
-LocalizeReport localize(const Request& request, RequestContext context, const RunHooks& hooks) {
-  const Request& cli = request;
+LocalizeReport localize(const LocalizeRequest& request, RequestContext context,
+                        const RunHooks& hooks) {
+  const LocalizeRequest& cli = request;
   LocalizeReport report;
-  RunLife life(nlohmann::json{{"command", "localize"}});
+  RunLife life(localizeGiven());
   LocalizeInputs in;
   std::unique_ptr<Localizer> localizer;
   std::optional<LocalizationWakeUp> wake;  ///< summary.json's wake_up block, once looked for
@@ -207,9 +218,9 @@ LocalizeReport localize(const Request& request, RequestContext context, const Ru
   try {
     in.rc = loadRunConfig(request, context);
     for (const auto& w : in.rc.warnings) warn(w);
-    life.open(in.rc.outdir, cli.force);
+    life.open(in.rc.outdir, cli.common.force);
   } catch (const Error& e) {
-    life.openToSayWhy(cli.outdir, cli.force);
+    life.openToSayWhy(cli.common.outdir, cli.common.force);
     report.folder = life.path();
     return ended(life.end(e.what(), RunStatus::Failed, errorKindOf(e)));
   } catch (const std::exception& e) {
@@ -231,7 +242,7 @@ LocalizeReport localize(const Request& request, RequestContext context, const Ru
     if (cli.start_pose) given = parseStartPose(*cli.start_pose);
     const auto woke = wakeUpIfNeeded(cli, hooks, given, in, wake);
     if (woke && !woke->found()) {
-      life.given().update({{"rawlog", rc.rawlog}, {"map", cli.map_dir}});
+      life.given().rawlog = rc.rawlog, life.given().map = cli.map_dir;
       return notFound(std::move(report), wake->why_not_found + "; no pose is guessed", life, wake);
     }
     if (woke) given = woke->result.pose.mean;
@@ -247,8 +258,9 @@ LocalizeReport localize(const Request& request, RequestContext context, const Ru
     life.setFinisher([&](RunOutcome& o) {
       // Before the first step nothing is worth keeping: the next command replaces it.
       const bool started = localizer->stepsDone() > 0;
-      o = localizer->finish(o.status, o.kind, o.error, {{"map", cli.map_dir}, {"started", started}},
-                            wake);
+      RunGiven given;
+      given.map = cli.map_dir, given.started = started;
+      o = localizer->finish(o.status, o.kind, o.error, given, wake);
       return localizer->summaryError();
     });
     if (const std::string stop =
@@ -265,10 +277,8 @@ LocalizeReport localize(const Request& request, RequestContext context, const Ru
            rc.rawlog + " that pair with a landmark of the map in " + cli.map_dir +
            " agree with it (innovation within the 99.9% bound): the map and "
            "the traversal share no place");
-    const nlohmann::json summary_given = {
-        {"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar},   {"config", context.config_label},
-        {"map", cli.map_dir},  {"map_status", in.map.status}, {"started", true}};
-    report.outcome = localizer->finish(RunStatus::Ok, ErrorKind::None, "", summary_given, wake);
+    report.outcome = localizer->finish(RunStatus::Ok, ErrorKind::None, "",
+                                       localizedGiven(in, context.config_label, cli.map_dir), wake);
     // An output that could not be written (a full disk): summary.json says which, if it could.
     if (!localizer->writeError().empty())
       report.line = withAlso(localizer->writeError(), localizer->summaryError());

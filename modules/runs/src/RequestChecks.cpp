@@ -6,6 +6,7 @@
 
 #include "budget_slam/core/Error.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
+#include "budget_slam/runs/Localize.h"
 #include "budget_slam/runs/RunConfig.h"
 
 namespace budget_slam::runs {
@@ -103,13 +104,25 @@ std::size_t parseSkipSteps(const std::string& text) {
   return static_cast<std::size_t>(n);
 }
 
-void checkRequest(const Request& request) {
+void checkRequest(const RunRequest& request) {
   if (!request.backend.empty()) checkBackendFlag(request.backend);
-  checkReducerFlags(request.reducer, request.reducers);
-  for (const auto& set : request.sets) checkSet(set);
+  checkReducerFlags(request.reducer, {});
+  for (const auto& set : request.common.sets) checkSet(set);
 }
 
-void checkWakeUp(const Request& request) {
+void checkRequest(const CompareRequest& request) {
+  if (!request.backend.empty()) checkBackendFlag(request.backend);
+  checkReducerFlags("", request.reducers);
+  for (const auto& set : request.common.sets) checkSet(set);
+}
+
+void checkRequest(const LocalizeRequest& request) {
+  if (request.start_pose) parseStartPose(*request.start_pose);
+  if (request.start_pose && request.wake_up)
+    throw ConfigError("--wake-up: not with --start-pose (a start pose is not looked for)");
+}
+
+void checkWakeUp(const RunRequest& request) {
   if (request.wake_up && request.resume.empty())
     throw UsageError("--wake-up: needs --resume RUN_DIR (the saved map to wake up on)");
 }

@@ -14,10 +14,11 @@
 
 namespace budget_slam::runs {
 
-RunReport run(const Request& request, RequestContext context, const RunHooks& hooks) {
+RunReport run(const RunRequest& request, RequestContext context, const RunHooks& hooks) {
   const std::string& label = context.config_label;
-  nlohmann::json given = {{"config", label}};  // what the run was given, in summary.json
-  if (!request.rawlog.empty()) given["rawlog"] = request.rawlog;
+  RunGiven given;  // what the run was given, in summary.json
+  given.config = label;
+  if (!request.common.rawlog.empty()) given.rawlog = request.common.rawlog;
   // A run that ended before runSlam: its one line.
   const auto ended = [](RunStatus status, ErrorKind kind, const std::string& line) {
     RunReport r;
@@ -37,7 +38,7 @@ RunReport run(const Request& request, RequestContext context, const RunHooks& ho
     const std::string why = printable(
         dynamic_cast<const Error*>(&e) ? std::string(e.what()) : label + ": " + failureLine(e));
     RunLife life(given);
-    life.openToSayWhy(request.outdir, request.force);
+    life.openToSayWhy(request.common.outdir, request.common.force);
     RunLife::End end = life.end(why, RunStatus::Failed, errorKindOf(e));
     RunReport r;
     r.outcome = std::move(end.outcome);
@@ -47,7 +48,7 @@ RunReport run(const Request& request, RequestContext context, const RunHooks& ho
 
   for (const auto& w : rc.warnings) warn(w);
   RunSpec spec;
-  spec.given = {{"rawlog", rc.rawlog}, {"sidecar_ini", rc.sidecar}, {"config", label}};
+  spec.given.rawlog = rc.rawlog, spec.given.sidecar_ini = rc.sidecar, spec.given.config = label;
   // A session to continue is read and checked before the output folder is touched: a bad state
   // file or a mismatched option is one line, exit 1, and nothing is written (docs/OUTPUTS.md).
   spec.resume_options = resumeOptions(rc.ini);
@@ -61,12 +62,12 @@ RunReport run(const Request& request, RequestContext context, const RunHooks& ho
     } catch (const std::exception& e) {
       return ended(RunStatus::Failed, errorKindOf(e), printable(e.what()));
     }
-    spec.given["resumed_from"] = request.resume;
+    spec.given.resumed_from = request.resume;
     if (request.wake_up) {
       // Before any output: a robot not found is one line, exit 1, nothing written.
       try {
         const WakeUpOutcome w = wakeUpOnMap(rc, *spec.resumed, request.skip_steps);
-        spec.given["wake_up"] = w.json;
+        spec.given.wake_up = w.block;
         if (!w.found) return ended(RunStatus::Failed, ErrorKind::Input, "--wake-up: " + w.why);
         spec.wake_up_steps = w.steps;
       } catch (const Interrupted&) {
@@ -86,7 +87,7 @@ RunReport run(const Request& request, RequestContext context, const RunHooks& ho
   spec.ground_truth_file = rc.mapping.ground_truth_file;
   spec.ground_truth_file_robot = rc.mapping.ground_truth_file_robot;
   spec.outdir = rc.outdir;
-  spec.force = request.force;
+  spec.force = request.common.force;
   spec.max_steps = rc.mapping.max_steps;
   spec.skip_steps = request.skip_steps;
   spec.writer = context.writer;

@@ -174,14 +174,14 @@ void checkBackendFlag(const std::string& backend) {
         ConfigErrorKind::UnknownName, "--backend");
 }
 
-void checkCapFor(const RunConfig& rc, const Request& cli, const std::string& reducer,
-                 const std::string& config_label) {
+void checkCapFor(const RunConfig& rc, const std::optional<Cap>& flag_cap,
+                 const std::string& reducer, const std::string& config_label) {
   // A number given with --cap is a request for a capped run; reducer none keeps every landmark,
   // so the run would be unreduced while the user believes it capped (issue 35). compare's none is
   // its unreduced reference, which no cap concerns.
-  if (cli.command != "compare" && reducer == "none" && cli.cap && cli.cap->landmarks)
+  if (reducer == "none" && flag_cap && flag_cap->landmarks)
     throw ConfigError(
-        "--cap " + cli.cap->text() +
+        "--cap " + flag_cap->text() +
             ": reducer none keeps every landmark, so a cap would do nothing; give --reducer NAME "
             "(budget-slam --help lists them), or leave --cap out for the unreduced run",
         ConfigErrorKind::Invalid, "--cap");
@@ -196,13 +196,13 @@ void checkCapFor(const RunConfig& rc, const Request& cli, const std::string& red
     reducers::checkCap(rc.budget, r.get());
   } catch (const KeyError& e) {
     // Name where the "none" came from: the flag, or the ini key in its file.
-    if (cli.cap) throw ConfigError("--cap none: " + e.why(), e.kind(), "--cap");
+    if (flag_cap) throw ConfigError("--cap none: " + e.why(), e.kind(), "--cap");
     throw ConfigError(config_label + ": " + e.what(), e.kind(), config_label);
   }
 }
 
-RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Request& cli,
-                        const std::string& config_label) {
+RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const RequestCommon& common,
+                        const ConfigFlags& flags, const std::string& config_label) {
   RunConfig rc;
   copyIni(params, rc.ini);  // no second ${...} expansion of the values
   const std::string prefix = config_label + ": ";
@@ -211,7 +211,7 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Req
   // The rawlog decides which sidecar applies, so read it before the overlays.
   const std::string rawlog_file =
       rc.ini.read_string(MappingOptions::kSection, "rawlog_file", "", false);
-  rc.rawlog = cli.rawlog.empty() ? resolveRawlog(rawlog_file, cli.config) : cli.rawlog;
+  rc.rawlog = common.rawlog.empty() ? resolveRawlog(rawlog_file, common.config) : common.rawlog;
   if (rc.rawlog.empty())
     throw ConfigError("no rawlog: give -i or [MappingApplication] rawlog_file");
   try {
@@ -229,28 +229,28 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Req
       } catch (const ConfigError& e) {
         throw ConfigError(rc.sidecar + ": " + e.what(), e.kind(), rc.sidecar);
       }
-      rc.warnings = sidecarOverrides(rc.ini, side, config_label, rc.sidecar, cli.sets);
+      rc.warnings = sidecarOverrides(rc.ini, side, config_label, rc.sidecar, common.sets);
       copyIni(side, rc.ini);
       origins.noteAll(side, rc.sidecar);
     }
-    for (const auto& s : cli.sets) applySet(rc.ini, s, schema, origins);
-    if (!cli.reducer.empty()) {
-      rc.ini.write(reducers::BudgetOptions::kSection, "reducer", cli.reducer);
-      origins.note(reducers::BudgetOptions::kSection, "reducer", "--reducer " + cli.reducer);
+    for (const auto& s : common.sets) applySet(rc.ini, s, schema, origins);
+    if (!flags.reducer.empty()) {
+      rc.ini.write(reducers::BudgetOptions::kSection, "reducer", flags.reducer);
+      origins.note(reducers::BudgetOptions::kSection, "reducer", "--reducer " + flags.reducer);
     }
-    if (cli.cap) {
-      rc.ini.write(reducers::BudgetOptions::kSection, "max_landmarks", cli.cap->text());
-      origins.note(reducers::BudgetOptions::kSection, "max_landmarks", "--cap " + cli.cap->text());
+    if (flags.cap) {
+      rc.ini.write(reducers::BudgetOptions::kSection, "max_landmarks", flags.cap->text());
+      origins.note(reducers::BudgetOptions::kSection, "max_landmarks",
+                   "--cap " + flags.cap->text());
     }
-    if (!cli.backend.empty()) {
-      checkBackendFlag(cli.backend);
-      rc.ini.write(MappingOptions::kSection, "backend", cli.backend);
+    if (!flags.backend.empty()) {
+      checkBackendFlag(flags.backend);
+      rc.ini.write(MappingOptions::kSection, "backend", flags.backend);
     }
-    if (!cli.rawlog.empty()) rc.ini.write(MappingOptions::kSection, "rawlog_file", cli.rawlog);
-    if (cli.max_steps)
-      rc.ini.write(
-          cli.command == "localize" ? LocalizationOptions::kSection : MappingOptions::kSection,
-          "max_steps", std::to_string(*cli.max_steps));
+    if (!common.rawlog.empty())
+      rc.ini.write(MappingOptions::kSection, "rawlog_file", common.rawlog);
+    if (common.max_steps)
+      rc.ini.write(flags.max_steps_section, "max_steps", std::to_string(*common.max_steps));
 
     schema.validate(rc.ini);
     rc.mapping.loadFromConfigFile(rc.ini, MappingOptions::kSection);
@@ -270,9 +270,9 @@ RunConfig loadRunConfig(const mrpt::config::CConfigFileMemory& params, const Req
     if (!e.origin().empty() || e.kind() == ConfigErrorKind::UnknownName) throw;
     throw ConfigError(prefix + e.what(), e.kind(), config_label);
   }
-  rc.outdir = cli.outdir.empty() ? rc.mapping.logOutput_dir : cli.outdir;
+  rc.outdir = common.outdir.empty() ? rc.mapping.logOutput_dir : common.outdir;
   // compare checks the cap against each reducer it runs (not the ini's reducer).
-  if (cli.command != "compare") checkCapFor(rc, cli, rc.budget.reducer, config_label);
+  if (flags.check_cap) checkCapFor(rc, flags.cap, rc.budget.reducer, config_label);
   return rc;
 }
 
@@ -303,12 +303,48 @@ std::string configUsed(const mrpt::config::CConfigFileBase& ini) {
          used.getContent();
 }
 
-RunConfig loadRunConfig(const Request& request, RequestContext& context) {
+ConfigFlags configFlags(const RunRequest& request) {
+  ConfigFlags flags;
+  flags.reducer = request.reducer, flags.backend = request.backend, flags.cap = request.cap;
+  return flags;
+}
+
+ConfigFlags configFlags(const CompareRequest& request) {
+  ConfigFlags flags;
+  flags.backend = request.backend, flags.cap = request.cap;
+  flags.check_cap = false;  // compare checks the cap against each reducer it runs
+  return flags;
+}
+
+ConfigFlags configFlags(const LocalizeRequest&) {
+  ConfigFlags flags;
+  flags.max_steps_section = LocalizationOptions::kSection;
+  return flags;
+}
+
+namespace {
+
+template <class Request>
+RunConfig loadRequestConfig(const Request& request, RequestContext& context) {
   if (context.config_text) {
     context.params.clear();
     loadIniText(context.params, *context.config_text, context.config_label);
   }
-  return loadRunConfig(context.params, request, context.config_label);
+  return loadRunConfig(context.params, request.common, configFlags(request), context.config_label);
+}
+
+}  // namespace
+
+RunConfig loadRunConfig(const RunRequest& request, RequestContext& context) {
+  return loadRequestConfig(request, context);
+}
+
+RunConfig loadRunConfig(const CompareRequest& request, RequestContext& context) {
+  return loadRequestConfig(request, context);
+}
+
+RunConfig loadRunConfig(const LocalizeRequest& request, RequestContext& context) {
+  return loadRequestConfig(request, context);
 }
 
 }  // namespace budget_slam::runs

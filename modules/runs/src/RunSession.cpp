@@ -72,13 +72,10 @@ WakeUpOutcome wakeUpOnMap(const RunConfig& rc, session::SessionState& state, std
   const double ms = woke.wall_ms;
   const wakeup::WakeUpResult& r = woke.result;
   out.found = r.status == wakeup::WakeUpStatus::Found;
-  out.json = {{"status", wakeup::statusName(r.status)},
-              {"reason", wakeup::reasonName(r.reason)},
-              {"by_ids", r.by_ids},
-              {"steps", out.steps},
-              {"landmarks", r.landmarks},
-              {"inliers", r.inliers},
-              {"time_ms", ms}};
+  ResumeWakeUp& b = out.block;
+  b.status = wakeup::statusName(r.status), b.reason = wakeup::reasonName(r.reason);
+  b.by_ids = r.by_ids, b.steps = out.steps, b.landmarks = r.landmarks, b.inliers = r.inliers;
+  b.time_ms = ms;
   if (!out.found) {
     out.why = std::string("the robot was not found on the saved map in ") +
               std::to_string(out.steps) + " steps (" + wakeup::statusName(r.status) +
@@ -88,7 +85,7 @@ WakeUpOutcome wakeUpOnMap(const RunConfig& rc, session::SessionState& state, std
               "); without --wake-up the session continues where the last one stopped";
     return out;
   }
-  out.json["pose"] = {r.pose.mean.x, r.pose.mean.y, r.pose.mean.phi * 180 / M_PI};
+  b.pose = {r.pose.mean.x, r.pose.mean.y, r.pose.mean.phi * 180 / M_PI};
   session::RobotBlock robot;
   robot.pose = r.pose;
   robot.cross_covariance =

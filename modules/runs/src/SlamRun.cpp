@@ -112,9 +112,9 @@ void writeSessionState(const RunSpec& spec, RunDriver& driver, std::size_t first
   header.resume_options = spec.resume_options;
   try {
     driver.writeSessionState(header);
-    life.given()["session_state"] = {{"written", true}};
+    life.given().session_state = SessionStateWritten{true, ""};
   } catch (const Error& e) {
-    life.given()["session_state"] = {{"written", false}, {"why", printable(e.what())}};
+    life.given().session_state = SessionStateWritten{false, printable(e.what())};
     if (hooks.note)
       hooks.note(std::string(session::kStateFileName) + " not written: " + printable(e.what()));
   }
@@ -157,7 +157,7 @@ RunReport runSlam(const RunSpec& spec, const RunHooks& hooks) {
     driver =
         std::make_unique<RunDriver>(spec.ini, *spec.backends, spec.driver, life.folder(), truth);
     life.setFinisher([&](RunOutcome& o) {
-      o.given["started"] = driver->lastStep().has_value();
+      o.given.started = driver->lastStep().has_value();
       o = driver->finish(o.status, o.kind, o.error, loop ? loop->stepsRead() : 0, o.given);
       return driver->summaryError();
     });
@@ -170,8 +170,8 @@ RunReport runSlam(const RunSpec& spec, const RunHooks& hooks) {
 
     end_phase = true;
     if (hooks.on_end_phase) hooks.on_end_phase();
-    nlohmann::json& given = life.given();
-    given["started"] = driver->lastStep().has_value();
+    RunGiven& given = life.given();
+    given.started = driver->lastStep().has_value();
     result.outcome = driver->finish(RunStatus::Ok, ErrorKind::None, "", loop->stepsRead(), given);
     // Shadow reducers are only logged; their failures end nothing, but are never silent.
     for (const auto& f : driver->budget().shadowFailures())

@@ -29,14 +29,15 @@ std::string outdir(const std::string& name) {
   return dir.string();
 }
 
-Request request(const std::string& command, const std::string& out) {
+/// The demo's first 60 steps under a cap of 10, into `out`: a `run` or a `compare` request.
+template <class Request>
+Request request(const std::string& out) {
   Request r;
-  r.command = command;
-  r.rawlog = kDemo;
-  r.outdir = out;
+  r.common.rawlog = kDemo;
+  r.common.outdir = out;
+  r.common.max_steps = 60;
+  r.common.quiet = true;
   r.cap = parseCap("10");
-  r.max_steps = 60;
-  r.quiet = true;
   return r;
 }
 
@@ -69,7 +70,7 @@ std::string fileText(const std::string& path) {
 TEST(CompareCommand, TwoReducersOkAsItsFilesSay) {
   Cancellation::clear();
   const std::string out = outdir("ok");
-  Request r = request("compare", out);
+  CompareRequest r = request<CompareRequest>(out);
   r.reducers = {"random", "oldest"};
   std::vector<std::string> warnings, notes;
   RunHooks hooks;
@@ -129,7 +130,7 @@ TEST(CompareCommand, TwoReducersOkAsItsFilesSay) {
 TEST(CompareCommand, ABadConfigurationFailsInOneLine) {
   Cancellation::clear();
   const std::string out = outdir("bad_config");
-  const CompareReport c = compare(request("compare", out),
+  const CompareReport c = compare(request<CompareRequest>(out),
                                   context("[LandmarkBudget]\nprotect_recent_steps = many\n"), {});
   EXPECT_EQ(c.outcome.status, RunStatus::Failed);
   EXPECT_EQ(c.outcome.kind, ErrorKind::Config);
@@ -151,8 +152,8 @@ TEST(CompareCommand, ABadConfigurationFailsInOneLine) {
 
 TEST(CompareCommand, AMissingRawlogIsAnInputFailure) {
   Cancellation::clear();
-  Request r = request("compare", outdir("no_rawlog"));
-  r.rawlog = "/nonexistent/x.rawlog";
+  CompareRequest r = request<CompareRequest>(outdir("no_rawlog"));
+  r.common.rawlog = "/nonexistent/x.rawlog";
   const CompareReport c = compare(r, context(), {});
   EXPECT_EQ(c.outcome.status, RunStatus::Failed);
   EXPECT_EQ(c.outcome.kind, ErrorKind::Input);
@@ -164,7 +165,7 @@ TEST(CompareCommand, AMissingRawlogIsAnInputFailure) {
 TEST(RunCommand, ARequestRunsAsItsSummarySays) {
   Cancellation::clear();
   const std::string out = outdir("run_ok");
-  Request r = request("run", out);
+  RunRequest r = request<RunRequest>(out);
   r.reducer = "oldest";
   std::size_t steps = 0;
   RunHooks hooks;
@@ -187,7 +188,7 @@ TEST(RunCommand, ARequestRunsAsItsSummarySays) {
   EXPECT_EQ(s.json.at("counts").at("landmarks_final"), report.landmarks);
   // The sidecar's key over the ini's is a warning, as it arises.
   warnings.clear();
-  Request warned = request("run", outdir("run_warned"));
+  RunRequest warned = request<RunRequest>(outdir("run_warned"));
   warned.reducer = "oldest";  // a cap with reducer none is refused
   const RunReport again =
       run(warned,
@@ -206,7 +207,7 @@ TEST(RunCommand, ABadConfigTextEndsBeforeTheRunAndSaysWhyInTheFolder) {
   Cancellation::clear();
   const std::string out = outdir("run_bad_text");
   const RunReport r =
-      run(request("run", out), context("[LandmarkBudget]\nseed = 1\nseed = 2\n"), {});
+      run(request<RunRequest>(out), context("[LandmarkBudget]\nseed = 1\nseed = 2\n"), {});
   EXPECT_EQ(r.outcome.status, RunStatus::Failed);
   EXPECT_EQ(r.outcome.kind, ErrorKind::Config);
   EXPECT_EQ(r.line.rfind("test.ini: line 3: ", 0), 0u) << r.line;
@@ -219,10 +220,10 @@ TEST(RunCommand, ABadConfigTextEndsBeforeTheRunAndSaysWhyInTheFolder) {
 TEST(RunCommand, AMismatchedResumeIsOneLineAndNoFolder) {
   Cancellation::clear();
   const std::string first = outdir("resume_first"), second = outdir("resume_second");
-  Request made = request("run", first);
+  RunRequest made = request<RunRequest>(first);
   made.reducer = "oldest";  // a cap with reducer none is refused
   ASSERT_TRUE(run(made, context(), {}).outcome.ok());
-  Request r = request("run", second);
+  RunRequest r = request<RunRequest>(second);
   r.reducer = "oldest";
   r.resume = first;
   r.cap = parseCap("12");
@@ -235,7 +236,7 @@ TEST(RunCommand, AMismatchedResumeIsOneLineAndNoFolder) {
 }
 
 TEST(RequestChecks, TheCommandLinesMessagesWhoeverFilledTheRequest) {
-  const auto refused = [](const Request& r) {
+  const auto refused = [](const auto& r) {
     try {
       checkRequest(r);
     } catch (const UsageError& e) {
@@ -250,8 +251,10 @@ TEST(RequestChecks, TheCommandLinesMessagesWhoeverFilledTheRequest) {
       return std::string(e.what());
     }
   };
-  Request r;
+  RunRequest r;
+  CompareRequest c;
   EXPECT_EQ(refused(r), "accepted");
+  EXPECT_EQ(refused(c), "accepted");
   EXPECT_EQ(cap("0"), "--cap 0: must be at least 1 (or none for no cap)");
   EXPECT_EQ(cap("ten"), "--cap 'ten': not a number of landmarks, nor none");
   EXPECT_EQ(cap("none"), "none");
@@ -259,20 +262,27 @@ TEST(RequestChecks, TheCommandLinesMessagesWhoeverFilledTheRequest) {
   r.cap = parseCap("none");
   r.backend = "kalman";
   EXPECT_EQ(refused(r).rfind("--backend kalman: must be one of ", 0), 0u);
-  r.backend = "graph";
-  r.reducers = {"random", "none"};
-  EXPECT_EQ(refused(r), "--reducers: 'none' is the reference run, always included");
-  r.reducers = {"random", "random"};
-  EXPECT_EQ(refused(r), "--reducers: a reducer is listed twice");
-  r.reducers = {};
+  c.backend = "kalman";
+  EXPECT_EQ(refused(c).rfind("--backend kalman: must be one of ", 0), 0u);
+  r.backend = "graph", c.backend = "graph";
+  c.reducers = {"random", "none"};
+  EXPECT_EQ(refused(c), "--reducers: 'none' is the reference run, always included");
+  c.reducers = {"random", "random"};
+  EXPECT_EQ(refused(c), "--reducers: a reducer is listed twice");
+  c.reducers = {"random", "nosuch"};
+  EXPECT_EQ(refused(c).rfind("--reducers: unknown reducer 'nosuch' (registered: ", 0), 0u);
+  c.reducers = {"random", "oldest"};
+  EXPECT_EQ(refused(c), "accepted");
   r.reducer = "nosuch";
   EXPECT_EQ(refused(r).rfind("--reducer: unknown reducer 'nosuch' (registered: ", 0), 0u);
   r.reducer = "mi";
   EXPECT_EQ(refused(r), "accepted");
-  r.sets = {"LandmarkBudget"};
+  r.common.sets = {"LandmarkBudget"};
   EXPECT_THROW(checkRequest(r), ConfigError);
+  c.common.sets = {"LandmarkBudget"};
+  EXPECT_THROW(checkRequest(c), ConfigError);
 
-  Request wake;
+  RunRequest wake;
   wake.wake_up = true;
   EXPECT_THROW(checkWakeUp(wake), UsageError);
   wake.resume = "RUN";

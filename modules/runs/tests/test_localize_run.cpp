@@ -12,6 +12,7 @@
 #include "budget_slam/engine/BuiltinBackends.h"
 #include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/runs/Localize.h"
+#include "budget_slam/runs/RequestChecks.h"
 #include "budget_slam/runs/RunConfig.h"
 #include "budget_slam/runs/RunSpecs.h"
 #include "budget_slam/runs/Runs.h"
@@ -42,11 +43,10 @@ std::string slurp(const std::string& path) {
 std::string mapOf(const std::string& rawlog, const std::string& name) {
   mrpt::config::CConfigFileMemory params;
   loadIniText(params, slurp(kConfig), kConfig);
-  Request request;
-  request.command = "run";
-  request.rawlog = kRoot + "/rawlogs/" + rawlog;
-  request.outdir = freshDir(name);
-  const RunConfig rc = loadRunConfig(params, request, kConfig);
+  RunRequest request;
+  request.common.rawlog = kRoot + "/rawlogs/" + rawlog;
+  request.common.outdir = freshDir(name);
+  const RunConfig rc = loadRunConfig(params, request.common, configFlags(request), kConfig);
   RunSpec spec;
   spec.ini = rc.ini;
   spec.backends = &builtinBackends();
@@ -61,16 +61,15 @@ std::string mapOf(const std::string& rawlog, const std::string& name) {
 
 /// localize's specification as `budget-slam localize -c config.ini --map MAP -i RAWLOG -o OUT`.
 struct LocalizeSpec {
-  Request request;
+  LocalizeRequest request;
   RequestContext context;
 };
 LocalizeSpec specOf(const std::string& map, const std::string& rawlog, const std::string& out) {
   LocalizeSpec spec;
-  spec.request.command = "localize";
-  spec.request.config = kConfig;
+  spec.request.common.config = kConfig;
   spec.request.map_dir = map;
-  spec.request.rawlog = kRoot + "/rawlogs/" + rawlog;
-  spec.request.outdir = freshDir(out);
+  spec.request.common.rawlog = kRoot + "/rawlogs/" + rawlog;
+  spec.request.common.outdir = freshDir(out);
   spec.context.config_text = slurp(kConfig);
   spec.context.config_label = kConfig;
   return spec;
@@ -91,7 +90,7 @@ TEST(LocalizeRun, RoomsRevisitInTheRoomsMapIsTypedAsItsSummary) {
   ASSERT_TRUE(r.outcome.ok()) << r.line;
   EXPECT_EQ(r.line, "");
   EXPECT_EQ(exitCode(r.outcome), 0);
-  EXPECT_EQ(r.folder, spec.request.outdir);
+  EXPECT_EQ(r.folder, spec.request.common.outdir);
   EXPECT_EQ(warned, r.warnings);
   EXPECT_FALSE(r.outcome.wake_up);
   ASSERT_TRUE(r.outcome.localization);
@@ -215,10 +214,10 @@ TEST(LocalizeRun, AMissingMapFolderIsAFailedInputOutcomeInOneLine) {
 }
 
 TEST(LocalizeRun, TheRequestChecksAreTheCommandLines) {
-  Request r;
+  LocalizeRequest r;
   r.start_pose = "1,2";
   try {
-    checkLocalizeRequest(r);
+    checkRequest(r);
     ADD_FAILURE() << "a start pose of two numbers passed";
   } catch (const ConfigError& e) {
     EXPECT_STREQ(e.what(), "--start-pose '1,2': expected x,y,yaw (metres, metres, degrees)");
@@ -229,7 +228,7 @@ TEST(LocalizeRun, TheRequestChecksAreTheCommandLines) {
   EXPECT_DOUBLE_EQ(pose.phi, M_PI / 2);
   r.wake_up = true;
   try {
-    checkLocalizeRequest(r);
+    checkRequest(r);
     ADD_FAILURE() << "a start pose with wake_up passed";
   } catch (const ConfigError& e) {
     EXPECT_STREQ(e.what(), "--wake-up: not with --start-pose (a start pose is not looked for)");

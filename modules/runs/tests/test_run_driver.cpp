@@ -48,7 +48,7 @@ RunSpec demoSpec(const std::string& name, const std::string& backend) {
   fs::create_directories(dir.parent_path());
   spec.outdir = dir.string();
   spec.max_steps = 40;
-  spec.given = {{"rawlog", spec.rawlog}};
+  spec.given.rawlog = spec.rawlog;
   return spec;
 }
 

@@ -91,7 +91,7 @@ class RunDriver {
   /// outcome summary.json was written from. With status ok, throws Interrupted when a stop request
   /// came before the outputs were written.
   RunOutcome finish(RunStatus status, ErrorKind kind, const std::string& error,
-                    std::size_t steps_in_rawlog, const nlohmann::json& given = {});
+                    std::size_t steps_in_rawlog, const RunGiven& given = {});
   /// The first output finish() could not write ("" when all were written).
   const std::string& writeError() const { return write_error_; }
   /// Why finish() could not write summary.json ("" when it did).

@@ -4,7 +4,6 @@
 // the command through end(), which writes summary.json (last, through the command's engine once
 // there is one) and makes the one error line.
 #include <functional>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
@@ -23,7 +22,7 @@ class RunLife {
   using Finisher = std::function<std::string(RunOutcome& outcome)>;
 
   /// `given`: what the command was given, into summary.json (rawlog, config, ...).
-  explicit RunLife(nlohmann::json given = nlohmann::json::object());
+  explicit RunLife(RunGiven given = {});
 
   /// Creates and locks the output folder (report::OutputFolder; an earlier run moved aside with
   /// `force`, recorded as given's earlier_run_moved_to). Throws Error as OutputFolder does.
@@ -38,7 +37,7 @@ class RunLife {
   std::string earlierRunNote() const;
 
   /// What the command was given (summary.json's "given" block; the caller adds to it).
-  nlohmann::json& given() { return given_; }
+  RunGiven& given() { return given_; }
   /// Once the engine exists, it ends the command (see Finisher); before, end() writes the
   /// summary itself.
   void setFinisher(Finisher finisher) { finisher_ = std::move(finisher); }
@@ -64,7 +63,7 @@ class RunLife {
   std::string writeSummaryHere(RunOutcome outcome) const;
 
  private:
-  nlohmann::json given_;
+  RunGiven given_;
   std::optional<report::OutputFolder> folder_;
   Finisher finisher_;
 };

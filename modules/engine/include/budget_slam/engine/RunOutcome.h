@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "budget_slam/engine/LocalizationOutcome.h"
+#include "budget_slam/engine/RunGiven.h"
 #include "budget_slam/engine/RunStatus.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/metrics/MapAlignment.h"
@@ -77,9 +78,9 @@ struct RunOutcome {
   /// existed, and its wake-up when it woke up on the map (LocalizationOutcome.h).
   std::optional<LocalizationOutcome> localization;
   std::optional<LocalizationWakeUp> wake_up;
-  /// What the caller adds to summary.json: what the run was given (rawlog, config, ...), the
-  /// comparison's metrics against the reference, the session state written, the wake-up.
-  nlohmann::json given = nlohmann::json::object();
+  /// What the command was given and how far it got (rawlog, config, started, a comparison's run's
+  /// metrics against the reference, the session state written, run's wake-up, ...): RunGiven.h.
+  RunGiven given;
 
   bool ok() const { return status == RunStatus::Ok; }
   /// Ends the outcome as `s` with `kind` and `why` (a first failure stays).

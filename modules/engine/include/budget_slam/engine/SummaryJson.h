@@ -12,7 +12,7 @@ namespace budget_slam::runs {
 /// summary.json's text of `o`: status, error, the run's blocks (backend, reducer, cap, counts,
 /// timings, agreement, shadow_failures, relocalization) when there was a run, ground_truth,
 /// files_not_written, a localization's blocks (start_pose, counts, localization, timings) and
-/// its wake_up, then every key of `o.given` (which wins over a key of the same name).
+/// its wake_up, then the keys of `o.given` that it sets (RunGiven.h).
 nlohmann::json summaryJson(const RunOutcome& o);
 
 /// Writes summaryJson(o) to `path` atomically (report::writeSummaryJson). Throws Error naming
@@ -25,8 +25,9 @@ struct SummaryFile {
   std::string status_text;  ///< "status" as written, cut to a printable excerpt ("" if absent)
   /// The outcome as far as the document holds it: status (failed when it is none of RunStatus's
   /// words; the kind of a failure read back is internal: the file does not say it),
-  /// error, the run's blocks, ground_truth (with map_alignment, checked), files_not_written;
-  /// every other key is in `given`. A number that is null or not a number reads as NaN.
+  /// error, the run's blocks, ground_truth (with map_alignment, checked), files_not_written,
+  /// the given keys (RunGiven.h; run's wake_up and reference_metrics stay in `json` only). A
+  /// number that is null or not a number reads as NaN.
   RunOutcome outcome;
 };
 

@@ -79,9 +79,10 @@ class Localizer {
   /// (runs::writeSummary; `given` merged in). Each is attempted even when another fails (a full
   /// disk): the first failure is writeError() (and, for an ok localization, the outcome's error),
   /// one of summary.json itself summaryError(). Returns the outcome summary.json was written from:
-  /// its localization blocks (RunOutcome::localization), `wake_up`, and `given` with "command".
+  /// its localization blocks (RunOutcome::localization), `wake_up`, and `given` with command
+  /// "localize".
   runs::RunOutcome finish(runs::RunStatus status, runs::ErrorKind kind, const std::string& error,
-                          const nlohmann::json& given = {},
+                          const runs::RunGiven& given = {},
                           const std::optional<LocalizationWakeUp>& wake_up = std::nullopt);
   /// The blocks finish() writes, as they stand.
   LocalizationOutcome outcome() const;

@@ -22,7 +22,7 @@ namespace budget_slam::runs {
 /// [Report] progress_every_s (hooks.progress.line_every_s is replaced by it). Warnings go to
 /// hooks.warning as they arise (also those of runSlam's report), notes to hooks.note. The
 /// report's `line` is the one line of a run that did not end ok.
-RunReport run(const Request& request, RequestContext context, const RunHooks& hooks);
+RunReport run(const RunRequest& request, RequestContext context, const RunHooks& hooks);
 
 /// One run of a comparison as it ended.
 struct ComparedRun {
@@ -54,6 +54,6 @@ struct CompareReport {
 /// against the reference, --relocalize, comparison.csv/.md, the offline optimum, the figure and
 /// the top summary.json last. hooks.on_end_phase is called once a run, from its thread; on_step
 /// is not called. Progress, warnings and notes as run().
-CompareReport compare(const Request& request, RequestContext context, const RunHooks& hooks);
+CompareReport compare(const CompareRequest& request, RequestContext context, const RunHooks& hooks);
 
 }  // namespace budget_slam::runs

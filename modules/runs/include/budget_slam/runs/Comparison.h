@@ -39,10 +39,10 @@ void makeRuns(const mrpt::config::CConfigFileMemory& merged, const BackendRegist
               const std::shared_ptr<dataset::GroundTruth>& truth, CompareRuns& runs);
 
 /// Ends run `r`: its metrics against the reference (when both are ok) and its outputs
-/// (RunDriver::finish, with `extra` in summary.json). A run whose outputs could not be written,
-/// or whose estimate is not finite, becomes failed.
+/// (RunDriver::finish, with `given` and the metrics in summary.json). A run whose outputs could not
+/// be written, or whose estimate is not finite, becomes failed.
 metrics::ReferenceMetrics finishRun(CompareRun& r, const CompareRun& ref, std::size_t steps,
-                                    std::size_t eig_max_rows, nlohmann::json extra);
+                                    std::size_t eig_max_rows, RunGiven given);
 
 /// comparison.csv's row of run `r` (docs/OUTPUTS.md), with `m` its metrics against the
 /// reference, which holds `ref_landmarks` landmarks and `ref_poses` poses.

@@ -1,8 +1,8 @@
 #pragma once
 // `budget-slam localize` behind the run layer's API (docs/ARCHITECTURE.md "Modules"): a typed
 // request in, a typed report out, as runs::run and runs::compare (Commands.h). app/Localize.cpp
-// parses the command line into the Request and prints the report; the Python module
-// (budget_slam.localize) fills the same Request from its arguments.
+// parses the command line into the LocalizeRequest and prints the report; the Python module
+// (budget_slam.localize) fills the same LocalizeRequest from its arguments.
 #include <mrpt/math/TPose2D.h>
 
 #include <string>
@@ -29,8 +29,7 @@ struct LocalizeReport {
   std::size_t map_landmarks = 0;  ///< landmarks of the map read (its landmarks.csv rows)
 };
 
-/// Localizes request.rawlog in the final map of the run in request.map_dir (its fields: config,
-/// map_dir, rawlog, outdir, start_pose, wake_up, reference_trajectory, max_steps, sets, force)
+/// Localizes request.common.rawlog in the final map of the run in request.map_dir
 /// (docs/OUTPUTS.md "budget-slam localize"): the configuration, the output folder and
 /// config_used.ini, the map folder, the reference trajectory, the traversal read whole, its
 /// ground truth, the start pose (given, derived, or woken up on the map: wakeup::wakeUpOver), the
@@ -41,15 +40,12 @@ struct LocalizeReport {
 /// reading and of the steps, on_step after each step (on_end_phase is not called), note for
 /// "no start pose (...): waking up on the map", warning for each of report.warnings as it
 /// arises; the progress lines' interval is the merged ini's [Report] progress_every_s.
-LocalizeReport localize(const Request& request, RequestContext context, const RunHooks& hooks);
+LocalizeReport localize(const LocalizeRequest& request, RequestContext context,
+                        const RunHooks& hooks);
 
 /// --start-pose "x,y,yaw" (metres, metres, degrees) -> pose (yaw in radians): three finite
 /// numbers, x and y within limits::kMaxCoordinate, yaw within limits::kMaxAngle. Throws
 /// ConfigError naming the flag.
 mrpt::math::TPose2D parseStartPose(const std::string& text);
-
-/// What a localize request must hold before anything runs (the command line's checks beyond
-/// TCLAP's): a start pose that parses, and not both a start pose and wake_up. Throws ConfigError.
-void checkLocalizeRequest(const Request& request);
 
 }  // namespace budget_slam::runs

@@ -27,11 +27,16 @@ std::size_t parseSkipSteps(const std::string& text);
 /// --cap: a number of landmarks >= 1, or none. Throws UsageError naming the flag.
 Cap parseCap(const std::string& text);
 
-/// The values of run's and compare's flags: --backend and
-/// --reducer (registered names), --reducers (registered, each once, never none), every --set
-/// (Section.key=value). Throws UsageError naming the flag; a malformed --set is a ConfigError
-/// (the command line adds "; see budget-slam <command> --help" to either).
-void checkRequest(const Request& request);
+/// The values of run's and compare's flags: --backend and --reducer (registered names),
+/// --reducers (registered, each once, never none), every --set (Section.key=value). Throws
+/// UsageError naming the flag; a malformed --set is a ConfigError (the command line adds
+/// "; see budget-slam <command> --help" to either).
+void checkRequest(const RunRequest& request);
+void checkRequest(const CompareRequest& request);
+/// What a localize request must hold before anything runs (the command line's checks beyond
+/// TCLAP's): a start pose that parses (parseStartPose), and not both a start pose and wake_up.
+/// Throws ConfigError.
+void checkRequest(const LocalizeRequest& request);
 
 /// A flag given with an empty value (`--backend ''`) is refused: it would silently mean "not
 /// given". Throws UsageError "--<flag> '': an empty value (leave the flag out instead)".
@@ -43,6 +48,6 @@ UsageError withHelpHint(const std::string& command, const ConfigError& e);
 
 /// Throws UsageError "--wake-up: needs --resume RUN_DIR (...)" when the request wakes up on no
 /// saved map (the command line says it as it is, without the --help hint).
-void checkWakeUp(const Request& request);
+void checkWakeUp(const RunRequest& request);
 
 }  // namespace budget_slam::runs

@@ -4,7 +4,7 @@
 #include <map>
 #include <string>
 
-#include <nlohmann/json.hpp>
+#include "budget_slam/engine/RunGiven.h"
 
 #include "budget_slam/runs/RunConfig.h"
 #include "budget_slam/session/SessionState.h"
@@ -29,7 +29,7 @@ struct WakeUpOutcome {
   bool found = false;
   std::size_t steps = 0;  ///< steps read to find it (their readings localize, they are not mapped)
   std::string why;        ///< when not found: one line
-  nlohmann::json json;    ///< status, reason, by_ids, steps, pose, time_ms
+  ResumeWakeUp block;     ///< summary.json "wake_up"
 };
 
 /// Finds the robot on the saved map from the first steps of rc.rawlog after `skip` steps

@@ -5,7 +5,6 @@
 #include <mrpt/math/TPose2D.h>
 
 #include <map>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,7 +36,7 @@ struct RunSpec {
   std::map<std::string, std::string> resume_options;  ///< into the session state written
   std::string writer;  ///< "budget-slam <version>", the session state's writer
   /// What the run was given, into summary.json (rawlog, sidecar_ini, config, resumed_from, ...).
-  nlohmann::json given = nlohmann::json::object();
+  RunGiven given;
 };
 
 /// Runs SLAM under the budget over spec.rawlog into spec.outdir (docs/ARCHITECTURE.md "A run"):
