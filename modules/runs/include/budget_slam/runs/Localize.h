@@ -3,11 +3,10 @@
 // request in, a typed report out, as runs::run and runs::compare (Commands.h). app/Localize.cpp
 // parses the command line into the Request and prints the report; the Python module
 // (budget_slam.localize) fills the same Request from its arguments.
-#include <mrpt/math/TPose2D.h>
-
 #include <string>
 #include <vector>
 
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/engine/RunOutcome.h"
 #include "budget_slam/runs/Request.h"
 #include "budget_slam/runs/RunHooks.h"
@@ -46,7 +45,7 @@ LocalizeReport localize(const Request& request, RequestContext context, const Ru
 /// --start-pose "x,y,yaw" (metres, metres, degrees) -> pose (yaw in radians): three finite
 /// numbers, x and y within limits::kMaxCoordinate, yaw within limits::kMaxAngle. Throws
 /// ConfigError naming the flag.
-mrpt::math::TPose2D parseStartPose(const std::string& text);
+Pose2 parseStartPose(const std::string& text);
 
 /// What a localize request must hold before anything runs (the command line's checks beyond
 /// TCLAP's): a start pose that parses, and not both a start pose and wake_up. Throws ConfigError.
