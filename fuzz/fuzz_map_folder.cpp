@@ -67,8 +67,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const auto map = runs::loadMapFolder(dir.string(), t.options.max_map_landmarks);
     // Without an alignment the command asks for --start-pose: the origin, as a user would give.
-    const std::optional<mrpt::math::TPose2D> start =
-        map.alignment ? std::nullopt : std::optional<mrpt::math::TPose2D>(mrpt::math::TPose2D());
+    const std::optional<Pose2> start = map.alignment ? std::nullopt : std::optional<Pose2>(Pose2());
     const auto inputs = runs::resolveLocalization(t.steps, t.in_rawlog, t.truth, map.alignment,
                                                   start, nullptr, "", t.options);
     runs::Localizer localizer(t.ini, t.options, 2,

@@ -9,7 +9,6 @@
 
 #include "AppTestUtil.h"
 #include "budget_slam/core/CommandLine.h"
-#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/Pose2.h"
 #include "budget_slam/dataset/DatasetFiles.h"
 #include "budget_slam/dataset/StepToMrpt.h"
@@ -77,8 +76,7 @@ std::string writeTraversal(const fs::path& dir, const std::string& name,
     if (k > 0) {
       const Pose2 u = between(path[k - 1], path[k]);
       odo.emplace();
-      odo->mean = mrpt::math::TPose2D(u.x + odo_xy * g(rng), u.y + odo_xy * g(rng),
-                                      u.phi + odo_yaw * g(rng));
+      odo->mean = Pose2(u.x + odo_xy * g(rng), u.y + odo_xy * g(rng), u.phi + odo_yaw * g(rng));
       odo->cov = Eigen::Vector3d(odo_xy * odo_xy, odo_xy * odo_xy, odo_yaw * odo_yaw).asDiagonal();
     }
     RangeBearingScan scan;
@@ -96,7 +94,7 @@ std::string writeTraversal(const fs::path& dir, const std::string& name,
                                wrapAngle(b + sensor.std_yaw * g(rng)), 0});
     }
     d.steps.push_back(dataset::makeStep(k, 1.0 + static_cast<double>(k), odo, scan));
-    if (truth) d.ground_truth.path.push_back(toTPose2D(path[k]));
+    if (truth) d.ground_truth.path.push_back(path[k]);
   }
   if (truth)
     for (const auto& l : world) d.ground_truth.landmarks[l.id] = l.p;

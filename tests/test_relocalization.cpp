@@ -38,7 +38,7 @@ std::string writeThreePlaces(const fs::path& dir, bool with_ids) {
   for (const auto& [place, count] : visits)
     for (int i = 0; i < count; ++i) {
       OdometryIncrement odo;
-      odo.mean = mrpt::math::TPose2D(i == 0 ? place_x[place] - x : 0, 0, 0);
+      odo.mean = Pose2(i == 0 ? place_x[place] - x : 0, 0, 0);
       odo.cov = Eigen::Vector3d(1e-4, 1e-4, 1e-6).asDiagonal();
       x = place_x[place];
       RangeBearingScan scan;

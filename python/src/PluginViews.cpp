@@ -59,7 +59,7 @@ py::dict sightingColumns(const std::vector<Sighting>& s) {
   return d;
 }
 
-py::tuple poseTuple(const mrpt::math::TPose2D& p) { return py::make_tuple(p.x, p.y, p.phi); }
+py::tuple poseTuple(const Pose2& p) { return py::make_tuple(p.x, p.y, p.phi); }
 
 }  // namespace
 

@@ -34,7 +34,7 @@ PlaceGrid PlaceGrid::fromSensor(double size_option, std::size_t sectors_option, 
   return PlaceGrid(size, sectors);
 }
 
-PlaceKey PlaceGrid::placeOf(const mrpt::math::TPose2D& pose) const {
+PlaceKey PlaceGrid::placeOf(const Pose2& pose) const {
   PlaceKey k;
   k.ix = static_cast<std::int64_t>(std::floor(pose.x / size_));
   k.iy = static_cast<std::int64_t>(std::floor(pose.y / size_));

@@ -34,7 +34,7 @@ inline void expectSameBackend(const Backend& a, const Backend& b) {
     EXPECT_EQ(la[k].obs_mean, lb[k].obs_mean);
     EXPECT_EQ(la[k].last_step, lb[k].last_step);
   }
-  EXPECT_EQ(a.robotPose().mean, b.robotPose().mean);
+  EXPECT_EQ(a.robotPose().mean.vector(), b.robotPose().mean.vector());
   EXPECT_EQ(a.robotPose().cov, b.robotPose().cov);
   const auto ids = idsOf(a);
   EXPECT_EQ(a.informationGain(ids), b.informationGain(ids));

@@ -53,10 +53,10 @@ std::map<LandmarkId, Eigen::Vector2d> loadLandmarks(const std::string& file) {
   return landmarks;
 }
 
-std::vector<mrpt::math::TPose2D> loadPath(const std::string& file) {
+std::vector<Pose2> loadPath(const std::string& file) {
   // MRPT's CMatrixDouble::saveToTextFile of simul-landmarks: x y z yaw pitch roll; kf-slam also
   // accepts x y yaw.
-  std::vector<mrpt::math::TPose2D> path;
+  std::vector<Pose2> path;
   TextTable t(file);
   while (t.next()) {
     if (t.size() == 6 || t.size() == 3)
@@ -123,7 +123,7 @@ std::string groundTruthLandmarksText(const std::map<LandmarkId, Eigen::Vector2d>
   return text;
 }
 
-std::string groundTruthPathText(const std::vector<mrpt::math::TPose2D>& path) {
+std::string groundTruthPathText(const std::vector<Pose2>& path) {
   // Same layout as MRPT's CMatrixDouble::saveToTextFile(MATRIX_FORMAT_FIXED) in simul-landmarks,
   // without the generation date so that the same input gives the same bytes.
   std::string text =
@@ -142,7 +142,7 @@ void saveGroundTruthLandmarks(const std::string& file,
   writeFileAtomically(file, groundTruthLandmarksText(landmarks));
 }
 
-void saveGroundTruthPath(const std::string& file, const std::vector<mrpt::math::TPose2D>& path) {
+void saveGroundTruthPath(const std::string& file, const std::vector<Pose2>& path) {
   writeFileAtomically(file, groundTruthPathText(path));
 }
 

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/MrptPose.h"
 #include "rawlog/ByteSource.h"
 #include "rawlog/ObjectChecker.h"
 #include "rawlog/ObjectDecoder.h"
@@ -73,7 +74,7 @@ Step parseStep(const mrpt::obs::CActionCollection::Ptr& action,
     const auto mov2d = action->getBestMovementEstimation();
     if (mov3d) {
       OdometryIncrement odo;
-      odo.mean = mrpt::poses::CPose2D(mov3d->poseChange.mean).asTPose();
+      odo.mean = toPose2(mrpt::poses::CPose2D(mov3d->poseChange.mean).asTPose());
       // Rows/cols x, y, yaw of the 6x6 (x y z yaw pitch roll) covariance.
       const int idx[3] = {0, 1, 3};
       for (int r = 0; r < 3; ++r)
@@ -84,7 +85,7 @@ Step parseStep(const mrpt::obs::CActionCollection::Ptr& action,
       mrpt::poses::CPose2D mean;
       mrpt::math::CMatrixDouble33 cov;
       mov2d->poseChange->getCovarianceAndMean(cov, mean);
-      odo.mean = mean.asTPose();
+      odo.mean = toPose2(mean.asTPose());
       odo.cov = toEigen(cov);
       step.odometry = odo;
     }

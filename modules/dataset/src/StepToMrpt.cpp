@@ -11,6 +11,7 @@
 #include <set>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/MrptPose.h"
 
 namespace budget_slam::dataset {
 mrpt::system::TTimeStamp toTimestamp(double t) {
@@ -81,7 +82,7 @@ Step makeStep(StepIndex index, double t, const std::optional<OdometryIncrement>&
     OdometryIncrement odo = *odometry;
     // The pose MRPT stores (CPose2D keeps phi wrapped to (-pi, pi]).
     const mrpt::poses::CPose2D stored(odo.mean.x, odo.mean.y, odo.mean.phi);
-    odo.mean = stored.asTPose();
+    odo.mean = toPose2(stored.asTPose());
     odo.cov = 0.5 * (odo.cov + odo.cov.transpose()).eval();
     step.odometry = odo;
   } else {

@@ -49,7 +49,7 @@ TEST(GroundTruth, SaveLoadRoundTrip) {
   TempDir tmp;
   const std::string rawlog = tmp.file("run.rawlog");
   const std::map<LandmarkId, Eigen::Vector2d> lms = {{3, {-1.25, 2.5}}, {17, {100.5, -0.125}}};
-  const std::vector<mrpt::math::TPose2D> path = {{0, 0, 0}, {1.0 / 3, -2.0 / 3, -3.0}};
+  const std::vector<Pose2> path = {{0, 0, 0}, {1.0 / 3, -2.0 / 3, -3.0}};
   saveGroundTruthLandmarks(groundTruthLandmarksPathFor(rawlog), lms);
   saveGroundTruthPath(groundTruthRobotPathFor(rawlog), path);
   const auto gt = loadGroundTruth(rawlog);

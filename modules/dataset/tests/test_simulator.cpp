@@ -9,6 +9,7 @@
 #include <set>
 
 #include "TestUtil.h"
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/dataset/Simulator.h"
 
@@ -36,7 +37,7 @@ SimulationOptions zeroNoise(Kind scenario) {
   return o;
 }
 
-double pathLength(const std::vector<mrpt::math::TPose2D>& path) {
+double pathLength(const std::vector<Pose2>& path) {
   double len = 0;
   for (std::size_t k = 1; k < path.size(); ++k)
     len += std::hypot(path[k].x - path[k - 1].x, path[k].y - path[k - 1].y);
@@ -71,11 +72,11 @@ TEST(Simulator, ZeroNoiseRoundTripMatchesGroundTruth) {
     const auto gt = loadGroundTruth(rawlog);
     ASSERT_EQ(steps.size(), n);
     ASSERT_EQ(gt.path.size(), n + 1) << name(scenario);
-    CPose2D pose(gt.path[0]);
+    CPose2D pose(toTPose2D(gt.path[0]));
     std::size_t points = 0;
     for (std::size_t k = 0; k < steps.size(); ++k) {
       ASSERT_TRUE(steps[k].odometry);
-      pose = pose + CPose2D(steps[k].odometry->mean);
+      pose = pose + CPose2D(toTPose2D(steps[k].odometry->mean));
       EXPECT_NEAR(pose.x(), gt.path[k + 1].x, 1e-9) << name(scenario) << " step " << k;
       EXPECT_NEAR(pose.y(), gt.path[k + 1].y, 1e-9) << name(scenario) << " step " << k;
       EXPECT_NEAR(mrpt::math::wrapToPi(pose.phi() - gt.path[k + 1].phi), 0, 1e-9);
@@ -163,7 +164,7 @@ TEST(Simulator, NoiseHasTheStatedSpread) {
   const auto& path = noisy.ground_truth.path;
   double sx = 0, sth = 0;
   for (std::size_t k = 0; k < noisy.steps.size(); ++k) {
-    const CPose2D truth = CPose2D(path[k + 1]) - CPose2D(path[k]);
+    const CPose2D truth = CPose2D(toTPose2D(path[k + 1])) - CPose2D(toTPose2D(path[k]));
     sx += std::pow(noisy.steps[k].odometry->mean.x - truth.x(), 2);
     sth += std::pow(mrpt::math::wrapToPi(noisy.steps[k].odometry->mean.phi - truth.phi()), 2);
   }
@@ -209,9 +210,9 @@ TEST(Simulator, RevisitRouteDrivesTheSameWorldElsewhere) {
     const auto& start = b.ground_truth.path.front();
     EXPECT_GT(std::hypot(start.x, start.y), 5.0) << name(scenario);  // not the first start
     EXPECT_GT(pathLength(b.ground_truth.path), scenario == Kind::Rooms ? 70.0 : 700.0);
-    CPose2D pose(start);
+    CPose2D pose(toTPose2D(start));
     for (std::size_t k = 0; k < b.steps.size(); ++k) {
-      pose = pose + CPose2D(b.steps[k].odometry->mean);
+      pose = pose + CPose2D(toTPose2D(b.steps[k].odometry->mean));
       ASSERT_NEAR(pose.x(), b.ground_truth.path[k + 1].x, 1e-9) << name(scenario) << " step " << k;
       for (const auto& r : b.steps[k].scan->readings)
         ASSERT_TRUE(a.ground_truth.landmarks.count(r.id));

@@ -42,7 +42,7 @@ void EkfBackend::process(const Step& step) {
     tracks_.addSighting(id, robot, step.index);  // Hochdorfer & Schlegel Eq. 2
   }
   if (!keep_trajectory_) trajectory_.clear();
-  trajectory_.push_back({step.index, step.t, mrpt::math::TPose2D(x[0], x[1], x[2])});
+  trajectory_.push_back({step.index, step.t, Pose2(x[0], x[1], x[2])});
 }
 
 std::vector<LandmarkId> EkfBackend::idsInStateOrder() const {
@@ -75,7 +75,7 @@ std::vector<LandmarkId> EkfBackend::observedAt(StepIndex step) const {
 PoseEstimate EkfBackend::robotPose() const {
   const auto& x = kf_.mean();
   PoseEstimate p;
-  p.mean = mrpt::math::TPose2D(x[0], x[1], x[2]);
+  p.mean = Pose2(x[0], x[1], x[2]);
   p.cov = kf_.covariance().asEigen().block<3, 3>(0, 0);
   return p;
 }

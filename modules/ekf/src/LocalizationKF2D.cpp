@@ -9,6 +9,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/RangeBearingModel.h"
 #include "budget_slam/ekf/MrptStepInput.h"
 #include "budget_slam/ekf/PoseFromPoints.h"
@@ -79,11 +80,11 @@ void LocalizationKF2D::afterStep(const Step& step) {
 bool LocalizationKF2D::recover() {
   // Each rejected reading where it puts its landmark in the current robot frame: its own robot
   // frame, then the filter's motion from that step to now (x_now (-) x_then (+) q).
-  const mrpt::poses::CPose2D now(robotPose().mean);
+  const mrpt::poses::CPose2D now(toTPose2D(robotPose().mean));
   const auto& P = m_pkk.asEigen();
   std::vector<PointMatch> matches;
   for (const RejectedStep& r : rejected_) {
-    const mrpt::poses::CPose2D relative = mrpt::poses::CPose2D(r.robot) - now;
+    const mrpt::poses::CPose2D relative = mrpt::poses::CPose2D(toTPose2D(r.robot)) - now;
     const double c = std::cos(relative.phi()), s = std::sin(relative.phi());
     Eigen::Matrix2d rot;
     rot << c, -s, s, c;
@@ -121,7 +122,7 @@ bool LocalizationKF2D::recover() {
 
 PoseEstimate LocalizationKF2D::robotPose() const {
   PoseEstimate p;
-  p.mean = mrpt::math::TPose2D(m_xkk[0], m_xkk[1], m_xkk[2]);
+  p.mean = Pose2(m_xkk[0], m_xkk[1], m_xkk[2]);
   p.cov = m_pkk.asEigen().block<3, 3>(0, 0);
   return p;
 }

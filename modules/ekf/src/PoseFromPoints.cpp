@@ -59,7 +59,7 @@ std::optional<PoseFit> fitPose(const std::vector<PointMatch>& matches) {
     if (step.norm() < 1e-12) break;
   }
   PoseFit fit;
-  fit.pose.mean = mrpt::math::TPose2D(t.x(), t.y(), std::remainder(yaw, 2 * M_PI));
+  fit.pose.mean = Pose2(t.x(), t.y(), std::remainder(yaw, 2 * M_PI));
   fit.pose.cov = info.inverse();
   const Eigen::Matrix2d R = rotation(yaw);
   for (const auto& m : matches) {

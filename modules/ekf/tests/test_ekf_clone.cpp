@@ -38,7 +38,7 @@ TEST(EkfClone, GivesTheSameStateAndEvolvesIndependently) {
   EXPECT_EQ(b.landmarkCount(), n);
   EXPECT_EQ(b.trajectory().size(), 120u);
   EXPECT_EQ(b.informationGain(ids), gains);
-  EXPECT_NE(copy->robotPose().mean, b.robotPose().mean);
+  EXPECT_NE(copy->robotPose().mean.vector(), b.robotPose().mean.vector());
 
   // Original and twin fed the same steps stay identical.
   for (std::size_t k = 120; k < steps.size(); ++k) {

@@ -56,7 +56,7 @@ dataset::ConvertedDataset withWrongReadings(double wrong, std::size_t* corrupted
 /// The filter with `gate`, the sensor noise of `d`, its true landmarks (1 cm) as the map, started
 /// at `start` (0.1 m, 0.03 rad).
 void initialize(LocalizationKF2D& kf, const dataset::ConvertedDataset& d,
-                const LocalizationKF2D::Gate& gate, const mrpt::math::TPose2D& start) {
+                const LocalizationKF2D::Gate& gate, const Pose2& start) {
   kf.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
   kf.options.std_sensor_range = static_cast<float>(d.noise.std_range);
   kf.options.std_sensor_yaw = static_cast<float>(d.noise.std_yaw);
@@ -120,7 +120,7 @@ TEST(LocalizationGate, RecoversFromAWrongStartThatTheGateAloneNeverLeaves) {
   auto d = dataset::simulate(o);
   const auto run = [&](const LocalizationKF2D::Gate& gate) {
     LocalizationKF2D kf;
-    mrpt::math::TPose2D start = d.ground_truth.path.front();
+    Pose2 start = d.ground_truth.path.front();
     start.x += 3;
     start.phi += 40 * M_PI / 180;
     initialize(kf, d, gate, start);
@@ -146,7 +146,7 @@ TEST(LocalizationGate, RecoversFromAWrongStartThatTheGateAloneNeverLeaves) {
 TEST(PoseFromPoints, FitsThePoseOfPointsSeenFromIt) {
   // Three landmarks seen from (2, -1, 0.6): the fit returns that pose; with one landmark (or one
   // point twice) there is no 2D pose to fit.
-  const mrpt::math::TPose2D truth(2, -1, 0.6);
+  const Pose2 truth(2, -1, 0.6);
   const double c = std::cos(truth.phi), s = std::sin(truth.phi);
   std::vector<ekf::PointMatch> m;
   for (const Eigen::Vector2d q :

@@ -59,7 +59,7 @@ struct FiniteEnd {
 FiniteEnd finiteEnd(const Backend& backend, const reducers::BudgetManager& manager,
                     std::size_t steps_done, StepIndex last_step) {
   FiniteEnd end;
-  const auto finitePose = [](const mrpt::math::TPose2D& p) {
+  const auto finitePose = [](const Pose2& p) {
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
   };
   for (const auto& p : backend.trajectory()) {

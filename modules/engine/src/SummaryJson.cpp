@@ -44,9 +44,7 @@ nlohmann::json timingsJson(const RunTimings& t) {
           {"peak_rss_bytes", t.peak_rss_bytes}};
 }
 
-nlohmann::json poseJson(const mrpt::math::TPose2D& p) {
-  return {{"x", p.x}, {"y", p.y}, {"yaw", p.phi}};
-}
+nlohmann::json poseJson(const Pose2& p) { return {{"x", p.x}, {"y", p.y}, {"yaw", p.phi}}; }
 
 /// A localization's start_pose, counts, localization and timings blocks into `j`.
 void addLocalizationJson(nlohmann::json& j, const LocalizationOutcome& o) {

@@ -8,7 +8,7 @@
 
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
-#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/graph/GraphSession.h"
 #include "budget_slam/graph/InformationGain.h"
 #include "budget_slam/graph/Marginals.h"
@@ -85,7 +85,7 @@ BetweenFactor GraphBackend::odometryFactor(const Step& step) const {
   if (!cov.allFinite())
     throw InputError("step " + std::to_string(step.index) +
                      ": the odometry covariance is not finite (the graph backend needs one)");
-  return BetweenFactor::make(toPose2(step.odometry->mean), cov);
+  return BetweenFactor::make(step.odometry->mean, cov);
 }
 
 Eigen::Matrix2d GraphBackend::sensorCovariance() const {
@@ -103,7 +103,7 @@ void GraphBackend::process(const Step& step) {
     // A resumed session starts from the saved (or woken-up) pose and its marginal instead.
     const double sxy = options_.prior_std_xy, syaw = options_.prior_std_yaw_deg * kDeg;
     const BetweenFactor start =
-        start_ ? BetweenFactor::make(toPose2(start_->mean), start_->cov)
+        start_ ? BetweenFactor::make(start_->mean, start_->cov)
                : BetweenFactor::make(
                      Pose2(), Eigen::Vector3d(sxy * sxy, sxy * sxy, syaw * syaw).asDiagonal());
     const BetweenFactor first = composeBetween(start, odo);
@@ -257,7 +257,7 @@ PoseEstimate GraphBackend::robotPose() const {
   if (graph_.poses().empty()) return start_ ? *start_ : PoseEstimate{};
   PoseEstimate p;
   const auto& [step, node] = *graph_.poses().rbegin();
-  p.mean = mrpt::math::TPose2D(node.x.x(), node.x.y(), node.x.z());
+  p.mean = Pose2(node.x);
   if (options_.exact_pose_covariance || !pose_cov_ || factorization_.isCurrent(graph_)) {
     pose_cov_ = factorization_.jointMarginal(graph_, {VariableKey::pose(step)},
                                              options_.exact_pose_covariance);
@@ -269,8 +269,7 @@ PoseEstimate GraphBackend::robotPose() const {
 std::vector<TrajectoryPoint> GraphBackend::trajectory() const {
   std::vector<TrajectoryPoint> out;
   out.reserve(graph_.poses().size());
-  for (const auto& [step, node] : graph_.poses())
-    out.push_back({step, node.t, mrpt::math::TPose2D(node.x.x(), node.x.y(), node.x.z())});
+  for (const auto& [step, node] : graph_.poses()) out.push_back({step, node.t, Pose2(node.x)});
   return out;
 }
 
@@ -369,7 +368,7 @@ void GraphBackend::saveSession(session::SessionState& state) const {
     state.map.covariance = joint.bottomRightCorner(m, m);
     session::RobotBlock robot;
     const auto& x = graph_.poses().rbegin()->second.x;
-    robot.pose.mean = mrpt::math::TPose2D(x.x(), x.y(), x.z());
+    robot.pose.mean = Pose2(x);
     robot.pose.cov = joint.topLeftCorner<3, 3>();
     robot.cross_covariance = joint.topRightCorner(3, m);
     state.robot = robot;
@@ -436,7 +435,7 @@ void GraphBackend::restoreSession(const session::SessionState& state) {
       // The file's robot is the chain's last pose, written from it: another one is a file edited
       // or mixed up, not a robot placed elsewhere (that is the run's to say).
       const Pose2 last(saved.poses().rbegin()->second.x);
-      const mrpt::math::TPose2D& robot = state.robot->pose.mean;
+      const Pose2& robot = state.robot->pose.mean;
       if (std::abs(last.x - robot.x) > kSameRobotM || std::abs(last.y - robot.y) > kSameRobotM ||
           std::abs(wrapAngle(last.phi - robot.phi)) > kSameRobotRad)
         s.fail("pose_values",

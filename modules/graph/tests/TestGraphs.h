@@ -11,7 +11,7 @@
 
 #include <mrpt/config/CConfigFile.h>
 
-#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/Step.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/graph/FactorGraph.h"
@@ -107,8 +107,7 @@ inline SyntheticRun syntheticRun(int n_steps, int n_landmarks, unsigned seed, bo
     x = compose(x, step_z);
     run.truth.push_back(x);
     OdometryIncrement o;
-    o.mean = mrpt::math::TPose2D(step_z.x + 0.02 * N(rng), step_z.y + 0.01 * N(rng),
-                                 step_z.phi + 0.005 * N(rng));
+    o.mean = Pose2(step_z.x + 0.02 * N(rng), step_z.y + 0.01 * N(rng), step_z.phi + 0.005 * N(rng));
     o.cov = odo_cov;
     s.odometry = o;
     RangeBearingScan scan;

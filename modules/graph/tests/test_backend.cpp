@@ -76,7 +76,7 @@ TEST(GraphBackend, LandmarkViewsTrackSightings) {
   std::map<LandmarkId, std::pair<StepIndex, StepIndex>> span;
   Pose2 x(0, 0, 0);
   for (const Step& s : run.steps) {
-    x = compose(x, toPose2(s.odometry->mean));
+    x = compose(x, s.odometry->mean);
     for (const RangeBearingReading& z : s.scan->readings) {
       seen_from[z.id].push_back(x.translation());
       if (!span.count(z.id)) span[z.id].first = s.index;

@@ -9,6 +9,7 @@
 #include <functional>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
@@ -55,14 +56,14 @@ const std::vector<std::string>& localizationStepsColumns() {
 LocalizationInputs resolveLocalization(const std::vector<Step>& steps, std::size_t steps_in_rawlog,
                                        const dataset::GroundTruth& gt,
                                        const std::optional<metrics::MapAlignment>& alignment,
-                                       const std::optional<mrpt::math::TPose2D>& given,
+                                       const std::optional<Pose2>& given,
                                        const std::vector<TrajectoryPoint>* reference,
                                        const std::string& reference_file,
                                        const LocalizationOptions& options) {
   LocalizationInputs in;
   auto& truth = in.truth;
   truth.poses.assign(steps.size(), std::nullopt);
-  std::optional<mrpt::math::TPose2D> start;
+  std::optional<Pose2> start;
   if (!gt.path.empty() && alignment) {
     truth.kind = "ground_truth";
     truth.file = gt.path_file;
@@ -75,10 +76,10 @@ LocalizationInputs resolveLocalization(const std::vector<Step>& steps, std::size
       truth.landmarks.push_back(alignment->transform.apply(p));
     // The pose before the first step: row 0 (MRPT's layout: the start pose first), or, with one
     // row a step, row 0 taken back by the first step's odometry.
-    mrpt::poses::CPose2D s(gt.path.front());
+    mrpt::poses::CPose2D s(toTPose2D(gt.path.front()));
     if (rows == steps_in_rawlog && !steps.empty() && steps.front().odometry)
-      s = s + (-mrpt::poses::CPose2D(steps.front().odometry->mean));
-    start = alignment->apply(s.asTPose());
+      s = s + (-mrpt::poses::CPose2D(toTPose2D(steps.front().odometry->mean)));
+    start = alignment->apply(toPose2(s.asTPose()));
   } else if (reference) {
     truth.kind = "reference_trajectory";
     truth.file = reference_file;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "budget_slam/core/Error.h"
+#include "budget_slam/core/MrptPose.h"
 
 namespace budget_slam::metrics {
 
@@ -29,8 +30,8 @@ std::size_t groundTruthRow(StepIndex step, std::size_t path_rows, std::size_t st
 dataset::GroundTruth toEstimateFrame(const dataset::GroundTruth& truth) {
   dataset::GroundTruth out = truth;
   if (truth.path.empty()) return out;
-  const mrpt::poses::CPose2D inv = -mrpt::poses::CPose2D(truth.path.front());
-  for (auto& p : out.path) p = (inv + mrpt::poses::CPose2D(p)).asTPose();
+  const mrpt::poses::CPose2D inv = -mrpt::poses::CPose2D(toTPose2D(truth.path.front()));
+  for (auto& p : out.path) p = toPose2((inv + mrpt::poses::CPose2D(toTPose2D(p))).asTPose());
   for (auto& [id, l] : out.landmarks) {
     const auto q = inv + mrpt::poses::CPoint2D(l.x(), l.y());
     l = Eigen::Vector2d(q.x(), q.y());
@@ -69,7 +70,7 @@ GroundTruthErrors groundTruthErrors(const std::vector<TrajectoryPoint>& trajecto
   if (!path.empty()) {
     double sum = 0, mx = 0;
     std::vector<Eigen::Vector2d> est, ref;
-    std::vector<mrpt::math::TPose2D> est_poses, ref_poses;
+    std::vector<Pose2> est_poses, ref_poses;
     for (const auto& p : trajectory) {
       const std::size_t row = groundTruthRow(p.step, path.size(), steps);
       if (row >= path.size()) continue;

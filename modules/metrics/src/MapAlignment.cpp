@@ -5,11 +5,13 @@
 
 #include <cmath>
 
+#include "budget_slam/core/MrptPose.h"
+
 namespace budget_slam::metrics {
 
 double MapAlignment::yaw() const { return std::atan2(transform.R(1, 0), transform.R(0, 0)); }
 
-mrpt::math::TPose2D MapAlignment::apply(const mrpt::math::TPose2D& p) const {
+Pose2 MapAlignment::apply(const Pose2& p) const {
   const Eigen::Vector2d q = transform.apply(Eigen::Vector2d(p.x, p.y));
   return {q.x(), q.y(), mrpt::math::wrapToPi(p.phi + yaw())};
 }
@@ -53,7 +55,7 @@ std::optional<MapAlignment> mapAlignment(const std::vector<LandmarkView>& landma
   }
   if (from.size() >= 2) return std::optional<MapAlignment>(fitted("trajectory"));
   // The map's nominal frame: the true start pose is its origin.
-  const mrpt::poses::CPose2D inv = -mrpt::poses::CPose2D(truth.path.front());
+  const mrpt::poses::CPose2D inv = -mrpt::poses::CPose2D(toTPose2D(truth.path.front()));
   return MapAlignment::fromPose(inv.x(), inv.y(), inv.phi(), "start_pose", 1);
 }
 

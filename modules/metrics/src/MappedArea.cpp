@@ -5,8 +5,7 @@
 
 namespace budget_slam::metrics {
 
-MappedArea::MappedArea(const std::vector<mrpt::math::TPose2D>& path, double cell, double reach)
-    : cell_(cell) {
+MappedArea::MappedArea(const std::vector<Pose2>& path, double cell, double reach) : cell_(cell) {
   const PlaceGrid grid(cell, 1);
   const auto r = static_cast<std::int64_t>(std::ceil(std::max(0.0, reach) / cell));
   std::unordered_set<PlaceKey, PlaceKeyHash> visited;

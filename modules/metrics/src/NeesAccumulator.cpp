@@ -9,7 +9,7 @@
 
 namespace budget_slam::metrics {
 
-double poseNees(const PoseEstimate& estimate, const mrpt::math::TPose2D& truth) {
+double poseNees(const PoseEstimate& estimate, const Pose2& truth) {
   const Eigen::Vector3d e(estimate.mean.x - truth.x, estimate.mean.y - truth.y,
                           mrpt::math::wrapToPi(estimate.mean.phi - truth.phi));
   const Eigen::LDLT<Eigen::Matrix3d> ldlt(estimate.cov);

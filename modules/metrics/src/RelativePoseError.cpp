@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "budget_slam/core/MrptPose.h"
+
 namespace budget_slam::metrics {
 
-RelativePoseError relativePoseError(const std::vector<mrpt::math::TPose2D>& estimate,
-                                    const std::vector<mrpt::math::TPose2D>& truth, double delta) {
+RelativePoseError relativePoseError(const std::vector<Pose2>& estimate,
+                                    const std::vector<Pose2>& truth, double delta) {
   RelativePoseError out;
   const std::size_t n = std::min(estimate.size(), truth.size());
   double sum = 0, mx = 0;
@@ -23,8 +25,10 @@ RelativePoseError relativePoseError(const std::vector<mrpt::math::TPose2D>& esti
     }
     if (j == n) break;  // the path from i never reaches delta, nor from any later pose
     using mrpt::poses::CPose2D;
-    const CPose2D moved_truth = CPose2D(truth[j]) - CPose2D(truth[i]);           // G_i⁻¹ G_j
-    const CPose2D moved_estimate = CPose2D(estimate[j]) - CPose2D(estimate[i]);  // E_i⁻¹ E_j
+    const CPose2D moved_truth =
+        CPose2D(toTPose2D(truth[j])) - CPose2D(toTPose2D(truth[i]));  // G_i⁻¹ G_j
+    const CPose2D moved_estimate =
+        CPose2D(toTPose2D(estimate[j])) - CPose2D(toTPose2D(estimate[i]));  // E_i⁻¹ E_j
     const CPose2D e = moved_estimate - moved_truth;  // (G_i⁻¹ G_j)⁻¹ (E_i⁻¹ E_j)
     const double d = std::hypot(e.x(), e.y());
     sum += d * d;

@@ -5,13 +5,13 @@
 #include "budget_slam/metrics/RelativePoseError.h"
 
 using namespace budget_slam::metrics;
-using mrpt::math::TPose2D;
+using budget_slam::Pose2;
 
 namespace {
 /// 41 poses along +x (or along `yaw`), 1 m apart: 31 stretches of 10 m (i = 0..30, j = i + 10);
 /// poses 31.. start none.
-std::vector<TPose2D> straight(double yaw = 0) {
-  std::vector<TPose2D> p;
+std::vector<Pose2> straight(double yaw = 0) {
+  std::vector<Pose2> p;
   for (int k = 0; k <= 40; ++k) p.push_back({k * std::cos(yaw), k * std::sin(yaw), yaw});
   return p;
 }
@@ -29,7 +29,7 @@ TEST(RelativePoseError, ScaleDriftOfOnePercentIsTenCentimetresPerTenMetres) {
 
 TEST(RelativePoseError, BlindToARigidTransformOfTheWholeEstimate) {
   const auto truth = straight(0.3);
-  std::vector<TPose2D> est;
+  std::vector<Pose2> est;
   const double c = std::cos(0.7), s = std::sin(0.7);
   for (const auto& p : truth)
     est.push_back({5 + c * p.x - s * p.y, -2 + s * p.x + c * p.y, p.phi + 0.7});
@@ -54,7 +54,7 @@ TEST(RelativePoseError, HeadingErrorAtThePairStartTurnsTheStretch) {
   // The estimate turned by 2 degrees about the start: a rigid rotation when the headings turn
   // too; with the headings right, each 10 m stretch ends 2·10·sin(1 deg) m off.
   const auto truth = straight();
-  std::vector<TPose2D> est;
+  std::vector<Pose2> est;
   const double a = 2 * M_PI / 180;
   for (const auto& p : truth) est.push_back({p.x * std::cos(a), p.x * std::sin(a), a});
   // The stretches of the estimate are the truth's turned by a, seen from a pose turned by a: no
@@ -67,7 +67,7 @@ TEST(RelativePoseError, HeadingErrorAtThePairStartTurnsTheStretch) {
 TEST(RelativePoseError, StillStepsPairWithTheEarliestPoseAndShortPathsWithNone) {
   // Standing still for poses 11..14 at 10 m: pose 0's stretch ends at 10, not at a later still
   // pose (whose estimate has drifted on); pose 1 never gets 10 m away.
-  std::vector<TPose2D> truth;
+  std::vector<Pose2> truth;
   for (int k = 0; k <= 10; ++k) truth.push_back({double(k), 0, 0});
   for (int k = 0; k < 4; ++k) truth.push_back({10, 0, 0});
   auto est = truth;

@@ -187,8 +187,8 @@ std::vector<Eviction> BudgetManager::weighNegativeEvidence(Backend& backend, Ste
   if (!negative_ || !processed || !processed->scan) return out;
   const auto& scan = *processed->scan;
   SensorView sensor;
-  sensor.pose_on_robot = mrpt::math::TPose2D(
-      scan.sensor_pose_on_robot.x, scan.sensor_pose_on_robot.y, scan.sensor_pose_on_robot.yaw);
+  sensor.pose_on_robot = Pose2(scan.sensor_pose_on_robot.x, scan.sensor_pose_on_robot.y,
+                               scan.sensor_pose_on_robot.yaw);
   sensor.min_range = scan.min_range;
   sensor.max_range = scan.max_range;
   sensor.fov = scan.fov_yaw;
@@ -215,7 +215,7 @@ void BudgetManager::tellObservations(const Backend& backend, StepIndex step, con
     seen.sensor_max_range = processed->scan->max_range;
     seen.sensor_fov = processed->scan->fov_yaw;
     const auto& s = processed->scan->sensor_pose_on_robot;
-    seen.sensor_pose = mrpt::math::TPose2D(s.x, s.y, s.yaw);
+    seen.sensor_pose = Pose2(s.x, s.y, s.yaw);
     // The landmark of each reading: the backend's association when it gives one (readings
     // without IDs), else the reading's own ID when that landmark is in the map.
     const std::vector<LandmarkId> association = backend.lastAssociation();

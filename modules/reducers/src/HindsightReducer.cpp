@@ -99,7 +99,7 @@ void recordTraversal(const std::string& rawlog, LocalizationInformationReducer& 
       seen.step = step_counter++;
       seen.robot = truth.path[step->index];
       const auto& s = step->scan->sensor_pose_on_robot;
-      seen.sensor_pose = mrpt::math::TPose2D(s.x, s.y, s.yaw);
+      seen.sensor_pose = Pose2(s.x, s.y, s.yaw);
       seen.sensor_max_range = step->scan->max_range;
       seen.sensor_fov = step->scan->fov_yaw;
       for (const auto& r : step->scan->readings)

@@ -12,7 +12,7 @@
 
 #include "ReducerSession.h"
 #include "budget_slam/core/IniSection.h"
-#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/RangeBearingModel.h"
 
 namespace budget_slam::reducers {
@@ -97,7 +97,7 @@ void LocalizationInformationReducer::fixGeometry(const StepObservation& seen) {
 void LocalizationInformationReducer::addReading(std::uint32_t slot, const StepObservation& seen,
                                                 const Sighting& r, bool active) {
   // The landmark where the reading puts it, and the reading's information at that geometry.
-  const Pose2 robot = toPose2(seen.robot), sensor = toPose2(seen.sensor_pose);
+  const Pose2 robot = seen.robot, sensor = seen.sensor_pose;
   const Eigen::Vector2d at = robot.transformFrom(readingPoint(r.range, r.bearing, sensor));
   if (!(r.range > 0) || !at.allFinite()) return;
   const auto H = predictRangeBearing(robot, sensor, at).H_robot;
@@ -230,8 +230,7 @@ const LocalizationInformationReducer::Entry* LocalizationInformationReducer::ent
   return it != p.entries.end() && it->id == id ? &*it : nullptr;
 }
 
-Eigen::Matrix3d LocalizationInformationReducer::placeInformation(
-    const mrpt::math::TPose2D& robot) const {
+Eigen::Matrix3d LocalizationInformationReducer::placeInformation(const Pose2& robot) const {
   refresh();
   const auto slot = grid_ ? slots_.find(grid_->placeOf(robot)) : std::nullopt;
   return slot ? places_[*slot].lambda : prior_;

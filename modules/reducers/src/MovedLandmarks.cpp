@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/RangeBearingModel.h"
 
 namespace budget_slam::reducers {
@@ -83,11 +83,11 @@ MovedScreening MovedLandmarks::screen(const Backend& backend, const Step& step,
   }
 
   // The pose predicted with the step's odometry (first order): x- = x (+) u.
-  const Pose2 x = toPose2(pose.mean);
+  const Pose2 x = pose.mean;
   Pose2 u;
   Eigen::Matrix3d Q = Eigen::Matrix3d::Zero();
   if (step.odometry) {
-    u = toPose2(step.odometry->mean);
+    u = step.odometry->mean;
     Q = step.odometry->cov;
   }
   Eigen::Matrix3d Jx, Ju;

@@ -17,7 +17,7 @@ std::int64_t NegativeEvidence::cellOf(double x, double y) const {
   return index(x) * 4000000001LL + index(y);
 }
 
-bool NegativeEvidence::inView(const mrpt::math::TPose2D& robot, const SensorView& sensor,
+bool NegativeEvidence::inView(const Pose2& robot, const SensorView& sensor,
                               const Eigen::Vector2d& mean) const {
   const double c = std::cos(robot.phi), s = std::sin(robot.phi);
   const auto& p = sensor.pose_on_robot;
@@ -32,8 +32,8 @@ bool NegativeEvidence::inView(const mrpt::math::TPose2D& robot, const SensorView
   return std::abs(bearing) <= sensor.fov / 2 - settings_.fov_margin;
 }
 
-void NegativeEvidence::update(StepIndex step, const mrpt::math::TPose2D& robot,
-                              const SensorView& sensor, const std::vector<LandmarkView>& landmarks,
+void NegativeEvidence::update(StepIndex step, const Pose2& robot, const SensorView& sensor,
+                              const std::vector<LandmarkView>& landmarks,
                               const std::vector<LandmarkId>& observed,
                               const std::set<LandmarkId>& held) {
   const std::set<LandmarkId> seen(observed.begin(), observed.end());

@@ -50,7 +50,7 @@ const OptionTable<PlaceCoverageOptions>& PlaceCoverageOptions::table() {
   return t;
 }
 
-PlaceKey PlaceCoverageReducer::placeOf(const mrpt::math::TPose2D& robot) const {
+PlaceKey PlaceCoverageReducer::placeOf(const Pose2& robot) const {
   return (grid_ ? *grid_ : PlaceGrid(1.0, 1)).placeOf(robot);
 }
 
@@ -137,7 +137,7 @@ std::vector<std::vector<LandmarkId>> PlaceCoverageReducer::placeSightings() cons
   return out;
 }
 
-std::vector<LandmarkId> PlaceCoverageReducer::observedFrom(const mrpt::math::TPose2D& robot) const {
+std::vector<LandmarkId> PlaceCoverageReducer::observedFrom(const Pose2& robot) const {
   const auto slot = slots_.find(placeOf(robot));
   return slot ? places_[*slot].seen : std::vector<LandmarkId>();
 }

@@ -48,7 +48,7 @@ class FakeBackend : public Backend {
       }
   }
   std::map<LandmarkId, double> gains;
-  mrpt::math::TPose2D pose;  ///< what robotPose() reports
+  Pose2 pose;  ///< what robotPose() reports
 
  private:
   std::vector<LandmarkView> lms_;

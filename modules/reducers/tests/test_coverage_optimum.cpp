@@ -70,7 +70,7 @@ TEST(PlaceCoverageOptimum, EqualsExhaustiveOptimumAndBoundsEveryReducer) {
     for (std::size_t p = 0; p < n_places; ++p) {
       StepObservation s;
       s.step = p;
-      s.robot = mrpt::math::TPose2D(static_cast<double>(p) + 0.5, 0.5, 0);
+      s.robot = Pose2(static_cast<double>(p) + 0.5, 0.5, 0);
       s.observed = places[p];
       greedy.observe(s);
     }

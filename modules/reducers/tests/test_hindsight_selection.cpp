@@ -13,7 +13,7 @@
 
 #include "FakeBackend.h"
 #include "budget_slam/core/Error.h"
-#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/RangeBearingModel.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
 #include "budget_slam/reducers/HindsightReducer.h"
@@ -34,9 +34,8 @@ const double kGreedyRatio = 1 - std::exp(-1.0);
 Eigen::Matrix3d prior() { return Eigen::Vector3d(0.04, 0.04, 0.4).asDiagonal(); }
 
 /// The information of one noise-free reading of landmark `l` from `robot` (sensor at the origin).
-Eigen::Matrix3d info(const mrpt::math::TPose2D& robot, const Eigen::Vector2d& l) {
-  return readingInformation(predictRangeBearing(toPose2(robot), {}, l).H_robot, kStdRange,
-                            kStdBearing);
+Eigen::Matrix3d info(const Pose2& robot, const Eigen::Vector2d& l) {
+  return readingInformation(predictRangeBearing(robot, {}, l).H_robot, kStdRange, kStdBearing);
 }
 
 /// `places` places along y = 0, each reading each of `n` landmarks (ids 1..n, in a 10 x 10 m
@@ -49,7 +48,7 @@ std::vector<PlaceReadings> randomPlaces(std::size_t n, std::size_t places, doubl
   for (std::size_t i = 0; i < n; ++i) where.emplace_back(10 * u(rng), 1 + 9 * u(rng));
   std::vector<PlaceReadings> out(places);
   for (std::size_t p = 0; p < places; ++p) {
-    const mrpt::math::TPose2D robot(10.0 * p / places, 0, 2 * M_PI * u(rng));
+    const Pose2 robot(10.0 * p / places, 0, 2 * M_PI * u(rng));
     for (std::size_t i = 0; i < n; ++i)
       if (u(rng) < density) {
         out[p].ids.push_back(static_cast<LandmarkId>(i + 1));
@@ -168,11 +167,11 @@ TEST(HindsightReducer, KeepsTheGreedySelectionOfItsPlacesAfterTheLastStepOnly) {
   for (StepIndex s = 0; s < 20; ++s) {
     StepObservation o;
     o.step = s;
-    o.robot = mrpt::math::TPose2D(s, 0, 0);
+    o.robot = Pose2(s, 0, 0);
     o.sensor_max_range = 8;
     for (const auto& [id, l] : where)
       if ((l - Eigen::Vector2d(s, 0)).norm() < 8) {
-        const Eigen::Vector2d z = predictRangeBearing(toPose2(o.robot), {}, l).z;
+        const Eigen::Vector2d z = predictRangeBearing(o.robot, {}, l).z;
         o.observed.push_back(id);
         o.sightings.push_back({id, z(0), z(1)});
       }

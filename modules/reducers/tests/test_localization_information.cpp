@@ -9,7 +9,7 @@
 
 #include "FakeBackend.h"
 #include "budget_slam/core/Error.h"
-#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/RangeBearingModel.h"
 #include "budget_slam/reducers/BudgetManager.h"
 #include "budget_slam/reducers/BuiltinReducers.h"
@@ -35,8 +35,8 @@ LocalizationInformationOptions options(Objective objective = Objective::SumLogDe
 }
 
 /// A step at robot pose `robot` reading the landmarks `ids` at `where` without noise.
-StepObservation readings(StepIndex step, const mrpt::math::TPose2D& robot,
-                         const mrpt::math::TPose2D& sensor, const std::vector<LandmarkId>& ids,
+StepObservation readings(StepIndex step, const Pose2& robot, const Pose2& sensor,
+                         const std::vector<LandmarkId>& ids,
                          const std::map<LandmarkId, Eigen::Vector2d>& where) {
   StepObservation o;
   o.step = step;
@@ -44,23 +44,22 @@ StepObservation readings(StepIndex step, const mrpt::math::TPose2D& robot,
   o.sensor_pose = sensor;
   o.observed = ids;
   for (const LandmarkId id : ids) {
-    const Eigen::Vector2d z = predictRangeBearing(toPose2(robot), toPose2(sensor), where.at(id)).z;
+    const Eigen::Vector2d z = predictRangeBearing(robot, sensor, where.at(id)).z;
     o.sightings.push_back({id, z(0), z(1)});
   }
   return o;
 }
 
 /// The pose information of one reading by central differences of the reading model [1/m^2...].
-Eigen::Matrix3d numericalInformation(const mrpt::math::TPose2D& robot,
-                                     const mrpt::math::TPose2D& sensor, const Eigen::Vector2d& l) {
+Eigen::Matrix3d numericalInformation(const Pose2& robot, const Pose2& sensor,
+                                     const Eigen::Vector2d& l) {
   Eigen::Matrix<double, 2, 3> J;
   const double h = 1e-6;
   for (int k = 0; k < 3; ++k) {
-    mrpt::math::TPose2D p = robot, m = robot;
+    Pose2 p = robot, m = robot;
     (k == 0 ? p.x : k == 1 ? p.y : p.phi) += h;
     (k == 0 ? m.x : k == 1 ? m.y : m.phi) -= h;
-    Eigen::Vector2d d = predictRangeBearing(toPose2(p), toPose2(sensor), l).z -
-                        predictRangeBearing(toPose2(m), toPose2(sensor), l).z;
+    Eigen::Vector2d d = predictRangeBearing(p, sensor, l).z - predictRangeBearing(m, sensor, l).z;
     d(1) = std::remainder(d(1), 2 * M_PI);
     J.col(k) = d / (2 * h);
   }
@@ -73,7 +72,7 @@ Eigen::Matrix3d numericalInformation(const mrpt::math::TPose2D& robot,
 /// (robot poses along y = 0.5) each reading a random subset of them.
 struct RandomCase {
   std::map<LandmarkId, Eigen::Vector2d> where;
-  std::vector<std::pair<mrpt::math::TPose2D, std::vector<LandmarkId>>> places;
+  std::vector<std::pair<Pose2, std::vector<LandmarkId>>> places;
 };
 
 RandomCase randomCase(std::size_t n, std::uint64_t seed) {
@@ -83,7 +82,7 @@ RandomCase randomCase(std::size_t n, std::uint64_t seed) {
   for (std::size_t i = 0; i < n; ++i)
     c.where[static_cast<LandmarkId>(i + 1)] = Eigen::Vector2d(10 * u(rng), 1 + 9 * u(rng));
   for (int p = 0; p < 8; ++p) {
-    const mrpt::math::TPose2D robot(p + 0.5, 0.5, 2 * M_PI * u(rng));
+    const Pose2 robot(p + 0.5, 0.5, 2 * M_PI * u(rng));
     std::vector<LandmarkId> ids;
     for (const auto& [id, _] : c.where)
       if (u(rng) < 0.45) ids.push_back(id);
@@ -120,7 +119,7 @@ TEST(LocalizationInformationReducer, PlaceInformationEqualsNumericalJacobians) {
   // A sensor 0.3 m ahead of the robot's centre, turned 0.1 rad; three landmarks read from one
   // place: Lambda_p = Lambda_0 + sum of J^T R^-1 J with J by central differences.
   LocalizationInformationReducer r(options(), kStdRange, kStdBearing);
-  const mrpt::math::TPose2D robot(0.4, 0.6, 0.7), sensor(0.3, 0.05, 0.1);
+  const Pose2 robot(0.4, 0.6, 0.7), sensor(0.3, 0.05, 0.1);
   const std::map<LandmarkId, Eigen::Vector2d> where = {{1, {3, 2}}, {2, {-1, 4}}, {3, {2.5, -2}}};
   r.observe(readings(0, robot, sensor, {1, 2, 3}, where));
   Eigen::Matrix3d expected = r.prior();
@@ -259,7 +258,7 @@ TEST(LocalizationInformationReducer, LearnsItsReadingsThroughTheBudgetManager) {
   FakeBackend b({budget_slam::testing::landmark(1, 1, 1, 0, 0),
                  budget_slam::testing::landmark(2, 1, 1, 0, 0),
                  budget_slam::testing::landmark(3, 1, 1, 0, 0)});
-  b.pose = mrpt::math::TPose2D(0.5, 0.5, 0);
+  b.pose = Pose2(0.5, 0.5, 0);
   const std::map<LandmarkId, Eigen::Vector2d> where = {
       {1, {3.5, 0.5}}, {2, {3.6, 0.5}}, {3, {0.5, 3.6}}};
   Step step;
@@ -268,7 +267,7 @@ TEST(LocalizationInformationReducer, LearnsItsReadingsThroughTheBudgetManager) {
   step.scan->max_range = 8;
   step.scan->fov_yaw = 2 * M_PI;
   for (LandmarkId id = 1; id <= 3; ++id) {
-    const Eigen::Vector2d z = predictRangeBearing(toPose2(b.pose), {0, 0, 0}, where.at(id)).z;
+    const Eigen::Vector2d z = predictRangeBearing(b.pose, {0, 0, 0}, where.at(id)).z;
     step.scan->readings.push_back({id, z(0), z(1), 0});
     b.see(id, 0);
   }
@@ -290,7 +289,7 @@ TEST(LocalizationInformationReducer, ALandmarkThatComesBackCountsEveryPlaceItWas
     LocalizationInformationReducer r(o, kStdRange, kStdBearing);
     for (StepIndex k = 0; k < 4; ++k) {
       StepObservation seen = readings(k, {k + 0.5, 0.5, 0.7}, {}, {1}, where);
-      const Eigen::Vector2d z = predictRangeBearing(toPose2(seen.robot), {}, where.at(9)).z;
+      const Eigen::Vector2d z = predictRangeBearing(seen.robot, {}, where.at(9)).z;
       seen.withheld.push_back({9, z(0), z(1)});
       r.observe(seen);
     }
@@ -458,14 +457,14 @@ TEST(LocalizationInformationReducer, SecondLandmarkAdmissionThroughTheManagerUnd
                    budget_slam::testing::landmark(2, 1, 1, 0, 0),
                    budget_slam::testing::landmark(3, 1, 1, 0, 0)});
     const auto play = [&](StepIndex k, const std::vector<LandmarkId>& ids) {
-      b.pose = mrpt::math::TPose2D(k + 0.5, 0.5, 0);
+      b.pose = Pose2(k + 0.5, 0.5, 0);
       Step step;
       step.index = k;
       step.scan.emplace();
       step.scan->max_range = 20;
       step.scan->fov_yaw = 2 * M_PI;
       for (const LandmarkId id : ids) {
-        const Eigen::Vector2d z = predictRangeBearing(toPose2(b.pose), {0, 0, 0}, where.at(id)).z;
+        const Eigen::Vector2d z = predictRangeBearing(b.pose, {0, 0, 0}, where.at(id)).z;
         step.scan->readings.push_back({id, z(0), z(1), 0});
         b.see(id, k);
       }

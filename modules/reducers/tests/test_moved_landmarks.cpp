@@ -76,7 +76,7 @@ const std::vector<Eigen::Vector3d> kPlaces = {{0, 0, 0}, {1.5, 0, 0.3}, {0, 1.5,
 /// Screens one step from `robot` (where the map also believes it) of `world`.
 MovedScreening screenAt(MovedLandmarks& moved, Map& map, const Eigen::Vector3d& robot,
                         const std::vector<Eigen::Vector2d>& world, StepIndex index) {
-  map.pose = mrpt::math::TPose2D(robot.x(), robot.y(), robot.z());
+  map.pose = Pose2(robot);
   return moved.screen(map, scanFrom(robot, world, index), std::nullopt);
 }
 
@@ -120,7 +120,7 @@ TEST(MovedLandmarks, APoseErrorMovesEveryReadingAndIsNoEvidence) {
   Map map;
   for (StepIndex k = 0; k < 3; ++k) {
     // The robot is 0.5 m and 5 degrees from where the map believes it: every reading is off.
-    map.pose = mrpt::math::TPose2D(kPlaces[k].x(), kPlaces[k].y(), kPlaces[k].z());
+    map.pose = Pose2(kPlaces[k]);
     const Eigen::Vector3d truly = kPlaces[k] + Eigen::Vector3d(0.5, 0, 5 * M_PI / 180);
     const MovedScreening s = moved.screen(map, scanFrom(truly, kWorld, k), std::nullopt);
     EXPECT_TRUE(s.held.empty());
@@ -159,7 +159,7 @@ TEST(MovedLandmarks, NeedsTwoOtherLandmarksThatAgree) {
   Map map;
   // Only landmarks 1 and 5 in view: one other landmark agrees, fewer than min_agreeing = 2.
   for (StepIndex k = 0; k < 3; ++k) {
-    map.pose = mrpt::math::TPose2D(kPlaces[k].x(), kPlaces[k].y(), kPlaces[k].z());
+    map.pose = Pose2(kPlaces[k]);
     Step step = scanFrom(kPlaces[k], movedWorld({1, 0}), k);
     auto& r = step.scan->readings;
     r.erase(r.begin() + 1, r.begin() + 4);
@@ -179,7 +179,7 @@ TEST(MovedLandmarks, TheBudgetRemovesItBeforeTheStepAndLogsItMoved) {
   Map map;
   const auto world = movedWorld({1, 0});
   for (StepIndex k = 0; k < 2; ++k) {
-    map.pose = mrpt::math::TPose2D(kPlaces[k].x(), kPlaces[k].y(), kPlaces[k].z());
+    map.pose = Pose2(kPlaces[k]);
     const Step fused = manager.admit(map, scanFrom(kPlaces[k], world, k));
     ASSERT_EQ(fused.scan->readings.size(), 4u);  // landmark 5's reading held
     for (const auto& r : fused.scan->readings) EXPECT_NE(r.id, 5);
@@ -192,7 +192,7 @@ TEST(MovedLandmarks, TheBudgetRemovesItBeforeTheStepAndLogsItMoved) {
   BudgetManager resumed(options, nullptr);
   resumed.restoreSession(state);
   ASSERT_EQ(resumed.movedLandmarks()->suspects().at(5).size(), 2u);
-  map.pose = mrpt::math::TPose2D(kPlaces[2].x(), kPlaces[2].y(), kPlaces[2].z());
+  map.pose = Pose2(kPlaces[2]);
   const Step fused = resumed.admit(map, scanFrom(kPlaces[2], world, 2));
   EXPECT_FALSE(map.has(5));                    // removed before the step is fused
   EXPECT_EQ(fused.scan->readings.size(), 5u);  // its reading starts the new landmark
@@ -214,7 +214,7 @@ TEST(MovedLandmarks, OffFusesEveryReading) {
   BudgetManager manager(options, nullptr);
   Map map;
   for (StepIndex k = 0; k < 3; ++k) {
-    map.pose = mrpt::math::TPose2D(kPlaces[k].x(), kPlaces[k].y(), kPlaces[k].z());
+    map.pose = Pose2(kPlaces[k]);
     EXPECT_EQ(manager.admit(map, scanFrom(kPlaces[k], movedWorld({1, 0}), k)).scan->readings.size(),
               5u);
   }

@@ -16,7 +16,6 @@ using namespace budget_slam;
 using namespace budget_slam::reducers;
 using budget_slam::testing::FakeBackend;
 using budget_slam::testing::landmark;
-using mrpt::math::TPose2D;
 
 namespace {
 
@@ -40,7 +39,7 @@ LandmarkView at(LandmarkId id, double x, double y, StepIndex last = 0) {
 TEST(NegativeEvidence, CountsOneMissAPassThroughViewAndASightingClearsThem) {
   NegativeEvidence ne({});  // K = 2, 2 unseen steps make a pass a miss, 0.5 m cells
   const std::vector<LandmarkView> map = {at(7, 2, 0)};
-  const TPose2D facing(0.1, 0.1, 0), away(0.1, 0.1, M_PI);
+  const Pose2 facing(0.1, 0.1, 0), away(0.1, 0.1, M_PI);
   ne.update(0, facing, halfCircle(), map, {7});  // seen from this place: its view is clear
   EXPECT_EQ(ne.records().at(7).misses, 0u);
   StepIndex k = 1;
@@ -69,11 +68,11 @@ TEST(NegativeEvidence, OutOfViewOrFromAPlaceItWasNeverSeenFromIsNoMiss) {
   NegativeEvidence ne({});
   // Landmark 1 ahead at 2 m; landmark 2 behind the robot; landmark 3 beyond the range.
   const std::vector<LandmarkView> map = {at(1, 2, 0), at(2, -2, 0), at(3, 4.5, 0)};
-  const TPose2D here(0.1, 0.1, 0);
+  const Pose2 here(0.1, 0.1, 0);
   ne.update(0, here, halfCircle(), map, {1, 2, 3});  // all seen once from here (e.g. turning)
   for (StepIndex k = 1; k < 20; ++k) {
     // Turn away every fifth step so that passes end and new ones begin.
-    const TPose2D pose = k % 5 == 0 ? TPose2D(0.1, 0.1, M_PI / 2) : here;
+    const Pose2 pose = k % 5 == 0 ? Pose2(0.1, 0.1, M_PI / 2) : here;
     ne.update(k, pose, halfCircle(), map, {1});
   }
   EXPECT_EQ(ne.records().at(1).misses, 0u);
@@ -81,10 +80,10 @@ TEST(NegativeEvidence, OutOfViewOrFromAPlaceItWasNeverSeenFromIsNoMiss) {
   EXPECT_EQ(ne.records().at(3).misses, 0u);  // out of range
   // From another place (2 m to the side, a wall between, say) landmark 1 is in range and in the
   // field of view but was never seen from there: not observed there is no evidence.
-  const TPose2D beside(1.1, -1.6, M_PI / 2);
+  const Pose2 beside(1.1, -1.6, M_PI / 2);
   ASSERT_TRUE(ne.inView(beside, halfCircle(), map[0].mean));
   for (StepIndex k = 20; k < 40; ++k)
-    ne.update(k, k % 5 == 0 ? TPose2D(1.1, -1.6, -M_PI / 2) : beside, halfCircle(), map, {});
+    ne.update(k, k % 5 == 0 ? Pose2(1.1, -1.6, -M_PI / 2) : beside, halfCircle(), map, {});
   EXPECT_EQ(ne.records().at(1).misses, 0u);
   EXPECT_TRUE(ne.distrusted().empty());
   // Margins: a landmark just inside the range limit or the field of view's edge is not expected.
@@ -110,7 +109,7 @@ TEST(NegativeEvidence, ARemovedLandmarkIsDroppedFirstOnceMissedInView) {
     LandmarkView vague = at(1, 2, 0.5);
     vague.cov *= 100;
     FakeBackend backend({vague, at(2, 2, -0.5), at(3, 2.5, 0), at(4, 1.5, 0)});
-    backend.pose = TPose2D(0.1, 0.1, 0);
+    backend.pose = Pose2(0.1, 0.1, 0);
     Step step;
     step.scan = RangeBearingScan();
     step.scan->min_range = 0.2;

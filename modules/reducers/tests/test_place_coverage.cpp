@@ -28,7 +28,7 @@ PlaceCoverageOptions placeOptions(std::size_t k) {
 StepObservation at(StepIndex step, double x, std::vector<LandmarkId> seen) {
   StepObservation o;
   o.step = step;
-  o.robot = mrpt::math::TPose2D(x, 0.5, 0);
+  o.robot = Pose2(x, 0.5, 0);
   o.observed = std::move(seen);
   return o;
 }
@@ -53,7 +53,7 @@ FakeBackend roomsWithRobotInRoom1(BudgetManager& manager) {
   FakeBackend b({});
   for (LandmarkId id = 1; id <= 6; ++id) b.add(landmark(id, 0.05, 0.05, 0, 0));
   for (StepIndex s = 0; s < 8; ++s) {
-    b.pose = mrpt::math::TPose2D(0.5 * static_cast<double>(s), 0.5, 0);
+    b.pose = Pose2(0.5 * static_cast<double>(s), 0.5, 0);
     for (LandmarkId id = 1; id <= 6; ++id) b.see(id, s);
     EXPECT_TRUE(manager.enforce(b, s).empty());
   }
@@ -62,14 +62,14 @@ FakeBackend roomsWithRobotInRoom1(BudgetManager& manager) {
   for (StepIndex s = 20; s < 24; ++s) {
     const bool first_half = s < 22;
     if (s == 22) b.add(landmark(9, 0.5, 0.5, 22, 22));
-    b.pose = mrpt::math::TPose2D(first_half ? 30.5 : 31.5, 0.5, 0);
+    b.pose = Pose2(first_half ? 30.5 : 31.5, 0.5, 0);
     for (const LandmarkId id :
          first_half ? std::vector<LandmarkId>{7, 8} : std::vector<LandmarkId>{8, 9})
       b.see(id, s);
     EXPECT_TRUE(manager.enforce(b, s).empty());
   }
   for (StepIndex s = 30; s < 35; ++s) {
-    b.pose = mrpt::math::TPose2D(1.5, 0.5, 0);
+    b.pose = Pose2(1.5, 0.5, 0);
     for (LandmarkId id = 1; id <= 6; ++id) b.see(id, s);
     EXPECT_TRUE(manager.enforce(b, s).empty());
   }
@@ -227,7 +227,7 @@ TEST(PlaceCoverageReducer, SpreadTieBreakAdmitsANewcomerAwayFromTheKeptOnesRefus
     // Kept: 1 and 2 half a metre apart, 3 ten metres away; all converged.
     FakeBackend b({landmarkAt(1, 0.0, 0), landmarkAt(2, 0.5, 0), landmarkAt(3, 10.0, 0)});
     b.gains = {{1, 6.0}, {2, 5.0}, {3, 7.0}, {4, 0.5}, {5, 0.5}};
-    b.pose = mrpt::math::TPose2D(0.5, 0.5, 0);
+    b.pose = Pose2(0.5, 0.5, 0);
     for (StepIndex s = 0; s < 10; ++s) {
       for (LandmarkId id = 1; id <= 3; ++id) b.see(id, s);
       EXPECT_TRUE(manager.enforce(b, s).empty());
@@ -288,7 +288,7 @@ TEST(PlaceCoverageReducer, PlacesAreBoundedAndHeadingSectorsSplitACell) {
   from_sensor.observe(s);
   EXPECT_DOUBLE_EQ(from_sensor.placeSize(), 2.0);
   EXPECT_EQ(from_sensor.headingSectors(), 4u);
-  const auto facing = [](double yaw) { return mrpt::math::TPose2D(0.5, 0.5, yaw); };
+  const auto facing = [](double yaw) { return Pose2(0.5, 0.5, yaw); };
   EXPECT_EQ(from_sensor.observedFrom(facing(0.1)), std::vector<LandmarkId>{1});
   EXPECT_TRUE(from_sensor.observedFrom(facing(M_PI)).empty());  // facing away: another place
 }

@@ -19,6 +19,7 @@
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/FileWrite.h"
 #include "budget_slam/core/Gzip.h"
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/Text.h"
 
 namespace budget_slam::report {
@@ -51,8 +52,8 @@ double niceSpacing(double extent) {
   return 10 * p;
 }
 
-CSetOfLines::Ptr polyline(const std::vector<mrpt::math::TPose2D>& poses, const char* name, float r,
-                          float g, float b, float width) {
+CSetOfLines::Ptr polyline(const std::vector<Pose2>& poses, const char* name, float r, float g,
+                          float b, float width) {
   auto lines = CSetOfLines::Create();
   lines->setName(name);
   lines->setColor(r, g, b);
@@ -69,7 +70,7 @@ std::string scene_names::keptLandmark(long long id, int cluster) {
          (cluster >= 0 ? ", coverage cluster " + std::to_string(cluster) : std::string());
 }
 
-COpenGLScene::Ptr buildMapScene(const MapContent& c, const mrpt::math::TPose2D& robot) {
+COpenGLScene::Ptr buildMapScene(const MapContent& c, const Pose2& robot) {
   Bounds b;
   for (const auto& p : c.trajectory) b.add(p.x, p.y);
   for (const auto& p : c.ground_truth_path) b.add(p.x, p.y);
@@ -163,7 +164,7 @@ COpenGLScene::Ptr buildMapScene(const MapContent& c, const mrpt::math::TPose2D& 
   {
     auto r = stock_objects::RobotPioneer();
     r->setName(scene_names::kRobot);
-    r->setPose(robot);
+    r->setPose(toTPose2D(robot));
     // The Pioneer model is about 0.5 m long; scaled so that it shows on maps of any size.
     const float s = static_cast<float>(std::max(1.0, extent / 40.0));
     r->setScale(s);
@@ -181,8 +182,7 @@ COpenGLScene::Ptr buildMapScene(const MapContent& c, const mrpt::math::TPose2D& 
   return scene_ptr;
 }
 
-void writeMapScene(const std::string& path, const MapContent& content,
-                   const mrpt::math::TPose2D& robot) {
+void writeMapScene(const std::string& path, const MapContent& content, const Pose2& robot) {
   const auto scene = buildMapScene(content, robot);
   // The bytes COpenGLScene::saveToFile writes (the serialized scene, gzip-compressed), made in
   // memory (zlib, no temporary file) and written with a checked atomic write: a full disk is an

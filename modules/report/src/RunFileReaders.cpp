@@ -173,7 +173,7 @@ std::vector<TrajectoryPoint> readTrajectoryTum(const std::string& path, std::siz
     // Yaw of the quaternion's rotation (about z for every budget-slam trajectory).
     const double yaw =
         std::atan2(2 * (v[7] * v[6] + v[4] * v[5]), 1 - 2 * (v[5] * v[5] + v[6] * v[6]));
-    out.push_back({out.size(), v[0], mrpt::math::TPose2D(v[1], v[2], yaw)});
+    out.push_back({out.size(), v[0], Pose2(v[1], v[2], yaw)});
   }
   return out;
 }

@@ -107,7 +107,7 @@ void RunOutputs::writeState(const Backend& backend, StepIndex step) const {
 }
 
 void RunOutputs::writeScene(const std::string& name, const MapContent& map,
-                            const mrpt::math::TPose2D& robot) const {
+                            const Pose2& robot) const {
   writeMapScene(folder_.file(name), map, robot);
 }
 

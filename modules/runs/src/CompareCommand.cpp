@@ -70,14 +70,14 @@ std::vector<RelocalizationResult> relocalizeMaps(
     std::vector<report::ComparisonRow>& rows, CompareOutcome& outcome, ProgressReporter& progress) {
   // One mapped area for every map (the reference run's path, when it ended ok), so that every
   // map is scored on the same steps.
-  std::vector<mrpt::math::TPose2D> reference_path;
+  std::vector<Pose2> reference_path;
   if (compared.front()->ok())
     for (const auto& p : compared.front()->driver->backend().trajectory())
       reference_path.push_back(p.pose);
   std::vector<MapOfRun> maps;
   for (const auto& r : compared)
     if (r->ok()) {
-      std::vector<mrpt::math::TPose2D> own;
+      std::vector<Pose2> own;
       if (reference_path.empty())
         for (const auto& p : r->driver->backend().trajectory()) own.push_back(p.pose);
       maps.push_back({r->name, r->driver->folder().path(), r->driver->backend().landmarks(),

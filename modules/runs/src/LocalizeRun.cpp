@@ -43,7 +43,7 @@ LocalizationWakeUp wakeUpBlock(const wakeup::WakeUpRun& w, const wakeup::WakeUpO
 
 }  // namespace
 
-mrpt::math::TPose2D parseStartPose(const std::string& text) {
+Pose2 parseStartPose(const std::string& text) {
   const std::string what = "--start-pose '" + printable(text) + "'";
   std::stringstream ss(text);
   std::vector<double> v;
@@ -118,7 +118,7 @@ bool readInputs(const LocalizeRequest& cli, std::ostream& progress_out, Localize
 /// it is asked for or nothing else gives one; `wake` gets its block. Found or not, the wake-up's
 /// run; nullopt when it was not needed.
 std::optional<wakeup::WakeUpRun> wakeUpIfNeeded(const LocalizeRequest& cli, const RunHooks& hooks,
-                                                const std::optional<mrpt::math::TPose2D>& given,
+                                                const std::optional<Pose2>& given,
                                                 const LocalizeInputs& in,
                                                 std::optional<LocalizationWakeUp>& wake) {
   // No start pose anywhere (no --start-pose, no ground truth in the map's frame, no reference):
@@ -238,7 +238,7 @@ LocalizeReport localize(const LocalizeRequest& request, RequestContext context,
       return ended(life.endInterrupted(" while reading the rawlog"));
     report.map_landmarks = in.map.landmarks.size();
 
-    std::optional<mrpt::math::TPose2D> given;
+    std::optional<Pose2> given;
     if (cli.start_pose) given = parseStartPose(*cli.start_pose);
     const auto woke = wakeUpIfNeeded(cli, hooks, given, in, wake);
     if (woke && !woke->found()) {

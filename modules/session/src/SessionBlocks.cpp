@@ -191,7 +191,7 @@ void readRobot(const SessionSection& s, const LandmarkBlock& map, RobotBlock* ro
       s.fail("cross_covariance",
              "the joint covariance of the robot and the landmarks is not positive definite");
   }
-  robot->pose.mean = mrpt::math::TPose2D(mean[0], mean[1], mean[2]);
+  robot->pose.mean = Pose2(mean[0], mean[1], mean[2]);
   robot->pose.cov = cov;
   robot->cross_covariance = cross;
 }

@@ -55,7 +55,7 @@ inline SessionState sampleState(std::size_t n = 3, bool with_robot = true, unsig
   s.map.covariance = joint.bottomRightCorner(2 * n, 2 * n);
   if (with_robot) {
     RobotBlock r;
-    r.pose.mean = mrpt::math::TPose2D(1.0 / 3.0, -2.5, 0.7);
+    r.pose.mean = Pose2(1.0 / 3.0, -2.5, 0.7);
     r.pose.cov = joint.topLeftCorner(3, 3);
     r.cross_covariance = joint.topRightCorner(3, 2 * n);
     s.robot = r;

@@ -43,7 +43,7 @@
 #include <tuple>
 
 #include "budget_slam/core/Error.h"
-#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/Text.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/dataset/RawlogReader.h"
@@ -161,8 +161,8 @@ int main(int argc, char** argv) {
     const auto map =
         report::readLandmarksCsv((fs::path(args.map) / "landmarks.csv").string(), 100000);
     const auto steps = dataset::readAllSteps(args.rawlog);
-    std::function<mrpt::math::TPose2D(StepIndex)> trueAt;
-    std::map<double, mrpt::math::TPose2D> by_time;
+    std::function<Pose2(StepIndex)> trueAt;
+    std::map<double, Pose2> by_time;
     dataset::GroundTruth truth;
     metrics::MapAlignment alignment;
     if (!args.reference.empty()) {
@@ -189,7 +189,7 @@ int main(int argc, char** argv) {
     double reach = 0;
     const fs::path tum = fs::path(args.map) / "trajectory.tum";
     if (fs::exists(tum)) {
-      std::vector<mrpt::math::TPose2D> mapping_path;
+      std::vector<Pose2> mapping_path;
       for (const auto& p : report::readTrajectoryTum(tum.string(), 10000000))
         mapping_path.push_back(p.pose);
       const auto scan =
@@ -218,10 +218,10 @@ int main(int argc, char** argv) {
     // error against the world. None without true landmarks or with fewer than two near.
     std::map<LandmarkId, Eigen::Vector2d> true_landmarks;
     for (const auto& [id, p] : truth.landmarks) {
-      const auto a = alignment.apply(mrpt::math::TPose2D(p.x(), p.y(), 0));
+      const auto a = alignment.apply(Pose2(p.x(), p.y(), 0));
       true_landmarks[id] = Eigen::Vector2d(a.x, a.y);
     }
-    const auto onTheMap = [&](const mrpt::math::TPose2D& t) -> std::optional<Pose2> {
+    const auto onTheMap = [&](const Pose2& t) -> std::optional<Pose2> {
       if (true_landmarks.empty() || !(reach > 0)) return std::nullopt;
       std::vector<Eigen::Vector2d> from, to;
       for (const auto& l : map) {
@@ -235,7 +235,7 @@ int main(int argc, char** argv) {
       if (from.size() < 2) return std::nullopt;
       const auto m = wakeup::fitRigid(from, to, std::vector<double>(from.size(), 1.0));
       if (!m) return std::nullopt;
-      return compose(*m, toPose2(t));
+      return compose(*m, t);
     };
 
     struct Tally {

@@ -6,7 +6,7 @@
 #include <set>
 
 #include "budget_slam/core/Cancellation.h"
-#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/wakeup/PoseFit.h"
 #include "budget_slam/wakeup/WindowFit.h"
 
@@ -195,7 +195,7 @@ WakeUpResult GlobalLocalizer::refineAndJudge(std::optional<Pose2> start,
   WakeUpResult r;
   r.inliers = pairs.size();
   r.landmarks = distinctLandmarks(pairs);
-  r.pose.mean = toTPose2D(ref.pose);
+  r.pose.mean = ref.pose;
   r.pose.cov = ref.cov;
   // Unit-free rank test: the information scaled to a unit diagonal.
   const Eigen::Vector3d d = ref.information.diagonal();

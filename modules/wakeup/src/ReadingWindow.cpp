@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "budget_slam/core/MrptPose.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/RangeBearingModel.h"
 
 namespace budget_slam::wakeup {
@@ -16,7 +16,7 @@ void ReadingWindow::add(const Step& step) {
   Gathered g;
   g.index = step.index;
   if (step.odometry) {
-    g.odometry = toPose2(step.odometry->mean);
+    g.odometry = step.odometry->mean;
     g.odometry_cov = step.odometry->cov;
   } else {
     const double sxy = options_.no_odometry_std_xy;

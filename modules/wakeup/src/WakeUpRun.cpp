@@ -68,7 +68,7 @@ WakeUpRun wakeUpOver(const std::vector<LandmarkView>& map, const std::function<c
   return run;
 }
 
-WakeUpError wakeUpError(const PoseEstimate& found, const mrpt::math::TPose2D& truth) {
+WakeUpError wakeUpError(const PoseEstimate& found, const Pose2& truth) {
   return {std::hypot(found.mean.x - truth.x, found.mean.y - truth.y),
           std::abs(wrapAngle(found.mean.phi - truth.phi)) * 180 / M_PI};
 }

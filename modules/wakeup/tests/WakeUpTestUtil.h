@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
-#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/Step.h"
 
@@ -54,7 +53,7 @@ inline std::vector<Step> stepsAlong(const std::vector<Pose2>& path,
       OdometryIncrement o;
       Pose2 u = between(path[k - 1], path[k]);
       u = Pose2(u.vector() + Eigen::Vector3d(g(rng), g(rng), g(rng) * 0.1) * odo_std);
-      o.mean = toTPose2D(u);
+      o.mean = u;
       const double v = std::max(odo_std * odo_std, 1e-8);
       o.cov = Eigen::Vector3d(v, v, v * 0.01).asDiagonal();
       s.odometry = o;

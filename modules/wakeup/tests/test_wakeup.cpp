@@ -43,7 +43,7 @@ const ReadingNoise kNoise{0.05, 0.5 * M_PI / 180};
 std::pair<double, double> errorOf(const WakeUpResult& r, const std::vector<Pose2>& path,
                                   StepIndex first = 0) {
   const Pose2& t = path[r.step - first];
-  const Pose2 p = toPose2(r.pose.mean);
+  const Pose2 p = r.pose.mean;
   return {(p.translation() - t.translation()).norm(),
           std::abs(wrapAngle(p.phi - t.phi)) * 180 / M_PI};
 }

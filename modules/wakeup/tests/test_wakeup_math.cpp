@@ -31,7 +31,7 @@ TEST(WakeUpMath, OdometryChainCovarianceMatchesNumericalPropagation) {
     steps[k].index = 10 + k;
     if (k > 0) {
       OdometryIncrement o;
-      o.mean = toTPose2D(u[k - 1]);
+      o.mean = u[k - 1];
       o.cov = cov[k - 1];
       steps[k].odometry = o;
     }

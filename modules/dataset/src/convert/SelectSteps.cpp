@@ -16,9 +16,9 @@ ConvertedDataset selectSteps(ConvertedDataset d, std::size_t from, std::size_t t
   for (std::size_t k = 0; k < kept.size(); ++k) kept[k].index = k;
   // The path's row k + 1 is the pose of step k, row 0 the start: rows from .. to.
   if (d.ground_truth.path.size() == n + 1)
-    d.ground_truth.path = std::vector<mrpt::math::TPose2D>(
-        d.ground_truth.path.begin() + static_cast<long>(from),
-        d.ground_truth.path.begin() + static_cast<long>(to) + 1);
+    d.ground_truth.path =
+        std::vector<Pose2>(d.ground_truth.path.begin() + static_cast<long>(from),
+                           d.ground_truth.path.begin() + static_cast<long>(to) + 1);
   d.steps = std::move(kept);
   d.notes.push_back("Steps " + std::to_string(from) + " to " + std::to_string(to - 1) + " of the " +
                     std::to_string(n) + " converted (--steps " + std::to_string(from) + ":" +

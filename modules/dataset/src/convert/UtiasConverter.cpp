@@ -11,6 +11,7 @@
 #include "ConvertCommon.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/InputLimits.h"
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/dataset/Converters.h"
 #include "budget_slam/dataset/StepToMrpt.h"
 
@@ -282,11 +283,11 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
   ConvertedDataset out;
   // Ground truth in the frame of the true start pose (the filter starts at the origin).
   const CPose2D start = groundTruthAt(gt, t0);
-  out.ground_truth.path.push_back(mrpt::math::TPose2D(0, 0, 0));
+  out.ground_truth.path.push_back(Pose2(0, 0, 0));
   std::vector<CPose2D> true_at;
   for (double t : times) {
     true_at.push_back(groundTruthAt(gt, t) - start);
-    out.ground_truth.path.push_back(true_at.back().asTPose());
+    out.ground_truth.path.push_back(toPose2(true_at.back().asTPose()));
   }
   for (const auto& [id, p] : landmarks_world) {
     const auto local = mrpt::poses::CPoint2D(p.x(), p.y()) - start;
@@ -337,7 +338,7 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
   prev_t = t0;
   for (std::size_t k = 0; k < times.size(); ++k) {
     OdometryIncrement o;
-    o.mean = inc[k].asTPose();
+    o.mean = toPose2(inc[k].asTPose());
     const double dt = times[k] - prev_t;
     // At least 1e-6 m / rad std, so that the zero first step stays invertible for a graph.
     o.cov = Eigen::Vector3d(std::max(qxy * dt, 1e-12), std::max(qxy * dt, 1e-12),
@@ -357,7 +358,8 @@ ConvertedDataset convertUtias(const std::string& folder, int robot, int frame_ro
   // by one is the frame the others' ground truth is compared in).
   if (frame_robot != 0) {
     const CPose2D frame = trueStartPose(files.frame, subject_of);
-    for (auto& p : out.ground_truth.path) p = ((start + CPose2D(p)) - frame).asTPose();
+    for (auto& p : out.ground_truth.path)
+      p = toPose2(((start + CPose2D(toTPose2D(p))) - frame).asTPose());
     for (auto& [id, l] : out.ground_truth.landmarks) {
       const auto q = (start + mrpt::poses::CPoint2D(l.x(), l.y())) - frame;
       l = Eigen::Vector2d(q.x(), q.y());

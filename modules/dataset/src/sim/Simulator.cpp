@@ -13,6 +13,7 @@
 #include "budget_slam/core/Cancellation.h"
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/InputLimits.h"
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/dataset/DatasetFiles.h"
 #include "budget_slam/dataset/RawlogWriter.h"
 #include "budget_slam/dataset/Sessions.h"
@@ -116,7 +117,7 @@ void Simulator::run(const std::function<void(const Step&)>& sink) {
   const CPose2D sensor_on_robot(m.noise.sensor_pose_on_robot.x, m.noise.sensor_pose_on_robot.y,
                                 m.noise.sensor_pose_on_robot.yaw);
   CPose2D pose(sc.start.x(), sc.start.y(), sc.start_yaw);
-  m.gt.path.assign(1, pose.asTPose());
+  m.gt.path.assign(1, toPose2(pose.asTPose()));
   m.steps = m.readings = 0;
   m.length = 0;
   int lap = 0;
@@ -133,10 +134,10 @@ void Simulator::run(const std::function<void(const Step&)>& sink) {
     m.length += std::hypot(inc.x(), inc.y());
     // A robot standing still reads no motion (as in MRPT's simul-landmarks).
     const bool still = inc.x() == 0 && inc.y() == 0 && inc.phi() == 0;
-    odo.mean = still ? mrpt::math::TPose2D(0, 0, 0)
-                     : mrpt::math::TPose2D(inc.x() + rng.normal(m.odo_std_xy),
-                                           inc.y() + rng.normal(m.odo_std_xy),
-                                           inc.phi() + rng.normal(m.odo_std_yaw));
+    odo.mean = toPose2(still ? mrpt::math::TPose2D(0, 0, 0)
+                             : mrpt::math::TPose2D(inc.x() + rng.normal(m.odo_std_xy),
+                                                   inc.y() + rng.normal(m.odo_std_xy),
+                                                   inc.phi() + rng.normal(m.odo_std_yaw)));
     RangeBearingScan scan;
     scan.sensor_pose_on_robot = m.noise.sensor_pose_on_robot;
     scan.min_range = m.noise.min_range;
@@ -167,7 +168,7 @@ void Simulator::run(const std::function<void(const Step&)>& sink) {
     m.readings += scan.readings.size();
     const StepIndex k = m.steps++;
     sink(makeStep(k, static_cast<double>(k + 1) * m.options.dt, odo, scan));
-    m.gt.path.push_back(pose.asTPose());
+    m.gt.path.push_back(toPose2(pose.asTPose()));
   };
 
   // Step 0 stands still at the start pose: MRPT's 2D EKF does not predict while its map is
@@ -210,7 +211,8 @@ std::vector<std::string> Simulator::notes() const {
   };
   if (o.route == SimulationOptions::Route::Revisit)
     n.push_back(
-        "Revisit route: the world, landmark ids and frame of --route default (whose start pose is "
+        "Revisit route: the world, landmark ids and frame of --route default (whose start pose "
+        "is "
         "the origin); this path starts at (" +
         num(m.scenario.start.x()) + ", " + num(m.scenario.start.y()) + ") m, yaw " +
         num(m.scenario.start_yaw / kDeg) + " deg, with another noise stream.");

@@ -1,10 +1,9 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
-
 #include <Eigen/Core>
 #include <cstddef>
 
 #include "budget_slam/core/Ids.h"
+#include "budget_slam/core/Pose2.h"
 
 namespace budget_slam {
 
@@ -23,7 +22,7 @@ struct LandmarkView {
 
 /// Robot pose mean and its 3x3 marginal covariance (x, y, yaw).
 struct PoseEstimate {
-  mrpt::math::TPose2D mean;
+  Pose2 mean;
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
 };
 
@@ -32,7 +31,7 @@ struct PoseEstimate {
 struct TrajectoryPoint {
   StepIndex step = 0;
   double t = 0;  ///< [s]
-  mrpt::math::TPose2D pose;
+  Pose2 pose;
 };
 
 /// A variable of the estimate, for joint covariances.

@@ -1,6 +1,8 @@
 #pragma once
-// The pose type at MRPT's boundary: where an MRPT call or a core interface still holds an
-// mrpt::math::TPose2D, the pose is converted here and nowhere else.
+// The pose type at MRPT's boundary: every interface of the project holds a Pose2; where an MRPT
+// call takes or gives an mrpt::math::TPose2D (rawlog objects, the EKF glue, scenes, CPose2D
+// arithmetic kept for its exact numbers; docs/ARCHITECTURE.md "The pose type"), the pose is
+// converted here and nowhere else.
 #include <mrpt/math/TPose2D.h>
 
 #include "budget_slam/core/Pose2.h"

@@ -1,8 +1,8 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
-
 #include <cstddef>
 #include <cstdint>
+
+#include "budget_slam/core/Pose2.h"
 
 namespace budget_slam {
 
@@ -37,7 +37,7 @@ class PlaceGrid {
   static PlaceGrid fromSensor(double size_option, std::size_t sectors_option, double max_range,
                               double fov);
 
-  PlaceKey placeOf(const mrpt::math::TPose2D& pose) const;
+  PlaceKey placeOf(const Pose2& pose) const;
   double size() const { return size_; }
   std::size_t sectors() const { return sectors_; }
 

@@ -1,5 +1,4 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
 
 #include <functional>
 #include <memory>
@@ -39,7 +38,7 @@ struct Sighting {
 /// decision of that step (BudgetManager::enforce).
 struct StepObservation {
   StepIndex step = 0;
-  mrpt::math::TPose2D robot;         ///< the robot pose estimate after the step [m, m, rad]
+  Pose2 robot;                       ///< the robot pose estimate after the step [m, m, rad]
   std::vector<LandmarkId> observed;  ///< landmarks of the map observed at this step, new ones too
   /// The readings behind `observed`: each reading of the step with the landmark it went to
   /// (its sensor ID, else the backend's association, Backend::lastAssociation).
@@ -48,9 +47,9 @@ struct StepObservation {
   /// or dropped for good; BudgetManager::admissible), with their sensor IDs: what the robot saw of
   /// landmarks it does not keep.
   std::vector<Sighting> withheld;
-  mrpt::math::TPose2D sensor_pose;  ///< the sensor's pose on the robot (2D) [m, m, rad]
-  double sensor_max_range = 0;      ///< [m]; 0 when the step did not say
-  double sensor_fov = 0;            ///< total horizontal field of view [rad]; 0 when unknown
+  Pose2 sensor_pose;            ///< the sensor's pose on the robot (2D) [m, m, rad]
+  double sensor_max_range = 0;  ///< [m]; 0 when the step did not say
+  double sensor_fov = 0;        ///< total horizontal field of view [rad]; 0 when unknown
 };
 
 /// A rule that picks the landmark to drop (docs/ALGORITHMS.md). Registered by name in a

@@ -1,5 +1,4 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
 #include <mrpt/math/TPose3D.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CSensoryFrame.h>
@@ -9,6 +8,7 @@
 #include <vector>
 
 #include "budget_slam/core/Ids.h"
+#include "budget_slam/core/Pose2.h"
 
 namespace budget_slam {
 
@@ -16,7 +16,7 @@ namespace budget_slam {
 /// expressed in the frame of the previous robot pose, with its 3x3 covariance
 /// (x [m], y [m], yaw [rad]).
 struct OdometryIncrement {
-  mrpt::math::TPose2D mean;
+  Pose2 mean;
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
 };
 

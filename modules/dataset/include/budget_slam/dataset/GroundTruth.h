@@ -1,6 +1,4 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
-
 #include <Eigen/Core>
 #include <map>
 #include <optional>
@@ -8,6 +6,7 @@
 #include <vector>
 
 #include "budget_slam/core/Ids.h"
+#include "budget_slam/core/Pose2.h"
 
 namespace budget_slam::dataset {
 
@@ -16,7 +15,7 @@ namespace budget_slam::dataset {
 ///  - `<rawlog>_ground_truth_robot_path.txt`: one row a step, `x y z yaw pitch roll`.
 struct GroundTruth {
   std::map<LandmarkId, Eigen::Vector2d> landmarks;  ///< [m]
-  std::vector<mrpt::math::TPose2D> path;            ///< one pose a step, empty when absent
+  std::vector<Pose2> path;                          ///< one pose a step, empty when absent
   std::string landmarks_file, path_file;            ///< where they came from ("" if absent)
   bool empty() const { return landmarks.empty() && path.empty(); }
 };
@@ -34,11 +33,11 @@ GroundTruth loadGroundTruth(const std::string& rawlog, const std::string& landma
 /// The texts of the two files, in the formats loadGroundTruth reads (simul-landmarks' own).
 /// A landmark id that does not fit MRPT's int is an InputError.
 std::string groundTruthLandmarksText(const std::map<LandmarkId, Eigen::Vector2d>& landmarks);
-std::string groundTruthPathText(const std::vector<mrpt::math::TPose2D>& path);
+std::string groundTruthPathText(const std::vector<Pose2>& path);
 
 /// The texts written to `file` (atomically, core/FileWrite.h).
 void saveGroundTruthLandmarks(const std::string& file,
                               const std::map<LandmarkId, Eigen::Vector2d>& landmarks);
-void saveGroundTruthPath(const std::string& file, const std::vector<mrpt::math::TPose2D>& path);
+void saveGroundTruthPath(const std::string& file, const std::vector<Pose2>& path);
 
 }  // namespace budget_slam::dataset

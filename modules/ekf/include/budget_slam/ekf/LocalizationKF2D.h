@@ -89,9 +89,9 @@ class LocalizationKF2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   };
   /// A step whose paired readings were all rejected, as the recovery needs it.
   struct RejectedStep {
-    std::size_t step = 0;       ///< counter of processStep() calls
-    mrpt::math::TPose2D robot;  ///< the filter's pose after the step (dead reckoning)
-    Pose2 sensor;               ///< the sensor on the robot
+    std::size_t step = 0;  ///< counter of processStep() calls
+    Pose2 robot;           ///< the filter's pose after the step (dead reckoning)
+    Pose2 sensor;          ///< the sensor on the robot
     std::vector<PairedReading> readings;
   };
   /// After a step: updates the run of rejected steps and recovers when it is long enough.

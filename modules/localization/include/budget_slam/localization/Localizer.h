@@ -27,7 +27,7 @@ namespace budget_slam::runs {
 struct LocalizationTruth {
   std::string kind;  ///< "ground_truth", "reference_trajectory", or "" (none: no errors)
   std::string file;  ///< where it came from
-  std::vector<std::optional<mrpt::math::TPose2D>> poses;
+  std::vector<std::optional<Pose2>> poses;
   std::vector<Eigen::Vector2d> landmarks;  ///< true landmarks in the map's frame (map.png)
 };
 
@@ -42,7 +42,7 @@ struct LocalizationInputs {
   double sensor_range = 0;  ///< the traversal's sensor's maximum range [m], 0 when unknown
   /// The path of the run that made the map, in the map's frame: steps whose truth lies away from
   /// it are not scored (metrics::MappedArea). Empty: every step is scored.
-  std::vector<mrpt::math::TPose2D> mapping_path;
+  std::vector<Pose2> mapping_path;
 };
 
 /// Resolves the start pose and the truth (docs/OUTPUTS.md, "budget-slam localize"):
@@ -57,7 +57,7 @@ struct LocalizationInputs {
 LocalizationInputs resolveLocalization(const std::vector<Step>& steps, std::size_t steps_in_rawlog,
                                        const dataset::GroundTruth& traversal_truth,
                                        const std::optional<metrics::MapAlignment>& alignment,
-                                       const std::optional<mrpt::math::TPose2D>& given,
+                                       const std::optional<Pose2>& given,
                                        const std::vector<TrajectoryPoint>* reference,
                                        const std::string& reference_file,
                                        const LocalizationOptions& options);

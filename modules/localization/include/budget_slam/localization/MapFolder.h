@@ -17,7 +17,7 @@ struct MapFolder {
   std::string status;  ///< the mapping run's status ("" when summary.json is absent)
   /// RUN_DIR/trajectory.tum (the mapping run's path in the map's frame), empty when absent: the
   /// area where relocalization is scored (metrics::MappedArea).
-  std::vector<mrpt::math::TPose2D> path;
+  std::vector<Pose2> path;
 };
 
 /// Reads RUN_DIR/landmarks.csv (required), RUN_DIR/summary.json and RUN_DIR/trajectory.tum

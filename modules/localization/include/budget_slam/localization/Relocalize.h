@@ -36,7 +36,7 @@ struct MapOfRun {
   std::vector<LandmarkView> landmarks;
   std::optional<metrics::MapAlignment> alignment;
   /// The mapping path in the map's frame: where relocalization is scored (metrics::MappedArea).
-  std::vector<mrpt::math::TPose2D> mapping_path;
+  std::vector<Pose2> mapping_path;
 };
 
 /// One localization of one traversal in one run's map.

@@ -1,11 +1,10 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
-
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 
@@ -24,7 +23,7 @@ struct MapAlignment {
   std::size_t points = 0;  ///< landmarks or poses fitted
 
   double yaw() const;  ///< rotation angle [rad]
-  mrpt::math::TPose2D apply(const mrpt::math::TPose2D& truth_pose) const;
+  Pose2 apply(const Pose2& truth_pose) const;
   /// The transform from its pose form (x, y, yaw: rotation by yaw, then translation by (x, y)).
   static MapAlignment fromPose(double x, double y, double yaw, std::string source,
                                std::size_t points);

@@ -1,10 +1,9 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
-
 #include <unordered_set>
 #include <vector>
 
 #include "budget_slam/core/PlaceGrid.h"
+#include "budget_slam/core/Pose2.h"
 
 namespace budget_slam::metrics {
 
@@ -20,7 +19,7 @@ class MappedArea {
   MappedArea() = default;
   /// The area of `path` (poses in the map's frame) on a grid of cell side `cell` [m], > 0,
   /// reaching `reach` [m] (>= 0; at least the path's own cells) around it.
-  MappedArea(const std::vector<mrpt::math::TPose2D>& path, double cell, double reach);
+  MappedArea(const std::vector<Pose2>& path, double cell, double reach);
 
   bool contains(double x, double y) const;
   bool everywhere() const { return cells_.empty(); }

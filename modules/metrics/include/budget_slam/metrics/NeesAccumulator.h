@@ -1,12 +1,11 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
-
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/dataset/GroundTruth.h"
 
 namespace budget_slam::metrics {
@@ -15,7 +14,7 @@ namespace budget_slam::metrics {
 /// `estimate` w.r.t. `truth` (yaw wrapped to (-pi, pi]), e' P^-1 e (unitless; 3 on average for a
 /// consistent filter). NaN when P is not positive definite (the zero covariance before the first
 /// motion).
-double poseNees(const PoseEstimate& estimate, const mrpt::math::TPose2D& truth);
+double poseNees(const PoseEstimate& estimate, const Pose2& truth);
 
 /// The mean pose NEES of a run (summary.json "ground_truth": nees_mean, nees_samples).
 struct NeesMean {
@@ -64,8 +63,8 @@ class NeesAccumulator {
   NeesMean result(std::size_t steps_in_rawlog) const;
 
  private:
-  std::vector<mrpt::math::TPose2D> path_;  ///< ground-truth path in the estimate's frame
-  NeesMeanSum sums_[2];                    ///< by row offset (step k is row k + offset)
+  std::vector<Pose2> path_;  ///< ground-truth path in the estimate's frame
+  NeesMeanSum sums_[2];      ///< by row offset (step k is row k + offset)
 };
 
 }  // namespace budget_slam::metrics

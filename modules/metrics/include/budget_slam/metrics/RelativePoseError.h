@@ -1,9 +1,9 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
-
 #include <cstddef>
 #include <limits>
 #include <vector>
+
+#include "budget_slam/core/Pose2.h"
 
 namespace budget_slam::metrics {
 
@@ -29,8 +29,8 @@ struct RelativePoseError {
 
 /// `estimate` and `truth` hold the same poses in the same order (one pair a pose of the
 /// trajectory). NaN (0 pairs) when the ground-truth path is shorter than delta.
-RelativePoseError relativePoseError(const std::vector<mrpt::math::TPose2D>& estimate,
-                                    const std::vector<mrpt::math::TPose2D>& truth,
+RelativePoseError relativePoseError(const std::vector<Pose2>& estimate,
+                                    const std::vector<Pose2>& truth,
                                     double delta = kRpeDeltaMetres);
 
 }  // namespace budget_slam::metrics

@@ -94,7 +94,7 @@ class LocalizationInformationReducer : public Reducer,
   void restoreSession(const session::SessionState& state) override;
 
   /// Lambda_p of the place of `robot` (the prior alone for a place not visited) [1/m^2, 1/rad^2].
-  Eigen::Matrix3d placeInformation(const mrpt::math::TPose2D& robot) const;
+  Eigen::Matrix3d placeInformation(const Pose2& robot) const;
   /// F(K) = sum over places of log det Lambda_p [nats].
   double objective() const;
   /// min over places of log det Lambda_p [nats] (+infinity without a place).

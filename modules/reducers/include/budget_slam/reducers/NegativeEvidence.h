@@ -1,5 +1,4 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
 
 #include <cstdint>
 #include <map>
@@ -27,7 +26,7 @@ struct ConfirmationRecord {
 
 /// The sensor as the step that is checked states it.
 struct SensorView {
-  mrpt::math::TPose2D pose_on_robot;    ///< [m, m, rad]
+  Pose2 pose_on_robot;                  ///< [m, m, rad]
   double min_range = 0, max_range = 0;  ///< [m]
   double fov = 0;                       ///< total horizontal field of view [rad]
 };
@@ -56,15 +55,14 @@ class NegativeEvidence {
   /// the landmarks the step's readings went to, `held` those whose readings were left out as
   /// suspected of having moved (MovedLandmarks): seen, but not where the map has them, so the
   /// step neither confirms them nor counts against them.
-  void update(StepIndex step, const mrpt::math::TPose2D& robot, const SensorView& sensor,
+  void update(StepIndex step, const Pose2& robot, const SensorView& sensor,
               const std::vector<LandmarkView>& landmarks, const std::vector<LandmarkId>& observed,
               const std::set<LandmarkId>& held = {});
 
   /// Landmarks with at least K misses: most misses first, then the longest unconfirmed, then id.
   std::vector<LandmarkId> distrusted() const;
   /// True when the landmark at `mean` is within the sensor's view (less margins) from `robot`.
-  bool inView(const mrpt::math::TPose2D& robot, const SensorView& sensor,
-              const Eigen::Vector2d& mean) const;
+  bool inView(const Pose2& robot, const SensorView& sensor, const Eigen::Vector2d& mean) const;
   /// The cell of a robot position; cells far beyond any map (> 1e9 cells) share one key.
   std::int64_t cellOf(double x, double y) const;
 

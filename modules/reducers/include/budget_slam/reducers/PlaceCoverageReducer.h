@@ -78,7 +78,7 @@ class PlaceCoverageReducer : public Reducer,
 
   /// The place of a robot pose (after the first observe() has fixed size and sectors; a 1 m
   /// cell and one sector before).
-  PlaceKey placeOf(const mrpt::math::TPose2D& robot) const;
+  PlaceKey placeOf(const Pose2& robot) const;
 
   /// Coverage loss of dropping `id` now [places] (0 for a landmark never observed).
   double loss(LandmarkId id) const;
@@ -86,7 +86,7 @@ class PlaceCoverageReducer : public Reducer,
   double coverage() const;
   std::size_t placeCount() const { return slots_.size(); }
   /// Landmarks of the map observed from the place of `robot` (sorted ids).
-  std::vector<LandmarkId> observedFrom(const mrpt::math::TPose2D& robot) const;
+  std::vector<LandmarkId> observedFrom(const Pose2& robot) const;
   /// For every place remembered, the landmarks observed from it (sorted ids), in slot order.
   std::vector<std::vector<LandmarkId>> placeSightings() const;
   double placeSize() const { return grid_ ? grid_->size() : 0.0; }

@@ -1,9 +1,9 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
 #include <mrpt/opengl/COpenGLScene.h>
 
 #include <string>
 
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/report/Pictures.h"
 
 namespace budget_slam::report {
@@ -30,13 +30,11 @@ std::string keptLandmark(long long id, int cluster);
 /// coloured by its coverage cluster (map.png's palette), dropped landmarks as red crosses, ground
 /// truth landmarks as grey points, the robot (MRPT's Pioneer model) at `robot`, a grid and the
 /// title. Units: metres, z = 0 plane; the camera looks at the map from above at 45 degrees.
-mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapContent& content,
-                                              const mrpt::math::TPose2D& robot);
+mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapContent& content, const Pose2& robot);
 
 /// Writes buildMapScene() to `path` (MRPT's gzip-compressed .3Dscene, COpenGLScene::saveToFile,
 /// opened by SceneViewer3D) through a temporary file and a rename, so a reader never sees half a
 /// scene. Throws Error if it cannot write.
-void writeMapScene(const std::string& path, const MapContent& content,
-                   const mrpt::math::TPose2D& robot);
+void writeMapScene(const std::string& path, const MapContent& content, const Pose2& robot);
 
 }  // namespace budget_slam::report

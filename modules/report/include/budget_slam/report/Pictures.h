@@ -1,7 +1,6 @@
 #pragma once
 // The figures of a run and a comparison (docs/OUTPUTS.md, "Figures"): map.<ext> one paper column
 // wide, comparison.<ext> two columns wide, each as PNG, PDF or SVG ([Report] figure_format).
-#include <mrpt/math/TPose2D.h>
 
 #include <Eigen/Core>
 #include <array>
@@ -10,6 +9,7 @@
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/report/Figure.h"
 
 namespace budget_slam::report {
@@ -19,8 +19,8 @@ namespace budget_slam::report {
 /// colour.
 struct MapContent {
   std::string title;
-  std::vector<mrpt::math::TPose2D> trajectory;
-  std::vector<mrpt::math::TPose2D> ground_truth_path;   ///< in the estimate's frame
+  std::vector<Pose2> trajectory;
+  std::vector<Pose2> ground_truth_path;                 ///< in the estimate's frame
   std::vector<Eigen::Vector2d> ground_truth_landmarks;  ///< in the estimate's frame
   std::vector<LandmarkView> kept;
   std::vector<int> cluster_of_kept;      ///< cluster index per kept landmark, or empty

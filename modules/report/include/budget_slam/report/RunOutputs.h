@@ -1,6 +1,4 @@
 #pragma once
-#include <mrpt/math/TPose2D.h>
-
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -9,6 +7,7 @@
 
 #include "budget_slam/core/Backend.h"
 #include "budget_slam/core/Estimates.h"
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/Reducer.h"
 #include "budget_slam/dataset/GroundTruth.h"
 #include "budget_slam/report/CsvWriter.h"
@@ -60,7 +59,7 @@ struct RunEndFiles {
   std::function<MapContent()> map;
   std::vector<FigureFormat> figure_formats = {FigureFormat::Png};  ///< map.png, map.pdf, ...
   bool scene = true;                                               ///< write map.3Dscene
-  mrpt::math::TPose2D robot;                    ///< where map.3Dscene draws the robot
+  Pose2 robot;                                  ///< where map.3Dscene draws the robot
   const dataset::GroundTruth* truth = nullptr;  ///< ground_truth.tum when it has a path
   std::size_t steps_in_rawlog = 0;              ///< maps ground-truth rows (groundTruthRow)
 };
@@ -85,8 +84,7 @@ class RunOutputs {
   void writeState(const Backend& backend, StepIndex step) const;
 
   /// `name` (map.3Dscene, or kf_state_<step>.3Dscene during the run): MRPT's SceneViewer3D file.
-  void writeScene(const std::string& name, const MapContent& map,
-                  const mrpt::math::TPose2D& robot) const;
+  void writeScene(const std::string& name, const MapContent& map, const Pose2& robot) const;
 
   /// The end files, in this order: steps.csv and evictions.csv flushed, trajectory.tum,
   /// landmarks.csv, the map figures, map.3Dscene, ground_truth.tum. Each is attempted even when

@@ -3,11 +3,10 @@
 // request in, a typed report out, as runs::run and runs::compare (Commands.h). app/Localize.cpp
 // parses the command line into the LocalizeRequest and prints the report; the Python module
 // (budget_slam.localize) fills the same LocalizeRequest from its arguments.
-#include <mrpt/math/TPose2D.h>
-
 #include <string>
 #include <vector>
 
+#include "budget_slam/core/Pose2.h"
 #include "budget_slam/engine/RunOutcome.h"
 #include "budget_slam/runs/Request.h"
 #include "budget_slam/runs/RunHooks.h"
@@ -46,6 +45,6 @@ LocalizeReport localize(const LocalizeRequest& request, RequestContext context,
 /// --start-pose "x,y,yaw" (metres, metres, degrees) -> pose (yaw in radians): three finite
 /// numbers, x and y within limits::kMaxCoordinate, yaw within limits::kMaxAngle. Throws
 /// ConfigError naming the flag.
-mrpt::math::TPose2D parseStartPose(const std::string& text);
+Pose2 parseStartPose(const std::string& text);
 
 }  // namespace budget_slam::runs

@@ -2,7 +2,6 @@
 // A run from its typed specification (docs/ARCHITECTURE.md "A run"): runs::run (Commands.h)
 // builds the specification from a request and hands it to runSlam.
 #include <mrpt/config/CConfigFileMemory.h>
-#include <mrpt/math/TPose2D.h>
 
 #include <map>
 #include <optional>

@@ -42,6 +42,6 @@ struct WakeUpError {
   double xy_m = 0;
   double yaw_deg = 0;
 };
-WakeUpError wakeUpError(const PoseEstimate& found, const mrpt::math::TPose2D& truth);
+WakeUpError wakeUpError(const PoseEstimate& found, const Pose2& truth);
 
 }  // namespace budget_slam::wakeup
