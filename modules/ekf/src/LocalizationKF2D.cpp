@@ -46,13 +46,12 @@ void LocalizationKF2D::initialize(const PoseEstimate& start, const std::vector<L
 }
 
 void LocalizationKF2D::processStep(const Step& step) {
-  auto in = mrptStepInput(step);
   used_.clear();
   gated_ = 0;
   paired_.clear();
   accepted_ = 0;
   recovered_ = false;
-  processActionObservation(in.action, in.frame);
+  iterate(mrptStepInput(step));
   afterStep(step);
 }
 

@@ -1,31 +1,19 @@
 #include "budget_slam/ekf/ReducibleKFSLAM2D.h"
 
 #include <mrpt/obs/CObservationBearingRange.h>
-#include <mrpt/poses/CPosePDFGaussian.h>
 
 #include <stdexcept>
 
 #include "budget_slam/ekf/MrptStepInput.h"
-#include "budget_slam/ekf/SparseKalmanUpdate.h"
 #include "budget_slam/gaussian/EraseRowsCols.h"
 
 namespace budget_slam::ekf {
 
-namespace {
-
-/// Replaces the square block of P at (start, start) by the mean of it and its transpose.
-void symmetrizeBlock(Eigen::Ref<RowMajorMatrix> P, Eigen::Index start, Eigen::Index size) {
-  for (Eigen::Index i = start; i < start + size; ++i)
-    for (Eigen::Index j = start; j < i; ++j) P(i, j) = P(j, i) = 0.5 * (P(i, j) + P(j, i));
-}
-
-}  // namespace
-
 void ReducibleKFSLAM2D::processStep(const Step& step) {
-  auto in = mrptStepInput(step);
   last_association_.clear();
-  if (!usesSparseUpdate()) {
-    processActionObservation(in.action, in.frame);
+  const bool mrpts_update = !usesSparseUpdate();
+  iterate(mrptStepInput(step));
+  if (mrpts_update) {
     // MRPT's update P <- (I - K H) P is applied to the full matrix in floating point, so P
     // drifts from symmetry by round-off; with landmarks removed and re-added every step (the
     // budget) that drift grows until P is indefinite. Keep the covariance exactly symmetric
@@ -33,24 +21,7 @@ void ReducibleKFSLAM2D::processStep(const Step& step) {
     // this step.
     auto P = m_pkk.asEigen();
     if (P.allFinite()) P = 0.5 * (P + P.transpose()).eval();
-    return;
   }
-  // What MRPT's processActionObservation does around its iteration.
-  m_action = in.action;
-  m_SF = in.frame;
-  ASSERT_(m_IDs.size() == getNumberOfLandmarksInTheMap());
-  const auto n_before = static_cast<Eigen::Index>(m_xkk.size());
-  runSparseIteration();
-  if (options.create_simplemap) {
-    auto pose = std::make_shared<mrpt::poses::CPosePDFGaussian>();
-    getCurrentRobotPose(*pose);
-    m_SFs.insert(pose, in.frame);
-  }
-  // The sparse update leaves P exactly symmetric; only the blocks MRPT computes as products
-  // H C Hᵀ may not be: the robot's (a prediction-only step) and each new landmark's own.
-  auto P = m_pkk.asEigen();
-  symmetrizeBlock(P, 0, 3);
-  for (Eigen::Index r = n_before; r < P.rows(); r += 2) symmetrizeBlock(P, r, 2);
 }
 
 void ReducibleKFSLAM2D::OnGetObservationsAndDataAssociation(

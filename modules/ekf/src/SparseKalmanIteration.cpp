@@ -1,4 +1,5 @@
-// ReducibleKFSLAM2D's Kalman iteration with the sparse update ([EkfSLAM] update = sparse).
+// The Kalman iteration of RangeBearingKF2D (the mapping filter ReducibleKFSLAM2D and the
+// relocalization filter LocalizationKF2D) with the sparse update ([EkfSLAM] update = sparse).
 //
 // MRPT's CKalmanFilterCapable::runOneKalmanIteration (MRPT 2.5) does its update with the
 // observation Jacobian of the whole state as a dense matrix and P <- (I - K H) P: an n x n
@@ -9,11 +10,12 @@
 // missed landmarks, new landmarks) and replaces only the update by sparseKalmanUpdate; new
 // landmarks are inserted with MRPT's formulas into a covariance grown once a step.
 #include <mrpt/math/ops_matrices.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
 
 #include <algorithm>
 #include <numeric>
 
-#include "budget_slam/ekf/ReducibleKFSLAM2D.h"
+#include "budget_slam/ekf/RangeBearingKF2D.h"
 #include "budget_slam/ekf/SparseKalmanUpdate.h"
 
 namespace budget_slam::ekf {
@@ -21,14 +23,47 @@ namespace budget_slam::ekf {
 using mrpt::bayes::kfEKFNaive;
 using mrpt::bayes::kfIKFFull;
 
-bool ReducibleKFSLAM2D::usesSparseUpdate() const {
+namespace {
+
+/// Replaces the square block of P at (start, start) by the mean of it and its transpose.
+void symmetrizeBlock(Eigen::Ref<RowMajorMatrix> P, Eigen::Index start, Eigen::Index size) {
+  for (Eigen::Index i = start; i < start + size; ++i)
+    for (Eigen::Index j = start; j < i; ++j) P(i, j) = P(j, i) = 0.5 * (P(i, j) + P(j, i));
+}
+
+}  // namespace
+
+bool RangeBearingKF2D::usesSparseUpdate() const {
   const auto& o = KF_options;
   return update_ == EkfSlamOptions::Update::Sparse &&
          (o.method == kfEKFNaive || o.method == kfIKFFull) && o.use_analytic_transition_jacobian &&
          o.use_analytic_observation_jacobian && !o.debug_verify_analytic_jacobians;
 }
 
-ReducibleKFSLAM2D::KFMatrix ReducibleKFSLAM2D::innovationCovariance(
+void RangeBearingKF2D::iterate(MrptStepInput in) {
+  if (!usesSparseUpdate()) {
+    processActionObservation(in.action, in.frame);
+    return;
+  }
+  // What MRPT's processActionObservation does around its iteration.
+  m_action = in.action;
+  m_SF = in.frame;
+  ASSERT_(m_IDs.size() == getNumberOfLandmarksInTheMap());
+  const auto n_before = static_cast<Eigen::Index>(m_xkk.size());
+  runSparseIteration();
+  if (options.create_simplemap) {
+    auto pose = std::make_shared<mrpt::poses::CPosePDFGaussian>();
+    getCurrentRobotPose(*pose);
+    m_SFs.insert(pose, in.frame);
+  }
+  // The sparse update leaves P exactly symmetric; only the blocks MRPT computes as products
+  // H C Hᵀ may not be: the robot's (a prediction-only step) and each new landmark's own.
+  auto P = m_pkk.asEigen();
+  symmetrizeBlock(P, 0, 3);
+  for (Eigen::Index r = n_before; r < P.rows(); r += 2) symmetrizeBlock(P, r, 2);
+}
+
+RangeBearingKF2D::KFMatrix RangeBearingKF2D::innovationCovariance(
     const std::vector<size_t>& predicted, const std::vector<KFMatrix_OxV>& Hx,
     const std::vector<KFMatrix_OxF>& Hy, const KFMatrix_OxO& R) const {
   const auto P = m_pkk.asEigen();
@@ -60,7 +95,7 @@ ReducibleKFSLAM2D::KFMatrix ReducibleKFSLAM2D::innovationCovariance(
   return S;
 }
 
-void ReducibleKFSLAM2D::runSparseIteration() {
+void RangeBearingKF2D::runSparseIteration() {
   // 1-4. Prediction: the robot's mean, its covariance block and its cross-covariances, O(n).
   KFArray_ACT u;
   OnGetAction(u);
@@ -156,9 +191,8 @@ void ReducibleKFSLAM2D::runSparseIteration() {
   OnPostIteration();
 }
 
-void ReducibleKFSLAM2D::addNewLandmarks(const vector_KFArray_OBS& Z,
-                                        const std::vector<int>& association,
-                                        const KFMatrix_OxO& R) {
+void RangeBearingKF2D::addNewLandmarks(const vector_KFArray_OBS& Z,
+                                       const std::vector<int>& association, const KFMatrix_OxO& R) {
   const auto added = static_cast<std::size_t>(
       std::count_if(association.begin(), association.end(), [](int a) { return a < 0; }));
   if (added == 0) return;

@@ -11,6 +11,7 @@
 #include "budget_slam/core/Error.h"
 #include "budget_slam/core/MrptPose.h"
 #include "budget_slam/core/Text.h"
+#include "budget_slam/ekf/EkfSlamOptions.h"
 #include "budget_slam/engine/SummaryJson.h"
 #include "budget_slam/metrics/GroundTruthErrors.h"
 #include "budget_slam/metrics/NeesAccumulator.h"
@@ -140,7 +141,10 @@ Localizer::Localizer(const mrpt::config::CConfigFileBase& ini, const Localizatio
   traversal_name_ = std::filesystem::path(ini.read_string("MappingApplication", "rawlog_file", ""))
                         .filename()
                         .string();
-  kf_.loadOptions(ini);  // MRPT's own sections, as for mapping
+  kf_.loadOptions(ini);        // MRPT's own sections, as for mapping
+  ekf::EkfSlamOptions update;  // and the mapping filter's Kalman update
+  update.loadFromConfigFile(ini, ekf::EkfSlamOptions::kSection);
+  kf_.setUpdate(update.update);
   kf_.KF_options.verbosity_level = mrpt::system::LVL_ERROR;
   kf_.gate = {options.gate_chi2, options.recover_after_steps, options.recovery_window_steps,
               options.recovery_min_landmarks};

@@ -3,8 +3,10 @@
 
 namespace budget_slam::ekf {
 
-/// [EkfSLAM]: how the EKF backend does MRPT's filter arithmetic (docs/ARCHITECTURE.md "EKF
-/// backend"); MRPT's own keys stay in [RangeBearingKFSLAM] and [RangeBearingKFSLAM_KalmanFilter].
+/// [EkfSLAM]: how the EKF does MRPT's filter arithmetic, the mapping filter (EKF backend) and the
+/// relocalization filter (localize, compare --relocalize) alike: RangeBearingKF2D
+/// (docs/ARCHITECTURE.md "EKF backend"); MRPT's own keys stay in [RangeBearingKFSLAM] and
+/// [RangeBearingKFSLAM_KalmanFilter].
 /// One table (table()): loading, the dump and the unknown-key check follow from it.
 struct EkfSlamOptions : public TabledOptions<EkfSlamOptions> {
   static constexpr const char* kSection = "EkfSLAM";

@@ -1,18 +1,18 @@
 #pragma once
-#include <mrpt/slam/CRangeBearingKFSLAM2D.h>
-
 #include <deque>
 #include <vector>
 
 #include "budget_slam/core/Estimates.h"
 #include "budget_slam/core/Pose2.h"
 #include "budget_slam/core/Step.h"
+#include "budget_slam/ekf/RangeBearingKF2D.h"
 
 namespace budget_slam::ekf {
 
 /// Localization in a fixed map with MRPT's 2D range-bearing EKF: the filter, its motion and sensor
-/// models, its ini sections and its data association are MRPT's CRangeBearingKFSLAM2D, unchanged;
-/// what differs (docs/OUTPUTS.md, "budget-slam localize"):
+/// models, its ini sections and its data association are MRPT's CRangeBearingKFSLAM2D, unchanged,
+/// and its Kalman iteration is the mapping filter's (RangeBearingKF2D: [EkfSLAM] update, sparse
+/// or MRPT's own); what differs (docs/OUTPUTS.md, "budget-slam localize"):
 ///  - the state starts from a given robot pose and covariance and the map's landmarks (means and
 ///    marginal 2x2 covariances, no cross-covariances: a saved map keeps only the marginals);
 ///  - no landmark ever enters: a reading of a landmark not in the map (an unknown sensor ID, or an
@@ -31,7 +31,7 @@ namespace budget_slam::ekf {
 ///    and recovery"); otherwise the filter keeps going and tries again at the next rejected step;
 ///  - the robot pose is predicted from odometry even while no landmark is in view (MRPT's SLAM
 ///    filter skips prediction while its map is empty, which would freeze a robot in an empty map).
-class LocalizationKF2D : public mrpt::slam::CRangeBearingKFSLAM2D {
+class LocalizationKF2D : public RangeBearingKF2D {
  public:
   /// The gate on paired readings and the recovery after a run of rejected steps.
   struct Gate {
@@ -46,7 +46,7 @@ class LocalizationKF2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   /// landmark IDs (ID-less readings are paired by MRPT's data association against them).
   void initialize(const PoseEstimate& start, const std::vector<LandmarkView>& map);
 
-  /// One MRPT Kalman iteration on the step's own action and frame.
+  /// One Kalman iteration (RangeBearingKF2D::iterate) on the step's own action and frame.
   void processStep(const Step& step);
 
   Gate gate;

@@ -1,27 +1,19 @@
 #pragma once
-#include <mrpt/slam/CRangeBearingKFSLAM2D.h>
-
 #include <vector>
 
 #include "budget_slam/core/Step.h"
-#include "budget_slam/ekf/EkfSlamOptions.h"
+#include "budget_slam/ekf/RangeBearingKF2D.h"
 
 namespace budget_slam::ekf {
 
 /// MRPT's 2D range-bearing EKF-SLAM (filter, motion and sensor models, data association and ini
-/// sections unchanged) that can also drop a landmark (docs/ARCHITECTURE.md "EKF backend").
-class ReducibleKFSLAM2D : public mrpt::slam::CRangeBearingKFSLAM2D {
+/// sections unchanged; its Kalman iteration MRPT's or the sparse one, RangeBearingKF2D) that can
+/// also drop a landmark (docs/ARCHITECTURE.md "EKF backend").
+class ReducibleKFSLAM2D : public RangeBearingKF2D {
  public:
   /// One MRPT Kalman iteration on the step's own action and frame. A frame with no
   /// CObservationBearingRange is run as prediction only (MRPT itself would assert).
   void processStep(const Step& step);
-
-  /// How the Kalman update is done ([EkfSLAM] update; EkfSlamOptions::Update). Default: sparse.
-  void setUpdate(EkfSlamOptions::Update update) { update_ = update; }
-  EkfSlamOptions::Update update() const { return update_; }
-  /// Whether the next step takes the sparse update: `update` is sparse and MRPT's options are
-  /// those it covers (kfEKFNaive or kfIKFFull, analytic Jacobians, no Jacobian check).
-  bool usesSparseUpdate() const;
 
   std::size_t landmarkCount() const { return getNumberOfLandmarksInTheMap(); }
   LandmarkId idAt(std::size_t state_index) const;  ///< throws std::out_of_range
@@ -44,9 +36,6 @@ class ReducibleKFSLAM2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   /// The next id an ID-less landmark gets (the session state keeps it).
   LandmarkId nextFreeId() const { return static_cast<LandmarkId>(next_free_id_); }
 
-  const KFVector& mean() const { return m_xkk; }
-  const KFMatrix& covariance() const { return m_pkk; }
-
  protected:
   void OnGetObservationsAndDataAssociation(vector_KFArray_OBS& out_z,
                                            std::vector<int>& out_data_association,
@@ -60,22 +49,6 @@ class ReducibleKFSLAM2D : public mrpt::slam::CRangeBearingKFSLAM2D {
   void OnNewLandmarkAddedToMap(const size_t in_obsIdx, const size_t in_idxNewFeat) override;
 
  private:
-  /// MRPT's Kalman iteration (CKalmanFilterCapable::runOneKalmanIteration: prediction, predicted
-  /// readings, Jacobians, innovation covariance, data association, update, new landmarks) through
-  /// the same hooks, with the update of sparseKalmanUpdate (src/SparseKalmanIteration.cpp).
-  void runSparseIteration();
-  /// MRPT's innovation covariance of the predicted landmarks, S = H P Hᵀ + R from the 2 x 2
-  /// blocks of each pair (as runOneKalmanIteration builds it for the data association).
-  KFMatrix innovationCovariance(const std::vector<size_t>& predicted,
-                                const std::vector<KFMatrix_OxV>& Hx,
-                                const std::vector<KFMatrix_OxF>& Hy, const KFMatrix_OxO& R) const;
-
-  /// The readings associated with no landmark (-1) become landmarks at the end of the state, as
-  /// MRPT's detail::addNewLandmarks makes them, with P reallocated once for all of them.
-  void addNewLandmarks(const vector_KFArray_OBS& Z, const std::vector<int>& association,
-                       const KFMatrix_OxO& R);
-
-  EkfSlamOptions::Update update_ = EkfSlamOptions::Update::Sparse;
   mrpt::maps::CLandmark::TLandmarkID next_free_id_ = 0;
   std::vector<long> last_association_;
 };
