@@ -1,6 +1,6 @@
 #pragma once
 // The held factor's solution dx = -H^-1 g, kept between updates and solved again only where it
-// changed: iSAM2's partial back-substitution ("wildfire", Kaess et al. 2012 Alg. 7) on the held
+// changed: iSAM2's partial back-substitution ("wildfire", Kaess et al. 2012) on the held
 // L D L^T (IncrementalFactorization, docs/GRAPH.md "Partial back-substitution").
 #include <Eigen/Core>
 #include <vector>
