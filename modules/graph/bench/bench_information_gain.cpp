@@ -121,6 +121,9 @@ void setPartialCounters(benchmark::State& state, const IncrementalStats& held) {
   state.counters["partial"] = static_cast<double>(held.partial_refactorizations);
   state.counters["partial_rows_pct"] =
       held.partial_of_rows > 0 ? 100.0 * held.partial_rows / held.partial_of_rows : 0.0;
+  // Rows of the solution solved again per Gauss-Newton iteration (partial back-substitution).
+  state.counters["solved_rows_pct"] =
+      held.solve_of_rows > 0 ? 100.0 * held.solved_rows / held.solve_of_rows : 0.0;
 }
 
 /// Mean step CPU over the first and the last 10% of the steps, and their ratio.
@@ -148,6 +151,7 @@ void BM_FullSlam(benchmark::State& state) {
   GraphSlamOptions options;
   options.relinearize_threshold = static_cast<double>(state.range(1)) * 1e-3;
   if (state.range(2) > 0) options.reorder_fill_ratio = static_cast<double>(state.range(2)) / 10.0;
+  options.wildfire_threshold = static_cast<double>(state.range(3)) * 1e-6;
   for (auto _ : state) {
     GraphBackend b(options, noise);
     std::vector<double> update_ms;   // CPU time of each step that ran an incremental update
@@ -239,6 +243,7 @@ void BM_Lifelong(benchmark::State& state) {
   noise.std_sensor_yaw_deg = sim.noise().std_yaw * 180.0 / M_PI;
   GraphSlamOptions options;
   options.relinearize_threshold = static_cast<double>(state.range(1)) * 1e-3;
+  options.wildfire_threshold = static_cast<double>(state.range(2)) * 1e-6;
   const std::size_t cap = 100;
   for (auto _ : state) {
     GraphBackend b(options, noise);
@@ -293,16 +298,22 @@ BENCHMARK(BM_FactorizeOnly)->SIZES->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_NaiveAll)->SIZES->Unit(benchmark::kMillisecond)->Iterations(1);
 // Second argument: GraphSlamOptions::relinearize_threshold in mm (and mrad; 0: full Gauss-Newton
 // on the held factor, 100: the default); third: reorder_fill_ratio x 10 (0: the default, 10:
-// a fresh ordering and a full refactorization at every change, no change in place).
+// a fresh ordering and a full refactorization at every change, no change in place); fourth:
+// wildfire_threshold in um (and urad; 1000: the default, 0: every change spreads).
 BENCHMARK(BM_FullSlam)
-    ->Args({6968, 100, 0})
-    ->Args({6968, 10, 0})
-    ->Args({6968, 0, 0})
-    ->Args({6968, 100, 10})
+    ->Args({6968, 100, 0, 1000})
+    ->Args({6968, 100, 0, 0})
+    ->Args({6968, 10, 0, 1000})
+    ->Args({6968, 0, 0, 1000})
+    ->Args({6968, 100, 10, 1000})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
-// Steps and relinearize_threshold in mm.
-BENCHMARK(BM_Lifelong)->Args({20000, 100})->Unit(benchmark::kMillisecond)->Iterations(1);
+// Steps, relinearize_threshold in mm, wildfire_threshold in um.
+BENCHMARK(BM_Lifelong)
+    ->Args({20000, 100, 1000})
+    ->Args({20000, 100, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -221,6 +221,7 @@ void GraphBackend::incrementalUpdate() {
   IncrementalStep s;
   s.max_iterations = options_.incremental_iterations;
   s.relinearize_threshold = options_.relinearize_threshold;
+  s.wildfire_threshold = options_.wildfire_threshold;
   s.step_tolerance = options_.solver.step_tolerance;
   s.relative_chi2_tolerance = options_.solver.relative_chi2_tolerance;
   factorization_.held().iterate(graph_, s);

@@ -65,6 +65,8 @@ const OptionTable<GraphSlamOptions>& GraphSlamOptions::table() {
                    "per reading, 0 = never early"),
       option::real("relinearize_threshold", &O::relinearize_threshold, 0, kInf,
                    "[m, rad], a variable takes its step past this, 0 = every step"),
+      option::real("wildfire_threshold", &O::wildfire_threshold, 0, kInf,
+                   "[m, rad], a row's change below this does not spread, 0 = every change"),
       option::real("reorder_fill_ratio", &O::reorder_fill_ratio, 0, kInf,
                    "fresh ordering when fill grows by this factor, <= 1 = at every change"),
       maxPosesKey(),

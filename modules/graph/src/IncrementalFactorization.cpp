@@ -8,6 +8,7 @@
 #include "HeldCholesky.h"
 #include "HeldMatrix.h"
 #include "HeldRecords.h"
+#include "HeldSolution.h"
 #include "budget_slam/core/Cancellation.h"
 
 namespace budget_slam::graph {
@@ -46,6 +47,7 @@ struct IncrementalFactorization::State {
   held::HeldRecords rec;
   held::HeldMatrix H;
   held::HeldCholesky L;
+  held::HeldSolution sol;  ///< dx = -H^-1 g, solved again only where it changed
   // Where the held records stand in the graph's journal (invariant 5).
   bool built = false;
   std::uint64_t lineage = 0, seq = 0, values_version = 0;
@@ -55,8 +57,8 @@ struct IncrementalFactorization::State {
   // Scratch of one change.
   std::vector<Piece> ups, downs;
   std::vector<int> deleted_rows, new_vars, new_factors, identity_rows;
-  std::vector<unsigned> stamp;
-  unsigned stamp_counter = 0;
+  std::vector<unsigned> stamp, var_stamp;
+  unsigned stamp_counter = 0, var_stamp_counter = 0;
   Eigen::VectorXd est_before;  ///< iterate(): the estimate before the last step
 
   bool batch() const { return params.reorder_fill_ratio <= 1; }
@@ -137,6 +139,7 @@ struct IncrementalFactorization::State {
     H.buildPattern(rec);
     L.chol.setColumnMap({});
     L.map_valid = false;
+    sol.invalidate();
     built = false;
     if (!L.chol.factorizeInOrder(H.upper()))
       throw std::runtime_error("graph: information matrix is not positive definite");
@@ -154,6 +157,7 @@ struct IncrementalFactorization::State {
 
   /// L from H by a numeric refactorization in the kept order and storage.
   void refresh() {
+    sol.invalidate();
     if (!L.chol.refactorizeInOrder(H.upper())) {
       built = false;
       throw std::runtime_error("graph: information matrix is not positive definite");
@@ -177,6 +181,7 @@ struct IncrementalFactorization::State {
       refresh();
       return;
     }
+    sol.changedFrom(first);
     L.refresh_flops = L.flopsFrom(0);
     L.computePathCosts();
     ++stats.rebuilds;
@@ -209,6 +214,8 @@ struct IncrementalFactorization::State {
   /// factorization's (the queries walk them). No flops.
   void prune() {
     if (!L.stale_pattern) return;
+    // The entries cut are zeros to the rounding of the downdates that cancelled them: the kept
+    // solution stays that of L to rounding (HeldSolution).
     const bool ok = L.chol.pruneToPattern(H.upper());
     if (!ok) refresh();
     L.stale_pattern = false;
@@ -265,6 +272,7 @@ struct IncrementalFactorization::State {
       // the next query that walks many paths (prune()).
       if (!downs.empty() || !deleted_rows.empty()) L.stale_pattern = true;
       if (ok) {
+        sol.changedFrom(first);  // the rank updates' paths start at or after `first`
         ++stats.modifications;
         stats.folded_factors += ups.size() + downs.size();
         last.fold = HeldUpdate::Fold::InPlace;
@@ -557,15 +565,28 @@ struct IncrementalFactorization::State {
     relinearize(moved);
   }
 
-  /// est = lin + dx with dx = -H^-1 g (the minimizer of the linearized cost); returns the
-  /// largest change of est.
-  double solveEstimate() {
-    const Eigen::VectorXd dx = -L.chol.solve(H.g);
+  /// est = lin + dx with dx = -H^-1 g (the minimizer of the linearized cost), dx solved again
+  /// only in the rows that changed (HeldSolution; `wildfire` [m, rad]: a row's change below it
+  /// does not spread to the rows that depend on it); only the variables of those rows are
+  /// written. Returns the largest change of est.
+  double solveEstimate(double wildfire) {
+    sol.solve(*L.chol.factor(), H.g, wildfire);
+    ++stats.solves;
+    stats.solved_rows += static_cast<double>(sol.rows.size());
+    stats.solve_of_rows += static_cast<double>(H.capacity());
+    if (var_stamp.size() < rec.vars.size()) var_stamp.resize(rec.vars.size(), 0);
+    if (++var_stamp_counter == 0) {
+      std::fill(var_stamp.begin(), var_stamp.end(), 0u);
+      var_stamp_counter = 1;
+    }
     double change = 0;
-    for (const Var& r : rec.vars) {
-      if (!r.alive) continue;
+    for (int row : sol.rows) {
+      const int v = H.owner[row];
+      if (v < 0 || var_stamp[v] == var_stamp_counter) continue;
+      var_stamp[v] = var_stamp_counter;
+      const Var& r = rec.vars[v];
       Eigen::Vector3d x = r.lin;
-      x.head(r.dim) += dx.segment(r.row, r.dim);
+      x.head(r.dim) += sol.dx.segment(r.row, r.dim);
       if (r.key.kind == VariableKey::Kind::Pose) x.z() = wrapAngle(x.z());
       change = std::max(change, maxAbsDifference(r.dim, x.data(), H.est.data() + r.row));
       H.est.segment(r.row, r.dim) = x.head(r.dim);
@@ -656,13 +677,14 @@ SolveReport IncrementalFactorization::iterate(FactorGraph& graph, const Incremen
     // that raised it beyond rounding (diverging, far from the optimum) is undone, and it stops.
     if (exact && it > 0 && s.H.chi2 > rep.final_chi2 * (1 + 1e-9)) {
       s.H.est = s.est_before;
+      s.sol.invalidate();  // the kept solution is no longer est - lin
       s.relinearizeMoved(0);
       s.writeEstimate(graph);
       break;
     }
     rep.final_chi2 = s.H.chi2;
     if (exact) s.est_before = s.H.est;
-    const double change = s.solveEstimate();
+    const double change = s.solveEstimate(step.wildfire_threshold);
     s.writeEstimate(graph);
     rep.iterations = it + 1;
     rep.last_step_norm = change;

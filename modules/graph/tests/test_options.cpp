@@ -67,7 +67,7 @@ TEST(GraphOptions, DumpListsEveryKey) {
   GraphSlamOptions{}.dumpToTextStream(out);
   for (const std::string& k : GraphSlamOptions::keys())
     EXPECT_NE(out.str().find("\n" + k + " "), std::string::npos) << k;
-  EXPECT_EQ(GraphSlamOptions::keys().size(), 21u);
+  EXPECT_EQ(GraphSlamOptions::keys().size(), 22u);
   EXPECT_NE(out.str().find("\nsolver                   = gauss-newton"), std::string::npos)
       << out.str();
   EXPECT_NE(out.str().find("\ninformation_gain         = marginal"), std::string::npos)

@@ -35,6 +35,12 @@ struct GraphSlamOptions : public TabledOptions<GraphSlamOptions> {
   /// moved (full Gauss-Newton). finish() relinearizes everything that moved.
   /// docs/GRAPH.md "Held factor".
   double relinearize_threshold = 0.1;
+  /// Partial back-substitution (iSAM2's wildfire threshold): after a change, an incremental
+  /// update solves again the rows of the solution the change re-eliminated, and a row above them
+  /// only when a row of its column of L moved by more than this [m, rad]. 0: every change
+  /// spreads (the solution of a whole solve, to rounding). finish() uses 0.
+  /// docs/GRAPH.md "Partial back-substitution".
+  double wildfire_threshold = 0.001;
   /// The held factor keeps its fill-reducing ordering (new variables eliminated last) until
   /// nnz(L) per row exceeds this factor times its value right after the last fresh ordering
   /// [dimensionless]; then it is rebuilt with a fresh one. At most 1: a fresh ordering and a

@@ -26,6 +26,11 @@ struct IncrementalStep {
   /// left their linearization point by more than this (max |dx| over its parameters, m and rad
   /// alike). 0: every variable that moved (full Gauss-Newton, with its divergence check).
   double relinearize_threshold = 0;
+  /// Partial back-substitution (iSAM2's wildfire threshold): the solution is solved again in
+  /// the rows the change re-eliminated, and in a row above them only when a row it depends on
+  /// moved by more than this since (m and rad alike). 0: every change spreads (the solution
+  /// equals a whole solve to rounding).
+  double wildfire_threshold = 0;
   /// Converged when the estimate moves by less than this (max |dx|).
   double step_tolerance = 1e-10;
   /// ...or, with threshold 0, when chi2 drops by less than this fraction (0: off).
@@ -46,6 +51,9 @@ struct IncrementalStats {
   std::size_t partial_refactorizations = 0;
   double partial_rows = 0;     ///< rows re-eliminated by them in all
   double partial_of_rows = 0;  ///< rows of the factors they re-eliminated, in all
+  std::size_t solves = 0;      ///< solutions in iterate() (partial back-substitutions)
+  double solved_rows = 0;      ///< rows of the solution they solved again, in all
+  double solve_of_rows = 0;    ///< rows of the factors they solved, in all
 };
 
 /// What the last change folded into the held factor did, recorded by its named steps (the
@@ -99,9 +107,10 @@ struct HeldUpdate {
 ///    A^T r, chi2 = sum |r|^2 (a factor's linearization changes only with its variables').
 /// 3. L D L^T = H to rounding (after every sync; L may hold explicit zeros after downdates
 ///    and row deletions until the next query at the estimate cuts them).
-/// 4. The estimate = linearization point + the last step's minimizer; each variable's estimate
-///    is within the relinearization threshold of its linearization point, or it is
-///    relinearized at the next iteration.
+/// 4. The estimate = linearization point + the last step's minimizer (HeldSolution: exactly
+///    with wildfire threshold 0; otherwise a row whose inputs moved less than the threshold
+///    keeps its last value); each variable's estimate is within the relinearization threshold
+///    of its linearization point, or it is relinearized at the next iteration.
 /// 5. The held records are those of the graph at (lineage, changeCount, valuesVersion): a
 ///    change since is folded in by the next sync, or the graph is read afresh.
 class IncrementalFactorization {
@@ -134,7 +143,8 @@ class IncrementalFactorization {
   static constexpr double kQueryFillRatio = 1.15;
   /// Gauss-Newton on the held factor from `graph`'s estimate: per iteration the variables past
   /// the threshold are relinearized, then estimate = linearization point + the minimizer of the
-  /// linear model, written into `graph`. Stops when the estimate moves by less than
+  /// linear model (solved again only where it changed: `wildfire_threshold`), written into
+  /// `graph`. Stops when the estimate moves by less than
   /// step_tolerance, at max_iterations, or (threshold 0) when a step raised chi2 beyond rounding
   /// (the step is undone).
   SolveReport iterate(FactorGraph& graph, const IncrementalStep& step);
