@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "StepsWithoutIds.h"
+#include "budget_slam/core/MrptPose.h"
 #include "budget_slam/dataset/RawlogReader.h"
 #include "budget_slam/dataset/Simulator.h"
 #include "budget_slam/ekf/EkfBackend.h"
@@ -98,7 +99,7 @@ Gap sideBySide(const mrpt::config::CConfigFileBase& ini, const std::vector<Landm
 
 PoseEstimate startAt(double x, double y, double yaw) {
   PoseEstimate p;
-  p.mean = mrpt::math::TPose2D(x, y, yaw);
+  p.mean = Pose2(x, y, yaw);
   p.cov = Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal();  // 0.1 m, 1.8 deg
   return p;
 }
@@ -169,8 +170,9 @@ TEST(SparseLocalization, EqualsMrptsIterationOnASimulatedRevisit) {
   const auto map = mapOf(ini, mapping.steps);
   ASSERT_GT(map.size(), 100u);
   // The map's frame is the mapping's start pose.
-  const mrpt::poses::CPose2D start = mrpt::poses::CPose2D(revisit.ground_truth.path.front()) -
-                                     mrpt::poses::CPose2D(mapping.ground_truth.path.front());
+  const mrpt::poses::CPose2D start =
+      mrpt::poses::CPose2D(toTPose2D(revisit.ground_truth.path.front())) -
+      mrpt::poses::CPose2D(toTPose2D(mapping.ground_truth.path.front()));
   const Gap gap =
       sideBySide(ini, map, startAt(start.x(), start.y(), start.phi()), revisit.steps, kDefaultGate);
   std::cout << "park revisit: " << gap.steps << " steps, " << map.size() << " landmarks, "
