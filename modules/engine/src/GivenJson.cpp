@@ -52,40 +52,48 @@ void get(const nlohmann::json& j, const char* key, std::optional<T>& field) {
   }
 }
 
+/// A plain given key: its summary.json name and the RunGiven field behind it. The one list both
+/// addGivenJson and readGiven follow (the nested blocks and `seeds` are written and read by hand).
+template <class T>
+struct GivenKey {
+  const char* name;
+  std::optional<T> RunGiven::*field;
+};
+const GivenKey<std::string> kTextKeys[] = {
+    {"command", &RunGiven::command},
+    {"rawlog", &RunGiven::rawlog},
+    {"sidecar_ini", &RunGiven::sidecar_ini},
+    {"config", &RunGiven::config},
+    {"earlier_run_moved_to", &RunGiven::earlier_run_moved_to},
+    {"resumed_from", &RunGiven::resumed_from},
+    {"run", &RunGiven::run},
+    {"map", &RunGiven::map},
+    {"map_status", &RunGiven::map_status}};
+const GivenKey<bool> kFlagKeys[] = {{"started", &RunGiven::started}};
+const GivenKey<std::size_t> kCountKeys[] = {
+    {"runs", &RunGiven::runs}, {"steps", &RunGiven::steps}, {"threads", &RunGiven::threads}};
+
 }  // namespace
 
 void addGivenJson(nlohmann::json& j, const RunGiven& g) {
-  put(j, "command", g.command);
-  put(j, "rawlog", g.rawlog);
-  put(j, "sidecar_ini", g.sidecar_ini);
-  put(j, "config", g.config);
-  put(j, "started", g.started);
-  put(j, "earlier_run_moved_to", g.earlier_run_moved_to);
-  put(j, "resumed_from", g.resumed_from);
+  // nlohmann::json keeps its keys sorted: the order of these calls is not the file's.
+  for (const auto& k : kTextKeys) put(j, k.name, g.*k.field);
+  for (const auto& k : kFlagKeys) put(j, k.name, g.*k.field);
+  for (const auto& k : kCountKeys) put(j, k.name, g.*k.field);
   if (g.wake_up) j["wake_up"] = wakeUpJson(*g.wake_up);
   if (const auto& s = g.session_state) {
     j["session_state"] = {{"written", s->written}};
     if (!s->written) j["session_state"]["why"] = s->why;
   }
-  put(j, "run", g.run);
   if (g.reference_metrics) j["reference_metrics"] = referenceMetricsJson(*g.reference_metrics);
-  put(j, "runs", g.runs);
   put(j, "seeds", g.seeds);
-  put(j, "steps", g.steps);
-  put(j, "threads", g.threads);
-  put(j, "map", g.map);
-  put(j, "map_status", g.map_status);
 }
 
 RunGiven readGiven(const nlohmann::json& j) {
   RunGiven g;
-  get(j, "command", g.command);
-  get(j, "rawlog", g.rawlog);
-  get(j, "sidecar_ini", g.sidecar_ini);
-  get(j, "config", g.config);
-  get(j, "started", g.started);
-  get(j, "earlier_run_moved_to", g.earlier_run_moved_to);
-  get(j, "resumed_from", g.resumed_from);
+  for (const auto& k : kTextKeys) get(j, k.name, g.*k.field);
+  for (const auto& k : kFlagKeys) get(j, k.name, g.*k.field);
+  for (const auto& k : kCountKeys) get(j, k.name, g.*k.field);
   if (j.contains("session_state") && j["session_state"].is_object()) {
     const auto& s = j["session_state"];
     SessionStateWritten w;
@@ -93,18 +101,12 @@ RunGiven readGiven(const nlohmann::json& j) {
     if (s.contains("why") && s["why"].is_string()) w.why = s["why"].get<std::string>();
     g.session_state = w;
   }
-  get(j, "run", g.run);
-  get(j, "runs", g.runs);
   if (j.contains("seeds") && j["seeds"].is_array()) {
     std::vector<std::uint64_t> seeds;
     for (const auto& s : j["seeds"])
       if (s.is_number_unsigned()) seeds.push_back(s.get<std::uint64_t>());
     g.seeds = seeds;
   }
-  get(j, "steps", g.steps);
-  get(j, "threads", g.threads);
-  get(j, "map", g.map);
-  get(j, "map_status", g.map_status);
   return g;
 }
 
